@@ -1,0 +1,30 @@
+# Every dependency comes from Debian 12's packages (scripts/install-deps.sh installs them).
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(OpenMP REQUIRED COMPONENTS CXX)
+find_package(HDF5 REQUIRED COMPONENTS C)
+find_package(tomlplusplus REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(fmt REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(Threads REQUIRED)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
+find_package(CGAL REQUIRED)
+# Debian ships OpenVDB's find module outside CMake's default path.
+list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)
+find_package(OpenVDB REQUIRED)
+
+# HDF5's variables into one imported target so that its headers are SYSTEM like the others.
+if(NOT TARGET shapepress_hdf5)
+  add_library(shapepress_hdf5 INTERFACE)
+  target_include_directories(shapepress_hdf5 SYSTEM INTERFACE ${HDF5_INCLUDE_DIRS})
+  target_link_libraries(shapepress_hdf5 INTERFACE ${HDF5_LIBRARIES})
+  target_compile_definitions(shapepress_hdf5 INTERFACE ${HDF5_DEFINITIONS})
+endif()
+
+if(SHAPEPRESS_TESTS)
+  find_package(GTest REQUIRED)
+  include(GoogleTest)
+endif()
+if(SHAPEPRESS_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,26 @@
+# Compile options for shapepress's own targets only: third-party headers come in through imported
+# targets, whose include directories CMake marks SYSTEM, so -Werror never trips on them.
+add_library(shapepress_options INTERFACE)
+target_compile_options(shapepress_options INTERFACE -Wall -Wextra -Wpedantic)
+if(SHAPEPRESS_WERROR)
+  target_compile_options(shapepress_options INTERFACE -Werror)
+endif()
+if(SHAPEPRESS_NATIVE)
+  target_compile_options(shapepress_options INTERFACE -march=native)
+endif()
+if(SHAPEPRESS_SANITIZE)
+  target_compile_options(shapepress_options INTERFACE -fsanitize=address,undefined
+                                                      -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  target_link_options(shapepress_options INTERFACE -fsanitize=address,undefined)
+endif()
+# Release: -O3 without -march so the binary runs on any x86-64 (SHAPEPRESS_NATIVE=ON tunes it).
+set(CMAKE_CXX_FLAGS_RELEASE "-O3 -DNDEBUG" CACHE STRING "" FORCE)
+set(CMAKE_CXX_FLAGS_RELWITHDEBINFO "-O2 -g -DNDEBUG" CACHE STRING "" FORCE)
+target_include_directories(shapepress_options INTERFACE ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/generated)
+
+# shapepress_add_library(name SOURCES…): one library per stage folder.
+function(shapepress_add_library name)
+  add_library(${name} STATIC ${ARGN})
+  target_link_libraries(${name} PUBLIC shapepress_options)
+  set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()

@@ -1,0 +1,32 @@
+#pragma once
+// What every stage of the `shapepress` binary is (STYLE.md, after COLMAP's table of stages):
+// a name, a one-line summary, and a function that adds the stage's options to its CLI11
+// subcommand and returns the runner that main() calls once the command line is parsed.
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace CLI {
+class App;
+}
+
+namespace shapepress {
+
+// Global options, parsed by main() before any stage runs.
+struct RunContext {
+  std::string command_line;  // for provenance
+  int threads = 0;           // 0: OpenMP's default (all cores)
+  bool quiet = false;
+};
+
+// Returns the process exit code (0 ok; a stage may return 2 when, say, some inputs were skipped).
+using StageRunner = std::function<int(const RunContext&)>;
+using StageSetup = StageRunner (*)(CLI::App& subcommand);
+
+struct Stage {
+  std::string_view name;
+  std::string_view summary;
+  StageSetup setup;
+};
+
+}  // namespace shapepress

@@ -1,0 +1,137 @@
+// shapepress: from images of a powder to simulated tablet-compaction curves.
+// One binary, one table of stages (pipelines/stages.cpp); each stage parses its own options and
+// calls its library. main() owns the global options, the exit codes and the error messages.
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "common/logging.hpp"
+#include "common/provenance.hpp"
+#include "pipelines/stages.hpp"
+#include "pipelines/suggest.hpp"
+
+namespace {
+
+using shapepress::ExitCode;
+
+int usage_error(const std::string& message, const std::string& hint) {
+  std::fprintf(stderr, "shapepress: error: %s\n", message.c_str());
+  if (!hint.empty()) std::fprintf(stderr, "%s\n", hint.c_str());
+  return static_cast<int>(ExitCode::bad_input);
+}
+
+std::string join_command_line(int argc, char** argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) {
+    if (i > 0) line += ' ';
+    line += argv[i];
+  }
+  return line;
+}
+
+// The first word that is not a global option or its value: the stage the user asked for.
+std::optional<std::string> requested_stage(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    std::string_view arg = argv[i];
+    if (arg == "--threads" || arg == "--log-level") {
+      ++i;
+      continue;
+    }
+    if (arg.starts_with('-')) continue;
+    return std::string(arg);
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> option_names(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* a = &app; a != nullptr; a = a->get_parent())
+    for (const CLI::Option* option : a->get_options())
+      for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+  return names;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace shapepress;
+  RunContext context;
+  context.command_line = join_command_line(argc, argv);
+  std::string log_level = "info";
+
+  CLI::App app{"shapepress: from images of a real powder to simulated tablet-compaction curves.\n"
+               "Each stage reads and writes files; run 'shapepress STAGE --help' for its options.",
+               "shapepress"};
+  app.set_version_flag("--version", fmt::format("shapepress {} ({})", shapepress_version(),
+                                                shapepress_git_revision()));
+  app.add_option("--threads", context.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("-q,--quiet", context.quiet, "no progress lines, only errors");
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
+      ->capture_default_str();
+  app.fallthrough();  // global options may also follow the stage name
+  app.require_subcommand(0, 1);
+
+  std::span<const Stage> stages = registered_stages();
+  std::vector<std::string> stage_names;
+  std::vector<std::pair<CLI::App*, StageRunner>> runners;
+  for (const Stage& stage : stages) {
+    CLI::App* sub = app.add_subcommand(std::string(stage.name), std::string(stage.summary));
+    sub->allow_extras();  // reported below with a suggestion instead of CLI11's bare message
+    runners.emplace_back(sub, stage.setup(*sub));
+    stage_names.emplace_back(stage.name);
+  }
+
+  if (std::optional<std::string> stage = requested_stage(argc, argv)) {
+    if (std::find(stage_names.begin(), stage_names.end(), *stage) == stage_names.end()) {
+      std::optional<std::string> guess = closest_match(*stage, stage_names);
+      return usage_error(fmt::format("'{}' is not a shapepress stage", *stage),
+                         guess ? fmt::format("Did you mean '{}'? (shapepress --help lists the stages)", *guess)
+                               : "shapepress --help lists the stages");
+    }
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
+  } catch (const CLI::ParseError& e) {
+    return usage_error(e.what(), "Run 'shapepress STAGE --help' for the stage's options.");
+  }
+
+  for (auto& [sub, runner] : runners) {
+    if (!sub->parsed()) continue;
+    std::vector<std::string> extras = sub->remaining();
+    if (!extras.empty()) {
+      std::vector<std::string> names = option_names(*sub);
+      std::optional<std::string> guess = closest_match(extras.front().substr(0, extras.front().find('=')), names);
+      return usage_error(
+          fmt::format("'{}' is not an option or argument of 'shapepress {}'", extras.front(),
+                      sub->get_name()),
+          guess ? fmt::format("Did you mean '{}'? (shapepress {} --help)", *guess, sub->get_name())
+                : fmt::format("shapepress {} --help lists its options", sub->get_name()));
+    }
+    try {
+      configure_logging(log_level, context.quiet);
+      if (context.threads > 0) omp_set_num_threads(context.threads);
+      return runner(context);
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "shapepress %s: error: %s\n", sub->get_name().c_str(), e.what());
+      return static_cast<int>(ExitCode::bad_input);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "shapepress %s: failed: %s\n", sub->get_name().c_str(), e.what());
+      return static_cast<int>(exit_code_for(e));
+    }
+  }
+  std::fputs(app.help().c_str(), stdout);
+  return stages.empty() ? 0 : static_cast<int>(ExitCode::bad_input);
+}
