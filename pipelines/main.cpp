@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <optional>
 #include <span>
@@ -38,18 +39,33 @@ std::string join_command_line(int argc, char** argv) {
   return line;
 }
 
-// The first word that is not a global option or its value: the stage the user asked for.
-std::optional<std::string> requested_stage(int argc, char** argv) {
+// What stands before the stage name: global options (and their values), then the stage.
+struct CommandWords {
+  std::optional<std::string> stage;
+  std::optional<std::string> unknown_option;  // a mistyped global option before the stage
+};
+
+CommandWords scan_command_words(int argc, char** argv) {
+  static constexpr std::array<std::string_view, 2> with_value{"--threads", "--log-level"};
+  static constexpr std::array<std::string_view, 5> flags{"--help", "-h", "--version", "--quiet",
+                                                         "-q"};
+  CommandWords words;
   for (int i = 1; i < argc; ++i) {
     std::string_view arg = argv[i];
-    if (arg == "--threads" || arg == "--log-level") {
-      ++i;
+    std::string_view name = arg.substr(0, arg.find('='));
+    if (std::find(with_value.begin(), with_value.end(), name) != with_value.end()) {
+      if (name == arg) ++i;
       continue;
     }
-    if (arg.starts_with('-')) continue;
-    return std::string(arg);
+    if (std::find(flags.begin(), flags.end(), arg) != flags.end()) continue;
+    if (arg.starts_with('-')) {
+      words.unknown_option = std::string(arg);
+      return words;
+    }
+    words.stage = std::string(arg);
+    return words;
   }
-  return std::nullopt;
+  return words;
 }
 
 std::vector<std::string> option_names(const CLI::App& app) {
@@ -91,13 +107,20 @@ int main(int argc, char** argv) {
     stage_names.emplace_back(stage.name);
   }
 
-  if (std::optional<std::string> stage = requested_stage(argc, argv)) {
-    if (std::find(stage_names.begin(), stage_names.end(), *stage) == stage_names.end()) {
-      std::optional<std::string> guess = closest_match(*stage, stage_names);
-      return usage_error(fmt::format("'{}' is not a shapepress stage", *stage),
-                         guess ? fmt::format("Did you mean '{}'? (shapepress --help lists the stages)", *guess)
-                               : "shapepress --help lists the stages");
-    }
+  CommandWords words = scan_command_words(argc, argv);
+  if (words.unknown_option) {
+    std::vector<std::string> names = option_names(app);
+    std::optional<std::string> guess = closest_match(*words.unknown_option, names);
+    return usage_error(fmt::format("'{}' is not a shapepress option", *words.unknown_option),
+                       guess ? fmt::format("Did you mean '{}'? (shapepress --help)", *guess)
+                             : "shapepress --help lists the options");
+  }
+  if (words.stage &&
+      std::find(stage_names.begin(), stage_names.end(), *words.stage) == stage_names.end()) {
+    std::optional<std::string> guess = closest_match(*words.stage, stage_names);
+    return usage_error(fmt::format("'{}' is not a shapepress stage", *words.stage),
+                       guess ? fmt::format("Did you mean '{}'? (shapepress --help lists the stages)", *guess)
+                             : "shapepress --help lists the stages");
   }
 
   try {

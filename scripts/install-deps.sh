@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages shapepress needs to build, test and run — only those missing.
+# Quiet and fast when everything is there; idempotent; needs root only when something is missing.
+#   scripts/install-deps.sh            build + test + run dependencies
+#   scripts/install-deps.sh --peers    also the peer engines for benchmarks (LIGGGHTS, MPI)
+set -euo pipefail
+
+packages=(
+  g++ cmake ninja-build pkg-config git make
+  libopencv-dev libcgal-dev libeigen3-dev libopenvdb-dev libhdf5-dev libtbb-dev
+  libboost-iostreams-dev libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
+  nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+)
+if [[ "${1:-}" == "--peers" ]]; then
+  packages+=(liggghts openmpi-bin valgrind)
+elif [[ -n "${1:-}" ]]; then
+  echo "install-deps.sh: unknown option '$1' (only --peers)" >&2
+  exit 2
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "installed" ]] || missing+=("$p")
+done
+if [[ ${#missing[@]} -eq 0 ]]; then
+  exit 0
+fi
+
+echo "install-deps.sh: installing ${#missing[@]} missing Debian package(s): ${missing[*]}"
+if [[ $(id -u) -ne 0 ]]; then
+  echo "install-deps.sh: these packages are missing and installing them needs root:" >&2
+  echo "  sudo $0 ${1:-}" >&2
+  exit 2
+fi
+export DEBIAN_FRONTEND=noninteractive
+# An install fails with stale lists on a fresh machine; update once, quietly.
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps.sh: done"
