@@ -24,8 +24,8 @@ void ensure_parent_directory(const std::filesystem::path& path) {
   std::error_code ec;
   std::filesystem::create_directories(parent, ec);
   if (ec)
-    throw InputError(fmt::format("{}: cannot create the output folder: {}", parent.string(),
-                                 ec.message()));
+    throw InputError(
+        fmt::format("{}: cannot create the output folder: {}", parent.string(), ec.message()));
 }
 
 AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
@@ -33,8 +33,8 @@ AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
   ensure_parent_directory(final_path_);
   out_.open(temporary_path_, std::ios::binary | std::ios::trunc);
   if (!out_)
-    throw InputError(fmt::format("{}: cannot write here ({})", final_path_.string(),
-                                 std::strerror(errno)));
+    throw InputError(
+        fmt::format("{}: cannot write here ({})", final_path_.string(), std::strerror(errno)));
 }
 
 AtomicOutputFile::~AtomicOutputFile() {
@@ -71,9 +71,8 @@ void commit_temporary_file(const std::filesystem::path& temporary,
   std::filesystem::rename(temporary, final_path, ec);
   if (ec) {
     std::filesystem::remove(temporary, ec);
-    throw ComputationError(
-        fmt::format("{}: cannot move the finished file into place: {}", final_path.string(),
-                    ec.message()));
+    throw ComputationError(fmt::format("{}: cannot move the finished file into place: {}",
+                                       final_path.string(), ec.message()));
   }
 }
 

@@ -38,7 +38,9 @@ std::string Range::describe() const {
 
 namespace {
 
-const toml::table& as_table(const void* node) { return *static_cast<const toml::table*>(node); }
+const toml::table& as_table(const void* node) {
+  return *static_cast<const toml::table*>(node);
+}
 
 std::string where(const std::string& source, const toml::node& node) {
   const toml::source_region& region = node.source();
@@ -74,28 +76,33 @@ ConfigTable ConfigTable::load_file(const std::filesystem::path& path) {
   return parse(buffer.str(), path.string());
 }
 
-std::string ConfigTable::path_of(std::string_view key) const { return prefix_ + std::string(key); }
-const std::string& ConfigTable::source_name() const { return document_->source_name; }
-const std::string& ConfigTable::text() const { return document_->text; }
+std::string ConfigTable::path_of(std::string_view key) const {
+  return prefix_ + std::string(key);
+}
+const std::string& ConfigTable::source_name() const {
+  return document_->source_name;
+}
+const std::string& ConfigTable::text() const {
+  return document_->text;
+}
 
 bool ConfigTable::has(std::string_view key) const {
   return as_table(node_).contains(key);
 }
 
-namespace {
-
-struct Lookup {
+struct ConfigTable::Lookup {
   const toml::node* node;
-  std::string location;  // "file:line"
+  std::string full;      // dotted path, "material.E"
+  std::string location;  // "file:line" of the value, or the file when the key is absent
 };
 
-}  // namespace
-
-#define SHAPEPRESS_LOOKUP(key)                                                              \
-  const toml::node* node = as_table(node_).get(key);                                        \
-  std::string full = path_of(key);                                                          \
-  if (node != nullptr) document_->used.insert(full);                                        \
-  std::string location = node ? where(document_->source_name, *node) : document_->source_name
+ConfigTable::Lookup ConfigTable::lookup(std::string_view key) const {
+  const toml::node* node = as_table(node_).get(key);
+  std::string full = path_of(key);
+  if (node != nullptr) document_->used.insert(full);
+  std::string location = node ? where(document_->source_name, *node) : document_->source_name;
+  return {node, std::move(full), std::move(location)};
+}
 
 namespace {
 
@@ -129,7 +136,7 @@ std::optional<double> numeric(const toml::node& node) {
 
 double ConfigTable::number(std::string_view key, std::optional<double> fallback,
                            Range range) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   if (node == nullptr) {
     if (!fallback) missing(location, full, "a number");
     return *fallback;
@@ -142,7 +149,7 @@ double ConfigTable::number(std::string_view key, std::optional<double> fallback,
 
 std::int64_t ConfigTable::integer(std::string_view key, std::optional<std::int64_t> fallback,
                                   Range range) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   if (node == nullptr) {
     if (!fallback) missing(location, full, "an integer");
     return *fallback;
@@ -154,7 +161,7 @@ std::int64_t ConfigTable::integer(std::string_view key, std::optional<std::int64
 }
 
 bool ConfigTable::boolean(std::string_view key, std::optional<bool> fallback) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   if (node == nullptr) {
     if (!fallback) missing(location, full, "true or false");
     return *fallback;
@@ -165,7 +172,7 @@ bool ConfigTable::boolean(std::string_view key, std::optional<bool> fallback) co
 }
 
 std::string ConfigTable::string(std::string_view key, std::optional<std::string> fallback) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   if (node == nullptr) {
     if (!fallback) missing(location, full, "a string");
     return *fallback;
@@ -188,7 +195,7 @@ std::string ConfigTable::choice(std::string_view key, const std::vector<std::str
 
 double ConfigTable::quantity(std::string_view key, Dimension dimension,
                              std::optional<double> fallback, Range range) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   std::string expected = fmt::format("a {} (number in {} or a string with a unit)",
                                      dimension_name(dimension), si_unit(dimension));
   if (node == nullptr) {
@@ -217,7 +224,7 @@ std::vector<double> ConfigTable::numbers(std::string_view key, Range range) cons
 
 std::vector<double> ConfigTable::quantities(std::string_view key, Dimension dimension,
                                             Range range) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   if (node == nullptr) missing(location, full, "an array of numbers");
   const toml::array* array = node->as_array();
   if (array == nullptr) wrong_type(location, full, "an array of numbers");
@@ -244,7 +251,7 @@ std::vector<double> ConfigTable::quantities(std::string_view key, Dimension dime
 }
 
 ConfigTable ConfigTable::table(std::string_view key) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   if (node == nullptr) missing(location, full, "a table [" + full + "]");
   const toml::table* t = node->as_table();
   if (t == nullptr) wrong_type(location, full, "a table");
@@ -252,7 +259,7 @@ ConfigTable ConfigTable::table(std::string_view key) const {
 }
 
 std::vector<ConfigTable> ConfigTable::tables(std::string_view key) const {
-  SHAPEPRESS_LOOKUP(key);
+  auto [node, full, location] = lookup(key);
   std::vector<ConfigTable> out;
   if (node == nullptr) return out;
   const toml::array* array = node->as_array();
@@ -266,8 +273,6 @@ std::vector<ConfigTable> ConfigTable::tables(std::string_view key) const {
   }
   return out;
 }
-
-#undef SHAPEPRESS_LOOKUP
 
 namespace {
 

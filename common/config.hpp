@@ -29,7 +29,9 @@ struct Range {
   static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), true, true}; }
   static Range closed(double lo, double hi) { return {lo, hi, true, true}; }
   static Range open_closed(double lo, double hi) { return {lo, hi, false, true}; }
-  static Range at_least(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, true}; }
+  static Range at_least(double lo) {
+    return {lo, std::numeric_limits<double>::infinity(), true, true};
+  }
 
   bool contains(double v) const;
   std::string describe() const;  // "> 0", "in [0, 1]"
@@ -48,7 +50,8 @@ class ConfigTable {
   std::int64_t integer(std::string_view key, std::optional<std::int64_t> fallback = std::nullopt,
                        Range range = Range::any()) const;
   bool boolean(std::string_view key, std::optional<bool> fallback = std::nullopt) const;
-  std::string string(std::string_view key, std::optional<std::string> fallback = std::nullopt) const;
+  std::string string(std::string_view key,
+                     std::optional<std::string> fallback = std::nullopt) const;
   // One of `choices`; the message lists them.
   std::string choice(std::string_view key, const std::vector<std::string>& choices,
                      std::optional<std::string> fallback = std::nullopt) const;
@@ -67,12 +70,13 @@ class ConfigTable {
   void check_unknown_keys() const;
 
   const std::string& source_name() const;
-  const std::string& text() const;  // the whole document, for provenance
+  const std::string& text() const;                  // the whole document, for provenance
   std::string path_of(std::string_view key) const;  // "material.E"
 
  private:
-  struct Impl;
   struct Document;
+  struct Lookup;
+  Lookup lookup(std::string_view key) const;  // marks the key used
   ConfigTable(std::shared_ptr<Document> document, const void* node, std::string prefix);
   std::shared_ptr<Document> document_;
   const void* node_ = nullptr;  // the toml::table this view reads (kept out of the header)

@@ -60,11 +60,12 @@ std::vector<double> CsvTable::column(std::string_view name) const {
     if (columns[c] != name) continue;
     std::vector<double> values;
     values.reserve(rows.size());
-    for (const auto& r : rows) values.push_back(r[c]);
+    for (const auto& r : rows)
+      values.push_back(r[c]);
     return values;
   }
-  throw InputError(fmt::format("{}: no column '{}' (columns: {})", source, name,
-                               fmt::join(columns, ", ")));
+  throw InputError(
+      fmt::format("{}: no column '{}' (columns: {})", source, name, fmt::join(columns, ", ")));
 }
 
 CsvTable read_csv(const std::filesystem::path& path) {
@@ -80,14 +81,15 @@ CsvTable read_csv(const std::filesystem::path& path) {
     std::vector<std::string> cells;
     std::stringstream ss(line);
     std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    while (std::getline(ss, cell, ','))
+      cells.push_back(cell);
     if (table.columns.empty()) {
       table.columns = cells;
       continue;
     }
     if (cells.size() != table.columns.size())
-      throw InputError(fmt::format("{}:{}: {} cells, the header has {}", path.string(),
-                                   line_number, cells.size(), table.columns.size()));
+      throw InputError(fmt::format("{}:{}: {} cells, the header has {}", path.string(), line_number,
+                                   cells.size(), table.columns.size()));
     std::vector<double> row;
     for (const std::string& c : cells) {
       try {

@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <ctime>
-#include <functional>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -16,9 +15,13 @@ namespace shapepress {
 namespace {
 
 // HDF5 prints its own error stack to stderr by default; ours name the file instead.
-void silence_hdf5_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+void silence_hdf5_errors() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
 
-std::string z(std::string_view s) { return std::string(s); }
+std::string z(std::string_view s) {
+  return std::string(s);
+}
 
 // Closes an HDF5 handle at scope exit.
 struct Handle {
@@ -81,11 +84,11 @@ void H5Writer::write_raw(std::string_view dataset, const void* data, std::int64_
   Handle space{H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose};
   Handle lcpl{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
   H5Pset_create_intermediate_group(lcpl.id, 1);
-  Handle set{H5Dcreate2(file_, z(dataset).c_str(), type, space.id, lcpl.id, H5P_DEFAULT,
-                        H5P_DEFAULT),
-             H5Dclose};
-  std::size_t count = std::accumulate(shape.begin(), shape.end(), std::size_t{1},
-                                      std::multiplies<>());
+  Handle set{
+      H5Dcreate2(file_, z(dataset).c_str(), type, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT),
+      H5Dclose};
+  std::size_t count =
+      std::accumulate(shape.begin(), shape.end(), std::size_t{1}, std::multiplies<>());
   if (set.id < 0 || (count > 0 && H5Dwrite(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0))
     throw ComputationError(
         fmt::format("{}: cannot write dataset {}", final_path_.string(), dataset));
@@ -95,10 +98,11 @@ namespace {
 std::vector<std::size_t> shape_or_flat(std::vector<std::size_t> shape, std::size_t size,
                                        std::string_view dataset) {
   if (shape.empty()) return {size};
-  std::size_t count = std::accumulate(shape.begin(), shape.end(), std::size_t{1},
-                                      std::multiplies<>());
+  std::size_t count =
+      std::accumulate(shape.begin(), shape.end(), std::size_t{1}, std::multiplies<>());
   if (count != size)
-    throw std::logic_error(fmt::format("dataset {}: shape does not match {} values", dataset, size));
+    throw std::logic_error(
+        fmt::format("dataset {}: shape does not match {} values", dataset, size));
   return shape;
 }
 }  // namespace
@@ -127,7 +131,8 @@ void H5Writer::write(std::string_view dataset, std::span<const std::uint8_t> val
 void H5Writer::write_strings(std::string_view dataset, const std::vector<std::string>& values) {
   std::vector<const char*> pointers;
   pointers.reserve(values.size());
-  for (const std::string& v : values) pointers.push_back(v.c_str());
+  for (const std::string& v : values)
+    pointers.push_back(v.c_str());
   Handle type{string_type(), H5Tclose};
   std::size_t n = values.size();
   write_raw(dataset, pointers.data(), type.id, std::span<const std::size_t>(&n, 1));
@@ -140,8 +145,8 @@ void write_attribute(hid_t file, std::string_view object, std::string_view name,
   Handle space{H5Screate(H5S_SCALAR), H5Sclose};
   if (H5Aexists_by_name(file, target.c_str(), z(name).c_str(), H5P_DEFAULT) > 0)
     H5Adelete_by_name(file, target.c_str(), z(name).c_str(), H5P_DEFAULT);
-  Handle attr{H5Acreate_by_name(file, target.c_str(), z(name).c_str(), type, space.id,
-                                H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+  Handle attr{H5Acreate_by_name(file, target.c_str(), z(name).c_str(), type, space.id, H5P_DEFAULT,
+                                H5P_DEFAULT, H5P_DEFAULT),
               H5Aclose};
   if (attr.id < 0 || H5Awrite(attr.id, type, data) < 0)
     throw ComputationError(
@@ -222,46 +227,33 @@ void H5Reader::read_raw(std::string_view dataset, void* out, std::int64_t type) 
     throw InputError(fmt::format("{}: cannot read dataset {}", path_.string(), dataset));
 }
 
-namespace {
 template <typename T>
-std::vector<T> read_numbers(const H5Reader& reader, std::string_view dataset,
-                            std::vector<std::size_t>* shape,
-                            const std::function<std::vector<std::size_t>(std::string_view)>& shape_of,
-                            const std::function<void(std::string_view, void*)>& read) {
+std::vector<T> H5Reader::read_numbers(std::string_view dataset, std::int64_t type,
+                                      std::vector<std::size_t>* shape) const {
   std::vector<std::size_t> dims = shape_of(dataset);
-  std::size_t count = std::accumulate(dims.begin(), dims.end(), std::size_t{1},
-                                      std::multiplies<>());
+  std::size_t count =
+      std::accumulate(dims.begin(), dims.end(), std::size_t{1}, std::multiplies<>());
   std::vector<T> values(count);
-  if (count > 0) read(dataset, values.data());
-  if (shape != nullptr) *shape = dims;
-  (void)reader;
+  if (count > 0) read_raw(dataset, values.data(), type);
+  if (shape != nullptr) *shape = std::move(dims);
   return values;
 }
-}  // namespace
 
 std::vector<double> H5Reader::doubles(std::string_view dataset,
                                       std::vector<std::size_t>* shape) const {
-  return read_numbers<double>(
-      *this, dataset, shape, [this](std::string_view d) { return shape_of(d); },
-      [this](std::string_view d, void* out) { read_raw(d, out, H5T_NATIVE_DOUBLE); });
+  return read_numbers<double>(dataset, H5T_NATIVE_DOUBLE, shape);
 }
 std::vector<std::int64_t> H5Reader::int64s(std::string_view dataset,
                                            std::vector<std::size_t>* shape) const {
-  return read_numbers<std::int64_t>(
-      *this, dataset, shape, [this](std::string_view d) { return shape_of(d); },
-      [this](std::string_view d, void* out) { read_raw(d, out, H5T_NATIVE_INT64); });
+  return read_numbers<std::int64_t>(dataset, H5T_NATIVE_INT64, shape);
 }
 std::vector<std::int32_t> H5Reader::int32s(std::string_view dataset,
                                            std::vector<std::size_t>* shape) const {
-  return read_numbers<std::int32_t>(
-      *this, dataset, shape, [this](std::string_view d) { return shape_of(d); },
-      [this](std::string_view d, void* out) { read_raw(d, out, H5T_NATIVE_INT32); });
+  return read_numbers<std::int32_t>(dataset, H5T_NATIVE_INT32, shape);
 }
 std::vector<std::uint8_t> H5Reader::uint8s(std::string_view dataset,
                                            std::vector<std::size_t>* shape) const {
-  return read_numbers<std::uint8_t>(
-      *this, dataset, shape, [this](std::string_view d) { return shape_of(d); },
-      [this](std::string_view d, void* out) { read_raw(d, out, H5T_NATIVE_UINT8); });
+  return read_numbers<std::uint8_t>(dataset, H5T_NATIVE_UINT8, shape);
 }
 
 std::vector<std::string> H5Reader::strings(std::string_view dataset) const {
@@ -285,8 +277,8 @@ std::vector<std::string> H5Reader::members(std::string_view group) const {
   H5G_info_t info{};
   if (g.id < 0 || H5Gget_info(g.id, &info) < 0) return names;
   for (hsize_t i = 0; i < info.nlinks; ++i) {
-    ssize_t size = H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
-                                      H5P_DEFAULT);
+    ssize_t size =
+        H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
     std::string name(static_cast<std::size_t>(size), '\0');
     H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(),
                        static_cast<std::size_t>(size) + 1, H5P_DEFAULT);

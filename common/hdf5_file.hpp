@@ -35,7 +35,9 @@ class H5Writer {
   void attribute(std::string_view object, std::string_view name, std::int64_t value);
   void attribute(std::string_view object, std::string_view name, std::string_view value);
   // The SI unit of a dataset, as the attribute "unit" (DESIGN.md: SI units in attributes).
-  void unit(std::string_view dataset, std::string_view si_unit) { attribute(dataset, "unit", si_unit); }
+  void unit(std::string_view dataset, std::string_view si_unit) {
+    attribute(dataset, "unit", si_unit);
+  }
   void group(std::string_view path);
 
   void commit();
@@ -60,7 +62,8 @@ class H5Reader {
 
   bool has(std::string_view object) const;
   // InputError naming the file and the dataset when it is missing or of another rank.
-  std::vector<double> doubles(std::string_view dataset, std::vector<std::size_t>* shape = nullptr) const;
+  std::vector<double> doubles(std::string_view dataset,
+                              std::vector<std::size_t>* shape = nullptr) const;
   std::vector<std::int64_t> int64s(std::string_view dataset,
                                    std::vector<std::size_t>* shape = nullptr) const;
   std::vector<std::int32_t> int32s(std::string_view dataset,
@@ -79,6 +82,9 @@ class H5Reader {
 
  private:
   void read_raw(std::string_view dataset, void* out, std::int64_t type) const;
+  template <typename T>
+  std::vector<T> read_numbers(std::string_view dataset, std::int64_t type,
+                              std::vector<std::size_t>* shape) const;
   std::vector<std::size_t> shape_of(std::string_view dataset) const;
   std::filesystem::path path_;
   std::int64_t file_ = -1;

@@ -29,13 +29,14 @@ ProgressReporter::~ProgressReporter() {
   if (printed_on_terminal_ && !finished_) std::fputc('\n', stderr);
 }
 
-std::string ProgressReporter::format_line(double done, double elapsed, std::string_view detail) const {
+std::string ProgressReporter::format_line(double done, double elapsed,
+                                          std::string_view detail) const {
   double fraction = total_ > 0 ? std::clamp(done / total_, 0.0, 1.0) : 0.0;
   double rate = elapsed > 0 ? done / elapsed : 0.0;
   double eta = rate > 0 ? (total_ - done) / rate : NAN;
-  std::string line = fmt::format("{} {:5.1f} %  {:.3g} {}/s  elapsed {}  ETA {}", label_,
-                                 100.0 * fraction, rate, options_.unit, format_duration(elapsed),
-                                 format_duration(eta));
+  std::string line =
+      fmt::format("{} {:5.1f} %  {:.3g} {}/s  elapsed {}  ETA {}", label_, 100.0 * fraction, rate,
+                  options_.unit, format_duration(elapsed), format_duration(eta));
   if (!detail.empty()) line += fmt::format("  {}", detail);
   return line;
 }

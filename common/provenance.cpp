@@ -4,7 +4,11 @@
 
 namespace shapepress {
 
-std::string shapepress_version() { return SHAPEPRESS_VERSION; }
-std::string shapepress_git_revision() { return SHAPEPRESS_GIT_REVISION; }
+std::string shapepress_version() {
+  return SHAPEPRESS_VERSION;
+}
+std::string shapepress_git_revision() {
+  return SHAPEPRESS_GIT_REVISION;
+}
 
 }  // namespace shapepress

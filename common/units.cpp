@@ -18,7 +18,9 @@ namespace {
 Dimension operator+(Dimension a, Dimension b) {
   return {a.length + b.length, a.mass + b.mass, a.time + b.time};
 }
-Dimension operator*(int k, Dimension a) { return {k * a.length, k * a.mass, k * a.time}; }
+Dimension operator*(int k, Dimension a) {
+  return {k * a.length, k * a.mass, k * a.time};
+}
 
 struct Unit {
   std::string_view symbol;
@@ -28,11 +30,16 @@ struct Unit {
 
 // Base symbols; kilogram is the SI base, so the gram carries 1e-3.
 constexpr std::array base_units{
-    Unit{"m", 1.0, dim::length},       Unit{"g", 1e-3, dim::mass},
-    Unit{"s", 1.0, dim::time},         Unit{"N", 1.0, dim::force},
-    Unit{"Pa", 1.0, dim::pressure},    Unit{"J", 1.0, dim::energy},
-    Unit{"Hz", 1.0, dim::frequency},   Unit{"W", 1.0, Dimension{2, 1, -3}},
-    Unit{"rad", 1.0, dim::dimensionless}, Unit{"%", 0.01, dim::dimensionless},
+    Unit{"m", 1.0, dim::length},
+    Unit{"g", 1e-3, dim::mass},
+    Unit{"s", 1.0, dim::time},
+    Unit{"N", 1.0, dim::force},
+    Unit{"Pa", 1.0, dim::pressure},
+    Unit{"J", 1.0, dim::energy},
+    Unit{"Hz", 1.0, dim::frequency},
+    Unit{"W", 1.0, Dimension{2, 1, -3}},
+    Unit{"rad", 1.0, dim::dimensionless},
+    Unit{"%", 0.01, dim::dimensionless},
     Unit{"deg", std::numbers::pi / 180.0, dim::dimensionless},
 };
 
@@ -41,8 +48,8 @@ struct Prefix {
   double factor;
 };
 constexpr std::array prefixes{
-    Prefix{"G", 1e9},  Prefix{"M", 1e6},  Prefix{"k", 1e3},   Prefix{"c", 1e-2},
-    Prefix{"m", 1e-3}, Prefix{"u", 1e-6}, Prefix{"\u00b5", 1e-6}, Prefix{"\u03bc", 1e-6},
+    Prefix{"G", 1e9},  Prefix{"M", 1e6},   Prefix{"k", 1e3},       Prefix{"c", 1e-2},
+    Prefix{"m", 1e-3}, Prefix{"u", 1e-6},  Prefix{"\u00b5", 1e-6}, Prefix{"\u03bc", 1e-6},
     Prefix{"n", 1e-9}, Prefix{"p", 1e-12},
 };
 
@@ -65,8 +72,14 @@ bool is_symbol_char(unsigned char c) {
 
 // Reads an exponent after a symbol: "3", "^3", "^-2", "²", "³".
 int read_exponent(std::string_view& rest) {
-  if (rest.starts_with("\u00b2")) { rest.remove_prefix(2); return 2; }
-  if (rest.starts_with("\u00b3")) { rest.remove_prefix(2); return 3; }
+  if (rest.starts_with("\u00b2")) {
+    rest.remove_prefix(2);
+    return 2;
+  }
+  if (rest.starts_with("\u00b3")) {
+    rest.remove_prefix(2);
+    return 3;
+  }
   if (rest.starts_with('^')) rest.remove_prefix(1);
   int exponent = 1;
   auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), exponent);
@@ -76,8 +89,10 @@ int read_exponent(std::string_view& rest) {
 }
 
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front())))
+    s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back())))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -97,9 +112,10 @@ std::pair<double, Dimension> parse_unit_expression(std::string_view text, std::s
     std::string_view symbol = rest.substr(0, n);
     std::optional<Unit> unit = find_unit(symbol);
     if (symbol.empty() || !unit)
-      throw InputError(fmt::format("key '{}': '{}' has an unknown unit '{}' (expected e.g. um, "
-                                   "mm, MPa, kg/m^3, N/m^3, s)",
-                                   key, whole, symbol.empty() ? rest : symbol));
+      throw InputError(
+          fmt::format("key '{}': '{}' has an unknown unit '{}' (expected e.g. um, "
+                      "mm, MPa, kg/m^3, N/m^3, s)",
+                      key, whole, symbol.empty() ? rest : symbol));
     rest.remove_prefix(n);
     int exponent = sign * read_exponent(rest);
     factor *= std::pow(unit->factor, exponent);
@@ -123,12 +139,21 @@ std::pair<double, Dimension> parse_unit_expression(std::string_view text, std::s
 
 std::string dimension_name(Dimension d) {
   static constexpr std::array<std::pair<Dimension, std::string_view>, 15> names{{
-      {dim::dimensionless, "dimensionless number"}, {dim::length, "length"},
-      {dim::mass, "mass"}, {dim::time, "time"}, {dim::frequency, "frequency"},
-      {dim::velocity, "velocity"}, {dim::acceleration, "acceleration"}, {dim::force, "force"},
-      {dim::pressure, "pressure"}, {dim::energy, "energy"}, {dim::density, "density"},
-      {dim::stiffness, "stiffness (N/m)"}, {dim::stiffness_per_area, "stiffness per area (N/m^3)"},
-      {dim::area, "area"}, {dim::volume, "volume"},
+      {dim::dimensionless, "dimensionless number"},
+      {dim::length, "length"},
+      {dim::mass, "mass"},
+      {dim::time, "time"},
+      {dim::frequency, "frequency"},
+      {dim::velocity, "velocity"},
+      {dim::acceleration, "acceleration"},
+      {dim::force, "force"},
+      {dim::pressure, "pressure"},
+      {dim::energy, "energy"},
+      {dim::density, "density"},
+      {dim::stiffness, "stiffness (N/m)"},
+      {dim::stiffness_per_area, "stiffness per area (N/m^3)"},
+      {dim::area, "area"},
+      {dim::volume, "volume"},
   }};
   for (const auto& [dimension, name] : names)
     if (dimension == d) return std::string(name);
@@ -161,8 +186,8 @@ Quantity parse_quantity(std::string_view text, std::string_view key) {
   double number = 0.0;
   auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), number);
   if (ec != std::errc{} || end == s.data())
-    throw InputError(fmt::format("key '{}': '{}' is not a number with a unit (e.g. 0.5um, 30MPa)",
-                                 key, text));
+    throw InputError(
+        fmt::format("key '{}': '{}' is not a number with a unit (e.g. 0.5um, 30MPa)", key, text));
   if (!std::isfinite(number))
     throw InputError(fmt::format("key '{}': '{}' is not a finite number", key, text));
   std::string_view unit_text = s.substr(static_cast<std::size_t>(end - s.data()));
@@ -173,7 +198,8 @@ Quantity parse_quantity(std::string_view text, std::string_view key) {
 double parse_quantity(std::string_view text, Dimension expected, std::string_view key) {
   Quantity q = parse_quantity(text, key);
   std::string_view unit_text = trim(text);
-  bool has_unit = !unit_text.empty() && is_symbol_char(static_cast<unsigned char>(unit_text.back()));
+  bool has_unit =
+      !unit_text.empty() && is_symbol_char(static_cast<unsigned char>(unit_text.back()));
   // A bare number is SI in the expected dimension.
   if (q.dimension == dim::dimensionless && !has_unit) return q.value;
   if (q.dimension != expected)

@@ -27,8 +27,8 @@ inline constexpr Dimension force{1, 1, -2};
 inline constexpr Dimension pressure{-1, 1, -2};
 inline constexpr Dimension energy{2, 1, -2};
 inline constexpr Dimension density{-3, 1, 0};
-inline constexpr Dimension stiffness{0, 1, -2};                 // N/m
-inline constexpr Dimension stiffness_per_area{-2, 1, -2};       // N/m^3, bond stiffness (P&C 2004)
+inline constexpr Dimension stiffness{0, 1, -2};            // N/m
+inline constexpr Dimension stiffness_per_area{-2, 1, -2};  // N/m^3, bond stiffness (P&C 2004)
 inline constexpr Dimension area{2, 0, 0};
 inline constexpr Dimension volume{3, 0, 0};
 }  // namespace dim

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "common/error.hpp"
 #include "common/logging.hpp"
@@ -72,7 +72,8 @@ std::vector<std::string> option_names(const CLI::App& app) {
   std::vector<std::string> names;
   for (const CLI::App* a = &app; a != nullptr; a = a->get_parent())
     for (const CLI::Option* option : a->get_options())
-      for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+      for (const std::string& name : option->get_lnames())
+        names.push_back("--" + name);
   return names;
 }
 
@@ -84,9 +85,10 @@ int main(int argc, char** argv) {
   context.command_line = join_command_line(argc, argv);
   std::string log_level = "info";
 
-  CLI::App app{"shapepress: from images of a real powder to simulated tablet-compaction curves.\n"
-               "Each stage reads and writes files; run 'shapepress STAGE --help' for its options.",
-               "shapepress"};
+  CLI::App app{
+      "shapepress: from images of a real powder to simulated tablet-compaction curves.\n"
+      "Each stage reads and writes files; run 'shapepress STAGE --help' for its options.",
+      "shapepress"};
   app.set_version_flag("--version", fmt::format("shapepress {} ({})", shapepress_version(),
                                                 shapepress_git_revision()));
   app.add_option("--threads", context.threads, "OpenMP threads (default: all cores)")
@@ -118,9 +120,10 @@ int main(int argc, char** argv) {
   if (words.stage &&
       std::find(stage_names.begin(), stage_names.end(), *words.stage) == stage_names.end()) {
     std::optional<std::string> guess = closest_match(*words.stage, stage_names);
-    return usage_error(fmt::format("'{}' is not a shapepress stage", *words.stage),
-                       guess ? fmt::format("Did you mean '{}'? (shapepress --help lists the stages)", *guess)
-                             : "shapepress --help lists the stages");
+    return usage_error(
+        fmt::format("'{}' is not a shapepress stage", *words.stage),
+        guess ? fmt::format("Did you mean '{}'? (shapepress --help lists the stages)", *guess)
+              : "shapepress --help lists the stages");
   }
 
   try {
@@ -136,7 +139,8 @@ int main(int argc, char** argv) {
     std::vector<std::string> extras = sub->remaining();
     if (!extras.empty()) {
       std::vector<std::string> names = option_names(*sub);
-      std::optional<std::string> guess = closest_match(extras.front().substr(0, extras.front().find('=')), names);
+      std::optional<std::string> guess =
+          closest_match(extras.front().substr(0, extras.front().find('=')), names);
       return usage_error(
           fmt::format("'{}' is not an option or argument of 'shapepress {}'", extras.front(),
                       sub->get_name()),

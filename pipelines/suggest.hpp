@@ -9,6 +9,7 @@ namespace shapepress {
 
 std::size_t edit_distance(std::string_view a, std::string_view b);
 // The closest candidate within a distance that still looks like a typo, if any.
-std::optional<std::string> closest_match(std::string_view word, std::span<const std::string> candidates);
+std::optional<std::string> closest_match(std::string_view word,
+                                         std::span<const std::string> candidates);
 
 }  // namespace shapepress

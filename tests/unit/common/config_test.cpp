@@ -71,7 +71,8 @@ TEST(Config, UnreadTableIsUnknownToo) {
 }
 
 TEST(Config, MalformedTomlNamesFileAndLine) {
-  std::string message = input_error_of([] { ConfigTable::parse("a = 1\nb = [1, 2\n", "bad.toml"); });
+  std::string message =
+      input_error_of([] { ConfigTable::parse("a = 1\nb = [1, 2\n", "bad.toml"); });
   EXPECT_THAT(message, HasSubstr("bad.toml:"));
   EXPECT_THAT(message, HasSubstr("malformed TOML"));
 }
@@ -85,17 +86,20 @@ TEST(Config, WrongTypeIsNamed) {
 TEST(Config, NaNAndOutOfRangeAreRejected) {
   ConfigTable config = ConfigTable::parse("e = nan\nE = -5.0\nnu = 0.7\nr = \"-1 mm\"\n", "r.toml");
   EXPECT_THAT(input_error_of([&] { config.number("e"); }), HasSubstr("NaN"));
-  EXPECT_THAT(input_error_of([&] { config.quantity("E", dim::pressure, std::nullopt, Range::positive()); }),
-              HasSubstr("r.toml:2: key 'E' = -5 Pa is out of range: must be > 0"));
+  EXPECT_THAT(
+      input_error_of([&] { config.quantity("E", dim::pressure, std::nullopt, Range::positive()); }),
+      HasSubstr("r.toml:2: key 'E' = -5 Pa is out of range: must be > 0"));
   EXPECT_THAT(input_error_of([&] { config.number("nu", std::nullopt, Range::closed(-1, 0.5)); }),
               HasSubstr("in [-1, 0.5]"));
-  EXPECT_THAT(input_error_of([&] { config.quantity("r", dim::length, std::nullopt, Range::positive()); }),
-              HasSubstr("out of range"));
+  EXPECT_THAT(
+      input_error_of([&] { config.quantity("r", dim::length, std::nullopt, Range::positive()); }),
+      HasSubstr("out of range"));
 }
 
 TEST(Config, WrongDimensionNamesFileLineAndKey) {
   ConfigTable config = ConfigTable::parse("[geometry]\nradius = \"3 kg\"\n", "d.toml");
-  std::string message = input_error_of([&] { config.table("geometry").quantity("radius", dim::length); });
+  std::string message =
+      input_error_of([&] { config.table("geometry").quantity("radius", dim::length); });
   EXPECT_THAT(message, HasSubstr("d.toml:2"));
   EXPECT_THAT(message, HasSubstr("geometry.radius"));
   EXPECT_THAT(message, HasSubstr("mass"));
@@ -105,7 +109,9 @@ TEST(Config, MissingRequiredKeyAndInvalidChoice) {
   ConfigTable config = ConfigTable::parse("method = \"glued\"\n", "c.toml");
   EXPECT_THAT(input_error_of([&] { config.number("density"); }),
               HasSubstr("missing required key 'density'"));
-  EXPECT_THAT(input_error_of([&] { config.choice("method", {"bonded", "rigid"}); }),
+  EXPECT_THAT(input_error_of([&] {
+                config.choice("method", {"bonded", "rigid"});
+              }),
               HasSubstr("not one of: bonded, rigid"));
 }
 

@@ -51,7 +51,10 @@ TEST_F(FilesTest, AtomicFileAppearsOnlyOnCommit) {
 
 TEST_F(FilesTest, UncommittedFileLeavesNothing) {
   fs::path target = folder_ / "abandoned.csv";
-  { AtomicOutputFile file(target); file.stream() << "partial"; }
+  {
+    AtomicOutputFile file(target);
+    file.stream() << "partial";
+  }
   EXPECT_FALSE(fs::exists(target));
   EXPECT_TRUE(fs::is_empty(folder_)) << "temporary file left behind";
 }
