@@ -12,7 +12,7 @@ packages=(
   nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
 if [[ "${1:-}" == "--peers" ]]; then
-  packages+=(liggghts openmpi-bin valgrind)
+  packages+=(liggghts openmpi-bin python3 time valgrind)
 elif [[ -n "${1:-}" ]]; then
   echo "install-deps.sh: unknown option '$1' (only --peers)" >&2
   exit 2
