@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "imaging/cli.hpp"
+
 // Each stage library declares its setup function in its cli.hpp.
 
 namespace shapepress {
@@ -9,6 +11,8 @@ namespace shapepress {
 std::span<const Stage> registered_stages() {
   // One line per stage, in the order of the data walk (DESIGN.md).
   static const std::vector<Stage> stages = {
+      Stage{"shape-stats", "measure particles in images", imaging::setup_shape_stats_cli},
+      Stage{"synth-images", "render SEM-like images of known particles", imaging::setup_synth_images_cli},
   };
   return stages;
 }

@@ -1,0 +1,165 @@
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/progress.hpp"
+#include "common/units.hpp"
+#include "imaging/cli.hpp"
+#include "imaging/outputs.hpp"
+#include "imaging/shape_stats.hpp"
+
+namespace shapepress::imaging {
+namespace {
+
+struct ShapeStatsCli {
+  std::vector<std::string> images;
+  std::string out;
+  std::string pixel_size;
+  int crop_bottom = -1;
+  std::string denoise = "gaussian";
+  std::string background = "quadratic";
+  std::string threshold = "otsu";
+  std::string polarity = "auto";
+  bool keep_edges = false;
+  bool no_split = false;
+  bool keep_holes = false;
+  bool no_overlays = false;
+  SegmentOptions segment;
+  double min_fourier_diameter_px = 20.0;
+};
+
+template <typename Enum>
+void bind_choice(CLI::App& app, const std::string& name, std::string& target,
+                 const std::map<std::string, Enum>& choices, const std::string& help) {
+  std::vector<std::string> names;
+  for (const auto& [key, value] : choices)
+    names.push_back(key);
+  app.add_option(name, target, help)->check(CLI::IsMember(names))->capture_default_str();
+}
+
+const std::map<std::string, Denoise> denoise_choices = {
+    {"none", Denoise::none}, {"gaussian", Denoise::gaussian}, {"median", Denoise::median}};
+const std::map<std::string, Background> background_choices = {{"none", Background::none},
+                                                              {"quadratic", Background::quadratic},
+                                                              {"rolling", Background::rolling}};
+const std::map<std::string, ThresholdMethod> threshold_choices = {
+    {"otsu", ThresholdMethod::otsu},
+    {"triangle", ThresholdMethod::triangle},
+    {"fixed", ThresholdMethod::fixed},
+    {"adaptive", ThresholdMethod::adaptive}};
+const std::map<std::string, Polarity> polarity_choices = {
+    {"auto", Polarity::automatic}, {"bright", Polarity::bright}, {"dark", Polarity::dark}};
+
+int run(const ShapeStatsCli& cli, const RunContext& context) {
+  ShapeStatsOptions options;
+  options.segment = cli.segment;
+  options.segment.denoise = denoise_choices.at(cli.denoise);
+  options.segment.background = background_choices.at(cli.background);
+  options.segment.threshold = threshold_choices.at(cli.threshold);
+  options.segment.polarity = polarity_choices.at(cli.polarity);
+  options.segment.exclude_edges = !cli.keep_edges;
+  options.segment.split_touching = !cli.no_split;
+  options.segment.fill_holes = !cli.keep_holes;
+  options.segment.check();
+  if (!cli.pixel_size.empty())
+    options.pixel_size_m = parse_quantity(cli.pixel_size, dim::length, "--pixel-size");
+  if (options.pixel_size_m && !(*options.pixel_size_m > 0))
+    throw InputError(fmt::format("--pixel-size: '{}' must be positive", cli.pixel_size));
+  if (cli.crop_bottom >= 0) options.crop_bottom = cli.crop_bottom;
+  options.min_fourier_diameter_px = cli.min_fourier_diameter_px;
+
+  std::vector<std::filesystem::path> paths(cli.images.begin(), cli.images.end());
+  ProgressReporter progress("shape-stats", static_cast<double>(paths.size()),
+                            {.quiet = context.quiet, .unit = "images"});
+  BatchResult batch =
+      process_batch(paths, options, context.threads, [&](int done) { progress.update(done); });
+  progress.finish();
+  for (const SkippedImage& s : batch.skipped)
+    spdlog::error("skipped {}", s.reason);
+  if (batch.images.empty())
+    throw InputError(fmt::format("no image could be processed ({} skipped: {})",
+                                 batch.skipped.size(), batch.skipped.front().reason));
+
+  const std::filesystem::path out(cli.out);
+  std::filesystem::create_directories(out);
+  ShapeSummary summary = summarize(particle_samples(batch.images), options.min_fourier_diameter_px);
+  std::vector<ImageReport> reports;
+  for (const ImageResult& image : batch.images)
+    reports.push_back(image.report);
+  std::vector<std::string> skipped;
+  for (const SkippedImage& s : batch.skipped)
+    skipped.push_back(s.reason);
+  write_particles_csv(out / "particles.csv", batch.images);
+  write_file_atomically(out / "summary.json",
+                        summary_to_json(summary, reports, skipped, context.command_line));
+  if (!cli.no_overlays) {
+    std::filesystem::create_directories(out / "overlays");
+    for (const ImageResult& image : batch.images)
+      write_overlay_png(
+          out / "overlays" /
+              (std::filesystem::path(image.report.file).stem().string() + "_overlay.png"),
+          image);
+    std::filesystem::create_directories(out / "plots");
+    write_plots(out / "plots", summary);
+  }
+  spdlog::info("{} particles in {} images: x50 (Q3) {:.4g} um, ASR S50 {:.3f}, D2 {:.3f}",
+               summary.particle_count, batch.images.size(), summary.size.volume.x50 * 1e6,
+               summary.asr.s50, summary.fourier.D2);
+  if (!batch.skipped.empty()) {
+    spdlog::error("{} of {} images skipped (see above); results cover the others",
+                  batch.skipped.size(), paths.size());
+    return static_cast<int>(ExitCode::bad_input);
+  }
+  return 0;
+}
+
+}  // namespace
+
+StageRunner setup_shape_stats_cli(CLI::App& app) {
+  auto cli = std::make_shared<ShapeStatsCli>();
+  app.add_option("images", cli->images, "image files (TIFF, PNG, JPEG, BMP, PGM)")->required();
+  app.add_option("--out", cli->out, "output folder")->required();
+  app.add_option("--pixel-size", cli->pixel_size,
+                 "pixel size when the file has no SEM metadata, e.g. 0.8um");
+  app.add_option("--crop-bottom", cli->crop_bottom,
+                 "rows of information bar to remove (default: from SEM metadata or detected)");
+  bind_choice(app, "--denoise", cli->denoise, denoise_choices, "none, gaussian or median");
+  app.add_option("--denoise-radius", cli->segment.denoise_radius_px, "px")->capture_default_str();
+  bind_choice(app, "--background", cli->background, background_choices,
+              "background flattening: none, quadratic (fitted surface) or rolling");
+  app.add_option("--background-radius", cli->segment.rolling_radius_px,
+                 "px, radius of the rolling background")
+      ->capture_default_str();
+  bind_choice(app, "--threshold", cli->threshold, threshold_choices,
+              "otsu, triangle, fixed or adaptive");
+  app.add_option("--threshold-level", cli->segment.fixed_level,
+                 "fixed threshold as a fraction of the intensity range")
+      ->capture_default_str();
+  app.add_option("--adaptive-block", cli->segment.adaptive_block_px, "odd window, px")
+      ->capture_default_str();
+  app.add_option("--adaptive-offset", cli->segment.adaptive_offset, "fraction above the local mean")
+      ->capture_default_str();
+  bind_choice(app, "--polarity", cli->polarity, polarity_choices,
+              "bright (particles on dark), dark, or auto");
+  app.add_flag("--keep-holes", cli->keep_holes, "do not fill holes in particles");
+  app.add_flag("--no-split", cli->no_split, "do not split touching particles");
+  app.add_option("--split-neck", cli->segment.split_neck,
+                 "split where the neck half-width < this x the smaller particle's inscribed radius")
+      ->capture_default_str();
+  app.add_flag("--keep-edge-particles", cli->keep_edges, "keep particles touching the image edge");
+  app.add_option("--min-area", cli->segment.min_area_px, "px")->capture_default_str();
+  app.add_option("--max-area", cli->segment.max_area_px, "px (0: no limit)")->capture_default_str();
+  app.add_option("--min-fourier-diameter", cli->min_fourier_diameter_px,
+                 "px; smaller particles are left out of the mean Fourier spectrum")
+      ->capture_default_str();
+  app.add_flag("--no-overlays", cli->no_overlays, "skip overlay and plot PNGs");
+  return [cli](const RunContext& context) { return run(*cli, context); };
+}
+
+}  // namespace shapepress::imaging

@@ -1,0 +1,31 @@
+#pragma once
+// Loading images of a powder: any grayscale or colour file OpenCV reads (8/16-bit TIFF, PNG,
+// JPEG, BMP, PGM), the SEM metadata, and the information bar at the bottom.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "imaging/image.hpp"
+
+namespace shapepress::imaging {
+
+struct LoadedImage {
+  GrayImage image;  // intensities stretched to [0, 1] (min→0, max→1)
+  int bit_depth = 8;
+  int channels = 1;
+  std::optional<double> pixel_size_m;  // from the SEM metadata, if any
+  std::optional<int> data_rows;        // from the SEM metadata: rows above the information bar
+};
+
+// Throws InputError naming the file: missing, unreadable, empty, or uniform (all one value).
+LoadedImage load_image(const std::filesystem::path& path);
+
+// Rows of a digitally drawn information bar at the bottom (0 if none): a block of rows, 3–30 %
+// of the height, in which most pixels share exactly one value (the bar's background), as
+// instruments draw it without noise. Detector noise makes such rows impossible in the scan.
+int detect_info_bar_rows(const GrayImage& image);
+
+// The top `rows` rows.
+GrayImage crop_rows(const GrayImage& image, int rows);
+
+}  // namespace shapepress::imaging

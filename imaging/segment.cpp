@@ -1,0 +1,317 @@
+#include "imaging/segment.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "common/error.hpp"
+
+namespace shapepress::imaging {
+
+void SegmentOptions::check() const {
+  auto fail = [](std::string_view field, auto value, std::string_view expected) {
+    throw InputError(fmt::format("--{}: {} is not valid, expected {}", field, value, expected));
+  };
+  if (denoise_radius_px < 0) fail("denoise-radius", denoise_radius_px, "a radius >= 0 px");
+  if (rolling_radius_px < 2) fail("background-radius", rolling_radius_px, "a radius >= 2 px");
+  if (!(fixed_level > 0 && fixed_level < 1)) fail("threshold-level", fixed_level, "0 < level < 1");
+  if (adaptive_block_px < 3 || adaptive_block_px % 2 == 0)
+    fail("adaptive-block", adaptive_block_px, "an odd window >= 3 px");
+  if (!(split_neck > 0 && split_neck < 1)) fail("split-neck", split_neck, "0 < ratio < 1");
+  if (min_area_px < 1) fail("min-area", min_area_px, "an area >= 1 px");
+  if (max_area_px != 0 && max_area_px < min_area_px)
+    fail("max-area", max_area_px, "0 (no limit) or an area >= --min-area");
+}
+
+std::string to_string(ThresholdMethod method) {
+  switch (method) {
+    case ThresholdMethod::otsu:
+      return "otsu";
+    case ThresholdMethod::triangle:
+      return "triangle";
+    case ThresholdMethod::fixed:
+      return "fixed";
+    case ThresholdMethod::adaptive:
+      return "adaptive";
+  }
+  return "otsu";
+}
+
+namespace {
+
+cv::Mat to_mat(const GrayImage& image) {
+  return cv::Mat(image.height, image.width, CV_32F, const_cast<float*>(image.pixels.data()))
+      .clone();
+}
+
+cv::Mat to_8bit(const cv::Mat& image) {
+  cv::Mat out;
+  cv::normalize(image, out, 0, 255, cv::NORM_MINMAX, CV_8U);
+  return out;
+}
+
+cv::Mat denoise(const cv::Mat& image, const SegmentOptions& options) {
+  cv::Mat out;
+  if (options.denoise == Denoise::gaussian && options.denoise_radius_px > 0) {
+    cv::GaussianBlur(image, out, cv::Size(), options.denoise_radius_px);
+  } else if (options.denoise == Denoise::median && options.denoise_radius_px >= 1) {
+    int size = 2 * static_cast<int>(std::lround(options.denoise_radius_px)) + 1;
+    cv::medianBlur(image, out, std::min(size, 5));  // float median supports windows up to 5
+  } else {
+    out = image.clone();
+  }
+  return out;
+}
+
+double median_of_border(const cv::Mat& image) {
+  std::vector<float> values;
+  for (int x = 0; x < image.cols; ++x) {
+    values.push_back(image.at<float>(0, x));
+    values.push_back(image.at<float>(image.rows - 1, x));
+  }
+  for (int y = 0; y < image.rows; ++y) {
+    values.push_back(image.at<float>(y, 0));
+    values.push_back(image.at<float>(y, image.cols - 1));
+  }
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+// The scan background is where the image's own Otsu split says "not particle"; its brightness
+// is fitted with a quadratic surface (uneven SEM illumination, detector shading) and removed.
+cv::Mat subtract_quadratic_background(const cv::Mat& image) {
+  cv::Mat image8 = to_8bit(image);
+  cv::Mat particle;
+  cv::threshold(image8, particle, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  cv::dilate(particle, particle, cv::Mat(), cv::Point(-1, -1), 2);
+  constexpr int stride = 4;
+  cv::Mat normal = cv::Mat::zeros(6, 6, CV_64F), rhs = cv::Mat::zeros(6, 1, CV_64F);
+  const double sx = 2.0 / std::max(1, image.cols - 1), sy = 2.0 / std::max(1, image.rows - 1);
+  int samples = 0;
+  for (int y = 0; y < image.rows; y += stride) {
+    for (int x = 0; x < image.cols; x += stride) {
+      if (particle.at<std::uint8_t>(y, x)) continue;
+      double u = x * sx - 1, v = y * sy - 1;
+      std::array<double, 6> basis{1, u, v, u * u, u * v, v * v};
+      for (int i = 0; i < 6; ++i) {
+        rhs.at<double>(i) += basis[i] * image.at<float>(y, x);
+        for (int j = 0; j < 6; ++j)
+          normal.at<double>(i, j) += basis[i] * basis[j];
+      }
+      ++samples;
+    }
+  }
+  if (samples < 50) return image.clone();  // almost no background: nothing to fit
+  cv::Mat c;
+  if (!cv::solve(normal, rhs, c, cv::DECOMP_CHOLESKY)) return image.clone();
+  cv::Mat out(image.size(), CV_32F);
+  for (int y = 0; y < image.rows; ++y) {
+    double v = y * sy - 1;
+    for (int x = 0; x < image.cols; ++x) {
+      double u = x * sx - 1;
+      double fit = c.at<double>(0) + c.at<double>(1) * u + c.at<double>(2) * v +
+                   c.at<double>(3) * u * u + c.at<double>(4) * u * v + c.at<double>(5) * v * v;
+      out.at<float>(y, x) = static_cast<float>(image.at<float>(y, x) - fit);
+    }
+  }
+  return out;
+}
+
+// Rolling background: a grey opening (erosion then dilation) removes everything narrower than
+// the structuring disc; done on a reduced image so that large radii stay cheap.
+cv::Mat subtract_rolling_background(const cv::Mat& image, double radius_px) {
+  const double shrink = std::max(1.0, radius_px / 10.0);
+  cv::Mat small, opened, background;
+  cv::resize(image, small, cv::Size(), 1.0 / shrink, 1.0 / shrink, cv::INTER_AREA);
+  int r = std::max(1, static_cast<int>(std::lround(radius_px / shrink)));
+  cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  cv::morphologyEx(small, opened, cv::MORPH_OPEN, disc);
+  cv::resize(opened, background, image.size(), 0, 0, cv::INTER_LINEAR);
+  cv::GaussianBlur(background, background, cv::Size(), shrink);
+  return image - background;
+}
+
+void fill_holes(cv::Mat& mask) {
+  cv::Mat padded;
+  cv::copyMakeBorder(mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+  cv::floodFill(padded, cv::Point(0, 0), 128);
+  cv::Mat outside = padded(cv::Rect(1, 1, mask.cols, mask.rows)) == 128;
+  mask = ~outside;
+}
+
+struct UnionFind {
+  std::vector<std::int32_t> parent;
+  std::int32_t root(std::int32_t i) {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  }
+};
+
+}  // namespace
+
+LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
+                                    double split_neck) {
+  cv::Mat m(height, width, CV_8U, const_cast<std::uint8_t*>(mask.data()));
+  cv::Mat binary = m != 0, dist;
+  cv::distanceTransform(binary, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const auto n = static_cast<std::size_t>(width) * height;
+  const float* d = dist.ptr<float>(0);
+  std::vector<std::int32_t> order;
+  for (std::size_t i = 0; i < n; ++i)
+    if (mask[i]) order.push_back(static_cast<std::int32_t>(i));
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return d[a] > d[b]; });
+
+  // Flooding the inverted distance map from its maxima: a pixel joins the basin of its highest
+  // processed neighbour (steepest ascent); two basins meeting at a saddle merge when the neck
+  // there is wide compared with the smaller basin's inscribed radius, or within a pixel of it
+  // (digital noise on the distance map).
+  constexpr double noise_px = 1.0;
+  UnionFind sets{std::vector<std::int32_t>(n, -1)};
+  std::vector<float> peak(n, 0.0f);
+  std::array<std::int32_t, 8> roots{};
+  for (std::int32_t p : order) {
+    const int x = p % width, y = p / width;
+    int found = 0;
+    std::int32_t uphill = -1;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        int nx = x + dx, ny = y + dy;
+        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+        std::int32_t q = ny * width + nx;
+        if (sets.parent[q] < 0) continue;
+        if (uphill < 0 || d[q] > d[uphill]) uphill = q;
+        std::int32_t r = sets.root(q);
+        if (std::find(roots.begin(), roots.begin() + found, r) == roots.begin() + found)
+          roots[found++] = r;
+      }
+    }
+    if (found == 0) {
+      sets.parent[p] = p;
+      peak[p] = d[p];
+      continue;
+    }
+    std::int32_t deepest = roots[0];
+    for (int k = 1; k < found; ++k) {
+      std::int32_t r = roots[k];
+      if (peak[r] > peak[deepest] || (peak[r] == peak[deepest] && r < deepest)) deepest = r;
+    }
+    for (int k = 0; k < found; ++k) {
+      std::int32_t other = roots[k];
+      if (other == deepest) continue;
+      double smaller = peak[other];
+      bool wide_neck = d[p] >= split_neck * smaller || smaller - d[p] < noise_px;
+      if (wide_neck) sets.parent[other] = deepest;
+    }
+    sets.parent[p] = sets.root(uphill);
+  }
+
+  LabelImage labels{width, height, 0, std::vector<std::int32_t>(n, 0)};
+  std::vector<std::int32_t> label_of_root(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!mask[i]) continue;
+    std::int32_t r = sets.root(static_cast<std::int32_t>(i));
+    if (label_of_root[r] == 0) label_of_root[r] = ++labels.count;
+    labels.labels[i] = label_of_root[r];
+  }
+  return labels;
+}
+
+namespace {
+
+LabelImage connected_particles(const cv::Mat& mask) {
+  cv::Mat lab;
+  int count = cv::connectedComponents(mask, lab, 8, CV_32S);
+  LabelImage labels{mask.cols, mask.rows, count - 1, {}};
+  labels.labels.assign(lab.ptr<std::int32_t>(0), lab.ptr<std::int32_t>(0) + lab.total());
+  return labels;
+}
+
+// Drops particles on the image edge and outside the size range; renumbers the rest 1..n.
+void filter_particles(Segmentation& result, const SegmentOptions& options) {
+  LabelImage& labels = result.labels;
+  std::vector<int> area(labels.count + 1, 0);
+  std::vector<char> on_edge(labels.count + 1, 0);
+  for (int y = 0; y < labels.height; ++y) {
+    for (int x = 0; x < labels.width; ++x) {
+      int l = labels.at(x, y);
+      if (l == 0) continue;
+      ++area[l];
+      if (x == 0 || y == 0 || x == labels.width - 1 || y == labels.height - 1) on_edge[l] = 1;
+    }
+  }
+  std::vector<std::int32_t> renumber(labels.count + 1, 0);
+  int kept = 0;
+  for (int l = 1; l <= labels.count; ++l) {
+    if (options.exclude_edges && on_edge[l]) {
+      ++result.excluded_on_edge;
+    } else if (area[l] < options.min_area_px ||
+               (options.max_area_px > 0 && area[l] > options.max_area_px)) {
+      ++result.excluded_by_size;
+    } else {
+      renumber[l] = ++kept;
+    }
+  }
+  for (auto& l : labels.labels)
+    l = renumber[l];
+  labels.count = kept;
+}
+
+}  // namespace
+
+Segmentation segment_particles(const GrayImage& image, const SegmentOptions& options) {
+  options.check();
+  Segmentation result;
+  cv::Mat smooth = denoise(to_mat(image), options);
+
+  cv::Mat smooth8 = to_8bit(smooth), ignored;
+  double otsu = cv::threshold(smooth8, ignored, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  result.bright_particles = options.polarity == Polarity::automatic
+                                ? median_of_border(smooth8 * (1.0 / 255.0)) * 255.0 < otsu
+                                : options.polarity == Polarity::bright;
+  if (!result.bright_particles) smooth = 1.0 - smooth;  // particles are bright from here on
+
+  cv::Mat flat = options.background == Background::quadratic ? subtract_quadratic_background(smooth)
+                 : options.background == Background::rolling
+                     ? subtract_rolling_background(smooth, options.rolling_radius_px)
+                     : smooth;
+  cv::Mat flat8 = to_8bit(flat), mask;
+  switch (options.threshold) {
+    case ThresholdMethod::otsu:
+      result.threshold = cv::threshold(flat8, mask, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+      break;
+    case ThresholdMethod::triangle:
+      result.threshold =
+          cv::threshold(flat8, mask, 0, 255, cv::THRESH_BINARY | cv::THRESH_TRIANGLE);
+      break;
+    case ThresholdMethod::fixed:
+      result.threshold =
+          cv::threshold(flat8, mask, options.fixed_level * 255.0, 255, cv::THRESH_BINARY);
+      break;
+    case ThresholdMethod::adaptive:
+      cv::adaptiveThreshold(flat8, mask, 255, cv::ADAPTIVE_THRESH_GAUSSIAN_C, cv::THRESH_BINARY,
+                            options.adaptive_block_px, -options.adaptive_offset * 255.0);
+      result.threshold = -1.0;
+      break;
+  }
+  result.threshold = result.threshold >= 0 ? result.threshold / 255.0 : result.threshold;
+  if (options.fill_holes) fill_holes(mask);
+
+  if (options.split_touching) {
+    std::vector<std::uint8_t> bits(mask.ptr<std::uint8_t>(0),
+                                   mask.ptr<std::uint8_t>(0) + mask.total());
+    result.labels = split_touching_particles(bits, mask.cols, mask.rows, options.split_neck);
+  } else {
+    result.labels = connected_particles(mask);
+  }
+  filter_particles(result, options);
+  return result;
+}
+
+}  // namespace shapepress::imaging

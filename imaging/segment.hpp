@@ -1,0 +1,53 @@
+#pragma once
+// Segmentation of particles in a grayscale image: denoise, flatten the background, threshold,
+// fill holes, split touching particles, drop particles on the edge or outside the size range.
+#include <string>
+
+#include "imaging/image.hpp"
+
+namespace shapepress::imaging {
+
+enum class Denoise { none, gaussian, median };
+enum class Background { none, quadratic, rolling };
+enum class ThresholdMethod { otsu, triangle, fixed, adaptive };
+enum class Polarity { automatic, bright, dark };  // bright: bright particles on a dark background
+
+struct SegmentOptions {
+  Denoise denoise = Denoise::gaussian;
+  double denoise_radius_px = 1.0;  // Gaussian sigma, or median half-size
+  Background background = Background::quadratic;
+  double rolling_radius_px = 50.0;  // structuring radius of the rolling background
+  ThresholdMethod threshold = ThresholdMethod::otsu;
+  double fixed_level = 0.5;       // fraction of the flattened intensity range
+  int adaptive_block_px = 51;     // odd window of the adaptive threshold
+  double adaptive_offset = 0.02;  // particle must exceed the local mean by this fraction
+  Polarity polarity = Polarity::automatic;
+  bool fill_holes = true;
+  bool split_touching = true;
+  // Two touching particles are split where the neck's half-width is below split_neck times the
+  // inscribed radius of the smaller one (distance-transform watershed with dynamics).
+  double split_neck = 0.75;
+  bool exclude_edges = true;  // like ImageJ's "exclude on edges"
+  int min_area_px = 20;
+  int max_area_px = 0;  // 0: no upper limit
+  void check() const;   // throws InputError naming the bad field
+};
+
+struct Segmentation {
+  LabelImage labels;
+  bool bright_particles = true;  // polarity used (detected or imposed)
+  double threshold = 0.0;  // level used, as a fraction of the flattened range (global methods)
+  int excluded_on_edge = 0;
+  int excluded_by_size = 0;
+};
+
+Segmentation segment_particles(const GrayImage& image, const SegmentOptions& options);
+
+// The split on its own, for tests: labels of a binary mask (non-zero = particle) after the
+// distance-transform watershed; every 8-connected blob gets at least one label.
+LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
+                                    double split_neck);
+
+std::string to_string(ThresholdMethod method);
+
+}  // namespace shapepress::imaging
