@@ -1,0 +1,151 @@
+#pragma once
+// The contact law as composable sub-models (STYLE.md, after LAMMPS gran_sub_mod_*):
+//   normal (Hertz) ∘ damping (restitution, LIGGGHTS `gran model hertz`) ∘ tangential (Mindlin
+//   spring with history, Coulomb-truncated) ∘ rolling (constant directional torque, CDT).
+// Each is a small inline function so the pair loop in forces.cpp inlines the whole law.
+// Equations: models.md "Hertz–Mindlin with restitution damping".
+//
+// Sign conventions: the normal n points from sphere i to sphere j (for a wall, j is the wall);
+// relative velocities are those of j's contact point minus i's; the force returned acts on j
+// (i receives its negative).
+//
+// Choice (documented in README's model section): like LIGGGHTS `hertz tangential history`
+// without `limitForce`, the damped normal force is not clipped at zero, so it can be attractive
+// at the end of a rebound. This is what makes the measured restitution equal the input e exactly
+// (a clipped force gives a larger e); contacts end when the overlap vanishes.
+#include <cmath>
+
+#include "simulate/materials.hpp"
+
+namespace shapepress::simulate {
+
+// What a contact remembers between steps. Now the tangential spring (accumulated tangential
+// displacement, world frame); the elastic–plastic law adds its plastic overlap δp and the
+// maximum overlap here, and restarts save every field (snapshot.cpp).
+struct ContactHistory {
+  double tangential[3] = {0.0, 0.0, 0.0};
+};
+
+struct ContactKinematics {
+  double normal[3];             // unit, i → j
+  double overlap;               // δ > 0
+  double relative_velocity[3];  // contact point of j minus contact point of i
+  double relative_rotation[3];  // ωi - ωj, for rolling friction
+  double effective_radius;      // R* = ri rj / (ri + rj); wall: ri
+  double effective_mass;        // m* = mi mj / (mi + mj); wall: mi
+  double effective_inertia;     // I* = Ii Ij / (Ii + Ij); wall: Ii (chatter guard)
+};
+
+struct ContactForce {
+  double force[3];           // on j; i gets -force
+  double rolling_torque[3];  // on i; j gets -rolling_torque
+  double normal_force;       // signed, > 0 repulsive (for stress and energy bookkeeping)
+};
+
+// Normal elastic sub-model: Hertz, Fn = 4/3 E* √R* δ^{3/2} = kn δ with kn = 4/3 E* √(R* δ).
+// Returns kn; `sqrt_r_overlap` = √(R* δ) so no pow is needed.
+inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overlap) {
+  return 4.0 / 3.0 * p.effective_modulus * sqrt_r_overlap;
+}
+
+// Damping sub-model (LIGGGHTS): γ = -2√(5/6) β √(S m*), S = 2E*√(R*δ) (normal) or 8G*√(R*δ)
+// (tangential). The Hertz + √δ-scaled damping gives a restitution independent of impact speed.
+inline double restitution_damping(const PairConstants& p, double contact_stiffness,
+                                  double effective_mass) {
+  return p.damping_factor * std::sqrt(contact_stiffness * effective_mass);
+}
+
+// Tangential sub-model: Mindlin spring kt = 8 G* √(R* δ) on the accumulated tangential
+// displacement ξ. ξ is first rotated into the current tangent plane keeping its length, then
+// incremented by vt dt. If the spring force exceeds μs |Fn| it is truncated to the Coulomb limit
+// and ξ is shrunk to match (no damping while sliding), as in LIGGGHTS `tangential history`.
+inline void mindlin_tangential(const PairConstants& p, const double n[3], const double vt[3],
+                               double kt, double gamma_t, double normal_force, double dt,
+                               ContactHistory& history, double force[3]) {
+  double* xi = history.tangential;
+  const double length2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+  if (length2 > 0.0) {
+    const double along_normal = xi[0] * n[0] + xi[1] * n[1] + xi[2] * n[2];
+    double t[3] = {xi[0] - along_normal * n[0], xi[1] - along_normal * n[1],
+                   xi[2] - along_normal * n[2]};
+    const double t2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
+    const double scale = t2 > 0.0 ? std::sqrt(length2 / t2) : 0.0;
+    for (int k = 0; k < 3; ++k)
+      xi[k] = t[k] * scale;
+  }
+  for (int k = 0; k < 3; ++k)
+    xi[k] += vt[k] * dt;
+  const double spring = kt * std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+  const double limit = p.sliding_friction * std::fabs(normal_force);
+  if (spring > limit) {
+    const double ratio = spring > 0.0 ? limit / spring : 0.0;
+    for (int k = 0; k < 3; ++k) {
+      xi[k] *= ratio;
+      force[k] = -kt * xi[k];
+    }
+  } else {
+    for (int k = 0; k < 3; ++k)
+      force[k] = -kt * xi[k] - gamma_t * vt[k];
+  }
+}
+
+// Rolling sub-model: constant directional torque (Ai et al. 2011 model A, LIGGGHTS `cdt`),
+// τ_i = -μr R* |Fn| ωr/|ωr| with ωr the relative rotation in the tangent plane. Chatter guard:
+// below ωc = μr R* |Fn| dt / I* (the rotation the full torque removes in one step) the torque is
+// scaled by |ωr|/ωc, so it stops the relative rolling instead of reversing it every step.
+inline void cdt_rolling(const PairConstants& p, const ContactKinematics& c, double normal_force,
+                        double dt, double torque[3]) {
+  torque[0] = torque[1] = torque[2] = 0.0;
+  if (p.rolling_friction <= 0.0) return;
+  const double* n = c.normal;
+  const double* w = c.relative_rotation;
+  const double along = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
+  const double wr[3] = {w[0] - along * n[0], w[1] - along * n[1], w[2] - along * n[2]};
+  const double wr_norm = std::sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
+  const double magnitude = p.rolling_friction * c.effective_radius * std::fabs(normal_force);
+  if (wr_norm == 0.0 || magnitude == 0.0) return;
+  const double guard = magnitude * dt / c.effective_inertia;
+  const double scale = magnitude / (wr_norm > guard ? wr_norm : guard);
+  for (int k = 0; k < 3; ++k)
+    torque[k] = -scale * wr[k];
+}
+
+// The whole law for one touching contact. Updates `history`.
+inline ContactForce contact_force(const ContactKinematics& c, const PairConstants& p,
+                                  ContactHistory& history, double dt) {
+  ContactForce out;
+  const double* n = c.normal;
+  const double* v = c.relative_velocity;
+  const double vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];  // < 0 approaching
+  const double vt[3] = {v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2]};
+  const double sqrt_r_overlap = std::sqrt(c.effective_radius * c.overlap);
+
+  double normal_force = 0.0;
+  switch (p.normal_law) {
+    case NormalLaw::hertz: {
+      const double kn = hertz_normal_stiffness(p, sqrt_r_overlap);
+      const double gamma_n =
+          restitution_damping(p, 2.0 * p.effective_modulus * sqrt_r_overlap, c.effective_mass);
+      normal_force = kn * c.overlap - gamma_n * vn;
+      break;
+    }
+  }
+  const double kt = 8.0 * p.effective_shear_modulus * sqrt_r_overlap;
+  const double gamma_t = restitution_damping(p, kt, c.effective_mass);
+  double tangential[3];
+  mindlin_tangential(p, n, vt, kt, gamma_t, normal_force, dt, history, tangential);
+  for (int k = 0; k < 3; ++k)
+    out.force[k] = normal_force * n[k] + tangential[k];
+  cdt_rolling(p, c, normal_force, dt, out.rolling_torque);
+  out.normal_force = normal_force;
+  return out;
+}
+
+// Elastic energy stored in a Hertz contact, 8/15 E* √R* δ^{5/2} (for the energy checks).
+inline double hertz_elastic_energy(const PairConstants& p, double effective_radius,
+                                   double overlap) {
+  return 8.0 / 15.0 * p.effective_modulus * std::sqrt(effective_radius * overlap) * overlap *
+         overlap;
+}
+
+}  // namespace shapepress::simulate

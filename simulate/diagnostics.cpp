@@ -1,0 +1,144 @@
+// What the engine reports about itself: energies, contact counts, divergence checks, and the
+// checkpoint a restart continues from.
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "simulate/engine.hpp"
+
+namespace shapepress::simulate {
+
+EnergySummary Engine::energy() const {
+  const SphereState& s = state_;
+  EnergySummary e;
+  const auto& g = settings_.gravity;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double v2 = s.velocity.x[i] * s.velocity.x[i] + s.velocity.y[i] * s.velocity.y[i] +
+                      s.velocity.z[i] * s.velocity.z[i];
+    const double w2 = s.angular_velocity.x[i] * s.angular_velocity.x[i] +
+                      s.angular_velocity.y[i] * s.angular_velocity.y[i] +
+                      s.angular_velocity.z[i] * s.angular_velocity.z[i];
+    e.kinetic += 0.5 * s.mass[i] * v2 + 0.5 * w2 / s.inverse_inertia[i];
+    e.gravitational -=
+        s.mass[i] * (g[0] * s.position.x[i] + g[1] * s.position.y[i] + g[2] * s.position.z[i]);
+  }
+  const auto add_contact = [&](const PairConstants& pc, double r_eff, double overlap,
+                               const ContactHistory& h) {
+    e.elastic += hertz_elastic_energy(pc, r_eff, overlap);
+    const double kt = 8.0 * pc.effective_shear_modulus * std::sqrt(r_eff * overlap);
+    const double* xi = h.tangential;
+    e.elastic += 0.5 * kt * (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+  };
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    const int i = pairs_.first[p], j = pairs_.second[p];
+    const double dx = s.position.x[j] - s.position.x[i] + pairs_.shift_x[p];
+    const double dy = s.position.y[j] - s.position.y[i] + pairs_.shift_y[p];
+    const double dz = s.position.z[j] - s.position.z[i];
+    const double overlap = s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (overlap <= 0.0) continue;
+    add_contact(materials_.pair(s.material[i], s.material[j]),
+                s.radius[i] * s.radius[j] / (s.radius[i] + s.radius[j]), overlap, history_[p]);
+  }
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    const PlaneWall& w = walls_[k];
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const double overlap = s.radius[i] - w.facing * (s.position.z[i] - w.position);
+      if (overlap > 0.0)
+        add_contact(materials_.pair(s.material[i], w.material), s.radius[i], overlap,
+                    wall_history_[k][i]);
+    }
+  }
+  return e;
+}
+
+void Engine::check_divergence() const {
+  const SphereState& s = state_;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double values[6] = {s.position.x[i], s.position.y[i], s.position.z[i],
+                              s.velocity.x[i], s.velocity.y[i], s.velocity.z[i]};
+    for (double v : values)
+      if (!std::isfinite(v))
+        throw ComputationError(fmt::format(
+            "diverged at step {}: sphere {} has a non-finite position or velocity", step_, i));
+  }
+  const double fraction = settings_.max_overlap_fraction;
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    const int i = pairs_.first[p], j = pairs_.second[p];
+    const double dx = s.position.x[j] - s.position.x[i] + pairs_.shift_x[p];
+    const double dy = s.position.y[j] - s.position.y[i] + pairs_.shift_y[p];
+    const double dz = s.position.z[j] - s.position.z[i];
+    const double overlap = s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (overlap > fraction * std::min(s.radius[i], s.radius[j]))
+      throw ComputationError(fmt::format(
+          "diverged at step {}: spheres {} and {} overlap by {:.3g} m, more than {} of the "
+          "smaller radius (time step too large or the load too fast?)",
+          step_, i, j, overlap, fraction));
+  }
+  for (std::size_t k = 0; k < walls_.size(); ++k)
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const double overlap =
+          s.radius[i] - walls_[k].facing * (s.position.z[i] - walls_[k].position);
+      if (overlap > fraction * s.radius[i])
+        throw ComputationError(fmt::format(
+            "diverged at step {}: sphere {} overlaps wall {} by {:.3g} m, more than {} of its "
+            "radius",
+            step_, i, k, overlap, fraction));
+    }
+  // Energy: a passive system can only lose what it holds plus what walls and gravity put in.
+  // A blow-up grows without bound, so "doubled beyond the budget" catches it without tripping on
+  // the integrator's small energy error. The floor is 1 µJ per kg of spheres ((1 mm/s)² scale).
+  const EnergySummary e = energy();
+  const double budget = energy_reference_ + work_in_;
+  double total_mass = 0.0;
+  for (double m : s.mass)
+    total_mass += m;
+  const double floor = 1e-6 * total_mass;
+  if (e.kinetic + e.elastic > 2.0 * std::max(budget, 0.0) + floor) {
+    std::size_t fastest = 0;
+    double fastest_v2 = -1.0;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const double v2 = s.velocity.x[i] * s.velocity.x[i] + s.velocity.y[i] * s.velocity.y[i] +
+                        s.velocity.z[i] * s.velocity.z[i];
+      if (v2 > fastest_v2) fastest_v2 = v2, fastest = i;
+    }
+    throw ComputationError(fmt::format(
+        "diverged at step {}: energy {:.3g} J grew beyond the {:.3g} J held and put in; fastest "
+        "sphere {} at {:.3g} m/s",
+        step_, e.kinetic + e.elastic, budget, fastest, std::sqrt(fastest_v2)));
+  }
+}
+
+std::vector<std::int32_t> Engine::contacts_per_sphere() const {
+  std::vector<std::int32_t> count(state_.size(), 0);
+  for (std::size_t p = 0; p < pairs_.size(); ++p)
+    if (pair_results_[p].touching) ++count[pairs_.first[p]], ++count[pairs_.second[p]];
+  for (const auto& touching : wall_touching_)
+    for (std::size_t i = 0; i < touching.size(); ++i)
+      count[i] += touching[i];
+  return count;
+}
+
+EngineCheckpoint Engine::checkpoint() const {
+  EngineCheckpoint c;
+  c.step = step_;
+  c.time = time_;
+  c.walls = walls_;
+  c.build_reference = build_reference_;
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    const double* xi = history_[p].tangential;
+    if (pair_results_[p].touching || xi[0] != 0.0 || xi[1] != 0.0 || xi[2] != 0.0) {
+      c.first.push_back(pairs_.first[p]);
+      c.second.push_back(pairs_.second[p]);
+      c.history.push_back(history_[p]);
+    }
+  }
+  c.wall_history = wall_history_;
+  c.wall_force = wall_force_;
+  c.energy_reference = energy_reference_;
+  c.work_in = work_in_;
+  return c;
+}
+
+}  // namespace shapepress::simulate

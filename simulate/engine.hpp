@@ -1,0 +1,139 @@
+#pragma once
+// The DEM engine for spheres: velocity Verlet for translation and rotation, Hertz–Mindlin
+// contacts through a Verlet half list (neighbor_list.hpp), plane walls normal to z, gravity,
+// periodic x/y, divergence detection. Deterministic: each contact's force is computed once into
+// a per-contact array, then every sphere gathers its contacts in a fixed order (no atomics), so
+// results are bit-identical for any thread count.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "simulate/contact_law.hpp"
+#include "simulate/materials.hpp"
+#include "simulate/neighbor_list.hpp"
+#include "simulate/state.hpp"
+
+namespace shapepress::simulate {
+
+// A plane z = position. facing = +1: spheres live above it (bottom plate); -1: below (punch).
+struct PlaneWall {
+  double position = 0.0;  // m
+  int facing = 1;
+  double velocity = 0.0;  // m/s along z, set by the punch program
+  int material = 0;
+};
+
+// Below these sizes a loop runs on one thread: on a loaded machine a parallel region's barrier
+// can cost a scheduler time slice, far more than the work. Results are the same either way.
+inline constexpr std::int64_t parallel_min_spheres = 1024;
+inline constexpr std::int64_t parallel_min_pairs = 4096;
+
+struct EngineSettings {
+  double time_step = 0.0;                           // s
+  std::array<double, 3> gravity = {0.0, 0.0, 0.0};  // m/s²
+  double skin = 0.0;                                // m, Verlet skin
+  double max_overlap_fraction = 0.5;  // divergence: overlap beyond this fraction of a radius
+  int check_every = 100;              // steps between divergence checks
+};
+
+// Everything a restart needs beyond the sphere state (snapshot.cpp writes and reads it).
+struct EngineCheckpoint {
+  std::int64_t step = 0;
+  double time = 0.0;
+  std::vector<PlaneWall> walls;
+  Vec3Array build_reference;  // positions at the last list build
+  // Touching contacts with their history, sorted by (first, second).
+  std::vector<std::int32_t> first, second;
+  std::vector<ContactHistory> history;
+  std::vector<std::vector<ContactHistory>> wall_history;  // [wall][sphere]
+  std::vector<double> wall_force;                         // [wall], z, on the wall
+  double energy_reference = 0.0;
+  double work_in = 0.0;
+};
+
+struct EnergySummary {
+  double kinetic = 0.0;        // translational + rotational, J
+  double elastic = 0.0;        // Hertz normal + tangential springs, J
+  double gravitational = 0.0;  // -Σ m g·x, J
+};
+
+class Engine {
+ public:
+  // Computes the initial forces (the first half-kick needs them). Checks that every material
+  // pair that can meet has an interaction.
+  Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
+         EngineSettings settings);
+  // Continues from a checkpoint: the forces in `state` are those of the step it was taken at.
+  Engine(SphereState state, Box box, MaterialTable materials, EngineSettings settings,
+         EngineCheckpoint checkpoint);
+
+  // One velocity Verlet step. Throws ComputationError naming sphere and step on divergence.
+  void step();
+  // Runs the divergence checks now (step() runs them every settings.check_every steps).
+  void check_divergence() const;
+
+  const SphereState& state() const { return state_; }
+  SphereState& mutable_state() { return state_; }  // scenario set-up (initial velocities)
+  const Box& box() const { return box_; }
+  const MaterialTable& materials() const { return materials_; }
+  const EngineSettings& settings() const { return settings_; }
+  std::vector<PlaneWall>& walls() { return walls_; }
+  const std::vector<PlaneWall>& walls() const { return walls_; }
+  std::int64_t step_index() const { return step_; }
+  double time() const { return time_; }
+
+  // z force the spheres exert on wall k (> 0 pushes a bottom plate down... see wall_load).
+  double wall_force(std::size_t k) const { return wall_force_[k]; }
+  // Compressive load on wall k, > 0 when the spheres press on it.
+  double wall_load(std::size_t k) const { return -walls_[k].facing * wall_force_[k]; }
+  // Sphere–sphere contacts (overlap > 0) and sphere–wall contacts at the last force evaluation.
+  std::int64_t sphere_contacts() const { return sphere_contacts_; }
+  std::int64_t wall_contacts() const { return wall_contacts_; }
+  // Number of contacts of each sphere (spheres and walls), for snapshots.
+  std::vector<std::int32_t> contacts_per_sphere() const;
+  EnergySummary energy() const;
+  // Work done on the spheres by moving walls and by gravity since the start, J.
+  double work_in() const { return work_in_; }
+  std::int64_t list_builds() const { return list_builds_; }
+
+  EngineCheckpoint checkpoint() const;
+
+ private:
+  void build_list(bool wrap);
+  void compute_forces();
+  void pair_forces();
+  void gather_forces();  // per sphere: its contacts in fixed order, walls, gravity
+  void require_material_pairs() const;
+
+  SphereState state_;
+  Box box_;
+  MaterialTable materials_;
+  std::vector<PlaneWall> walls_;
+  EngineSettings settings_;
+  std::int64_t step_ = 0;
+  double time_ = 0.0;
+
+  PairList pairs_;
+  std::vector<ContactHistory> history_;
+  Vec3Array build_reference_;
+  struct PairResult {
+    double force[3];  // on second
+    double torque_first[3];
+    double torque_second[3];
+    std::int32_t touching;
+  };
+  std::vector<PairResult> pair_results_;
+  std::vector<std::vector<ContactHistory>> wall_history_;
+  std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
+  std::vector<std::vector<std::uint8_t>> wall_touching_;
+  std::vector<double> wall_force_;
+  std::int64_t sphere_contacts_ = 0;
+  std::int64_t wall_contacts_ = 0;
+  std::int64_t list_builds_ = 0;
+  double energy_reference_ = 0.0;  // total energy at the start
+  double work_in_ = 0.0;
+};
+
+}  // namespace shapepress::simulate

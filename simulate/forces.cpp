@@ -1,0 +1,169 @@
+// The force evaluation, the engine's hot path: one pass over the pair list computing each
+// contact once into pair_results_, then one pass over the spheres gathering their contacts in
+// list order plus their wall contacts and gravity. Both passes are written out long on purpose:
+// splitting them into helpers that pass arrays around costs measurable speed.
+#include <cmath>
+
+#include "simulate/engine.hpp"
+
+namespace shapepress::simulate {
+
+void Engine::pair_forces() {
+  const SphereState& s = state_;
+  const std::int64_t count = static_cast<std::int64_t>(pairs_.size());
+  const double dt = settings_.time_step;
+  std::int64_t touching = 0;
+#pragma omp parallel for schedule(static) reduction(+ : touching) if (count >= parallel_min_pairs)
+  for (std::int64_t p = 0; p < count; ++p) {
+    const int i = pairs_.first[p], j = pairs_.second[p];
+    PairResult& out = pair_results_[p];
+    const double dx = s.position.x[j] - s.position.x[i] + pairs_.shift_x[p];
+    const double dy = s.position.y[j] - s.position.y[i] + pairs_.shift_y[p];
+    const double dz = s.position.z[j] - s.position.z[i];
+    const double ri = s.radius[i], rj = s.radius[j];
+    const double reach = ri + rj;
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    if (d2 >= reach * reach) {
+      out = PairResult{};
+      history_[p] = ContactHistory{};
+      continue;
+    }
+    ++touching;
+    const double d = std::sqrt(d2);
+    ContactKinematics c;
+    const double inv_d = 1.0 / d;
+    c.normal[0] = dx * inv_d;
+    c.normal[1] = dy * inv_d;
+    c.normal[2] = dz * inv_d;
+    c.overlap = reach - d;
+    const double* n = c.normal;
+    const double rci = ri - 0.5 * c.overlap, rcj = rj - 0.5 * c.overlap;
+    const double wix = s.angular_velocity.x[i], wiy = s.angular_velocity.y[i],
+                 wiz = s.angular_velocity.z[i];
+    const double wjx = s.angular_velocity.x[j], wjy = s.angular_velocity.y[j],
+                 wjz = s.angular_velocity.z[j];
+    // Contact point velocities: v + ω × (arm), arm = +rci n for i, -rcj n for j.
+    const double vcix = s.velocity.x[i] + rci * (wiy * n[2] - wiz * n[1]);
+    const double vciy = s.velocity.y[i] + rci * (wiz * n[0] - wix * n[2]);
+    const double vciz = s.velocity.z[i] + rci * (wix * n[1] - wiy * n[0]);
+    const double vcjx = s.velocity.x[j] - rcj * (wjy * n[2] - wjz * n[1]);
+    const double vcjy = s.velocity.y[j] - rcj * (wjz * n[0] - wjx * n[2]);
+    const double vcjz = s.velocity.z[j] - rcj * (wjx * n[1] - wjy * n[0]);
+    c.relative_velocity[0] = vcjx - vcix;
+    c.relative_velocity[1] = vcjy - vciy;
+    c.relative_velocity[2] = vcjz - vciz;
+    c.relative_rotation[0] = wix - wjx;
+    c.relative_rotation[1] = wiy - wjy;
+    c.relative_rotation[2] = wiz - wjz;
+    c.effective_radius = ri * rj / reach;
+    const double mi = s.mass[i], mj = s.mass[j];
+    c.effective_mass = mi * mj / (mi + mj);
+    c.effective_inertia = 1.0 / (s.inverse_inertia[i] + s.inverse_inertia[j]);
+    const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
+    const ContactForce f = contact_force(c, pc, history_[p], dt);
+    // Torques: τi = (rci n) × Fi = -rci (n × F), τj = (-rcj n) × F = -rcj (n × F).
+    const double cx = n[1] * f.force[2] - n[2] * f.force[1];
+    const double cy = n[2] * f.force[0] - n[0] * f.force[2];
+    const double cz = n[0] * f.force[1] - n[1] * f.force[0];
+    out.force[0] = f.force[0];
+    out.force[1] = f.force[1];
+    out.force[2] = f.force[2];
+    out.torque_first[0] = -rci * cx + f.rolling_torque[0];
+    out.torque_first[1] = -rci * cy + f.rolling_torque[1];
+    out.torque_first[2] = -rci * cz + f.rolling_torque[2];
+    out.torque_second[0] = -rcj * cx - f.rolling_torque[0];
+    out.torque_second[1] = -rcj * cy - f.rolling_torque[1];
+    out.torque_second[2] = -rcj * cz - f.rolling_torque[2];
+    out.touching = 1;
+  }
+  sphere_contacts_ = touching;
+}
+
+void Engine::gather_forces() {
+  SphereState& s = state_;
+  const std::int64_t n = static_cast<std::int64_t>(s.size());
+  const std::size_t wall_count = walls_.size();
+  wall_force_per_sphere_.resize(wall_count);
+  wall_touching_.resize(wall_count);
+  for (std::size_t k = 0; k < wall_count; ++k) {
+    wall_force_per_sphere_[k].assign(static_cast<std::size_t>(n), 0.0);
+    wall_touching_[k].assign(static_cast<std::size_t>(n), 0);
+  }
+  const double dt = settings_.time_step;
+  const auto& g = settings_.gravity;
+#pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
+  for (std::int64_t i = 0; i < n; ++i) {
+    double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
+    for (std::int32_t e = pairs_.gather_offset[i]; e < pairs_.gather_offset[i + 1]; ++e) {
+      const std::int32_t entry = pairs_.gather[e];
+      const PairResult& r = pair_results_[entry >> 1];
+      if (!r.touching) continue;
+      if ((entry & 1) == 0) {
+        f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
+        t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
+      } else {
+        f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
+        t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
+      }
+    }
+    // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
+    for (std::size_t k = 0; k < wall_count; ++k) {
+      const PlaneWall& w = walls_[k];
+      ContactHistory& history = wall_history_[k][i];
+      const double ri = s.radius[i];
+      const double gap = w.facing * (s.position.z[i] - w.position);
+      if (gap >= ri) {
+        history = ContactHistory{};
+        continue;
+      }
+      ContactKinematics c;
+      c.normal[0] = c.normal[1] = 0.0;
+      c.normal[2] = -w.facing;
+      c.overlap = ri - gap;
+      const double rc = gap;  // the contact point lies on the plane
+      const double* nn = c.normal;
+      const double wx = s.angular_velocity.x[i], wy = s.angular_velocity.y[i],
+                   wz = s.angular_velocity.z[i];
+      c.relative_velocity[0] = -(s.velocity.x[i] + rc * (wy * nn[2] - wz * nn[1]));
+      c.relative_velocity[1] = -(s.velocity.y[i] + rc * (wz * nn[0] - wx * nn[2]));
+      c.relative_velocity[2] = w.velocity - (s.velocity.z[i] + rc * (wx * nn[1] - wy * nn[0]));
+      c.relative_rotation[0] = wx;
+      c.relative_rotation[1] = wy;
+      c.relative_rotation[2] = wz;
+      c.effective_radius = ri;
+      c.effective_mass = s.mass[i];
+      c.effective_inertia = 1.0 / s.inverse_inertia[i];
+      const PairConstants& pc = materials_.pair(s.material[i], w.material);
+      const ContactForce cf = contact_force(c, pc, history, dt);
+      const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
+      const double cy = nn[2] * cf.force[0] - nn[0] * cf.force[2];
+      const double cz = nn[0] * cf.force[1] - nn[1] * cf.force[0];
+      f[0] -= cf.force[0], f[1] -= cf.force[1], f[2] -= cf.force[2];
+      t[0] += -rc * cx + cf.rolling_torque[0];
+      t[1] += -rc * cy + cf.rolling_torque[1];
+      t[2] += -rc * cz + cf.rolling_torque[2];
+      wall_force_per_sphere_[k][i] = cf.force[2];
+      wall_touching_[k][i] = 1;
+    }
+    const double m = s.mass[i];
+    s.force.x[i] = f[0] + m * g[0];
+    s.force.y[i] = f[1] + m * g[1];
+    s.force.z[i] = f[2] + m * g[2];
+    s.torque.x[i] = t[0];
+    s.torque.y[i] = t[1];
+    s.torque.z[i] = t[2];
+  }
+  // Wall totals summed in sphere order on one thread: the same bits for any thread count.
+  wall_force_.assign(wall_count, 0.0);
+  wall_contacts_ = 0;
+  for (std::size_t k = 0; k < wall_count; ++k) {
+    double sum = 0.0;
+    for (std::int64_t i = 0; i < n; ++i) {
+      sum += wall_force_per_sphere_[k][i];
+      wall_contacts_ += wall_touching_[k][i];
+    }
+    wall_force_[k] = sum;
+  }
+}
+
+}  // namespace shapepress::simulate

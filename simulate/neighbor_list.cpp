@@ -1,0 +1,214 @@
+#include "simulate/neighbor_list.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/error.hpp"
+
+namespace shapepress::simulate {
+namespace {
+
+struct CellGrid {
+  int n[3] = {1, 1, 1};
+  double origin[3] = {0, 0, 0};
+  double size[3] = {1, 1, 1};
+  bool periodic[3] = {false, false, false};
+
+  int coordinate(double value, int axis) const {
+    int c = static_cast<int>(std::floor((value - origin[axis]) / size[axis]));
+    if (periodic[axis]) {
+      c %= n[axis];
+      if (c < 0) c += n[axis];
+    } else {
+      c = std::clamp(c, 0, n[axis] - 1);
+    }
+    return c;
+  }
+};
+
+CellGrid make_grid(const SphereState& state, const Box& box, double cell) {
+  CellGrid g;
+  const std::vector<double>* coords[3] = {&state.position.x, &state.position.y, &state.position.z};
+  const double lengths[3] = {box.length_x, box.length_y, 0.0};
+  for (int axis = 0; axis < 3; ++axis) {
+    if (lengths[axis] > 0.0) {
+      g.periodic[axis] = true;
+      g.n[axis] = static_cast<int>(std::floor(lengths[axis] / cell));
+      if (g.n[axis] < 3)
+        throw InputError("periodic box length " + std::to_string(lengths[axis]) +
+                         " m is shorter than three neighbour cells of " + std::to_string(cell) +
+                         " m (2 × largest radius + skin)");
+      g.size[axis] = lengths[axis] / g.n[axis];
+    } else {
+      const auto [lo, hi] = std::minmax_element(coords[axis]->begin(), coords[axis]->end());
+      g.origin[axis] = *lo;
+      g.size[axis] = cell;
+      // Bounded extent: the cap keeps a runaway sphere from allocating a huge grid.
+      g.n[axis] = std::clamp(static_cast<int>((*hi - *lo) / cell) + 1, 1, 1 << 12);
+    }
+  }
+  return g;
+}
+
+double minimum_image(double d, double length) {
+  return length > 0.0 ? -length * std::nearbyint(d / length) : 0.0;
+}
+
+}  // namespace
+
+PairList build_pair_list(const SphereState& state, const Box& box, double skin) {
+  const int count = static_cast<int>(state.size());
+  PairList list;
+  list.gather_offset.assign(static_cast<std::size_t>(count) + 1, 0);
+  if (count == 0) return list;
+  const double r_max = *std::max_element(state.radius.begin(), state.radius.end());
+  const CellGrid g = make_grid(state, box, 2.0 * r_max + skin);
+  const int cells = g.n[0] * g.n[1] * g.n[2];
+
+  // Counting sort of spheres into cells, keeping index order within a cell.
+  std::vector<std::int32_t> cell_of(count);
+  std::vector<std::int32_t> cell_start(static_cast<std::size_t>(cells) + 1, 0);
+  for (int i = 0; i < count; ++i) {
+    const int c =
+        (g.coordinate(state.position.z[i], 2) * g.n[1] + g.coordinate(state.position.y[i], 1)) *
+            g.n[0] +
+        g.coordinate(state.position.x[i], 0);
+    cell_of[i] = c;
+    ++cell_start[c + 1];
+  }
+  for (int c = 0; c < cells; ++c)
+    cell_start[c + 1] += cell_start[c];
+  std::vector<std::int32_t> members(count);
+  {
+    std::vector<std::int32_t> fill(cell_start.begin(), cell_start.end() - 1);
+    for (int i = 0; i < count; ++i)
+      members[fill[cell_of[i]]++] = i;
+  }
+
+  const auto& x = state.position.x;
+  const auto& y = state.position.y;
+  const auto& z = state.position.z;
+  const int threads = omp_get_max_threads();
+  std::vector<PairList> parts(threads);
+  // Static schedule: thread t gets a contiguous range of i, so concatenating the parts in thread
+  // order gives the list sorted by first, whatever the thread count.
+#pragma omp parallel num_threads(threads) if (count >= 1024)
+  {
+    PairList& part = parts[omp_get_thread_num()];
+    std::vector<std::int32_t> partners;
+#pragma omp for schedule(static)
+    for (int i = 0; i < count; ++i) {
+      partners.clear();
+      const int ci[3] = {cell_of[i] % g.n[0], (cell_of[i] / g.n[0]) % g.n[1],
+                         cell_of[i] / (g.n[0] * g.n[1])};
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int cz = ci[2] + dz;
+        if (cz < 0 || cz >= g.n[2]) continue;
+        for (int dy = -1; dy <= 1; ++dy) {
+          int cy = ci[1] + dy;
+          if (g.periodic[1])
+            cy = (cy + g.n[1]) % g.n[1];
+          else if (cy < 0 || cy >= g.n[1])
+            continue;
+          for (int dx = -1; dx <= 1; ++dx) {
+            int cx = ci[0] + dx;
+            if (g.periodic[0])
+              cx = (cx + g.n[0]) % g.n[0];
+            else if (cx < 0 || cx >= g.n[0])
+              continue;
+            const int c = (cz * g.n[1] + cy) * g.n[0] + cx;
+            for (int m = cell_start[c]; m < cell_start[c + 1]; ++m) {
+              const int j = members[m];
+              if (j <= i) continue;
+              double ddx = x[j] - x[i], ddy = y[j] - y[i];
+              ddx += minimum_image(ddx, box.length_x);
+              ddy += minimum_image(ddy, box.length_y);
+              const double ddz = z[j] - z[i];
+              const double reach = state.radius[i] + state.radius[j] + skin;
+              if (ddx * ddx + ddy * ddy + ddz * ddz < reach * reach) partners.push_back(j);
+            }
+          }
+        }
+      }
+      std::sort(partners.begin(), partners.end());
+      for (int j : partners) {
+        part.first.push_back(i);
+        part.second.push_back(j);
+        part.shift_x.push_back(minimum_image(x[j] - x[i], box.length_x));
+        part.shift_y.push_back(minimum_image(y[j] - y[i], box.length_y));
+      }
+    }
+  }
+  for (const PairList& part : parts) {
+    list.first.insert(list.first.end(), part.first.begin(), part.first.end());
+    list.second.insert(list.second.end(), part.second.begin(), part.second.end());
+    list.shift_x.insert(list.shift_x.end(), part.shift_x.begin(), part.shift_x.end());
+    list.shift_y.insert(list.shift_y.end(), part.shift_y.begin(), part.shift_y.end());
+  }
+
+  // Gather lists: entries appended in pair order, so each sphere's are sorted by pair index.
+  const std::size_t pairs = list.size();
+  for (std::size_t p = 0; p < pairs; ++p) {
+    ++list.gather_offset[list.first[p] + 1];
+    ++list.gather_offset[list.second[p] + 1];
+  }
+  for (int i = 0; i < count; ++i)
+    list.gather_offset[i + 1] += list.gather_offset[i];
+  list.gather.resize(2 * pairs);
+  std::vector<std::int32_t> fill(list.gather_offset.begin(), list.gather_offset.end() - 1);
+  for (std::size_t p = 0; p < pairs; ++p) {
+    list.gather[fill[list.first[p]]++] = static_cast<std::int32_t>(2 * p);
+    list.gather[fill[list.second[p]]++] = static_cast<std::int32_t>(2 * p + 1);
+  }
+  return list;
+}
+
+std::vector<ContactHistory> carry_history(const PairList& old_pairs,
+                                          const std::vector<ContactHistory>& old_history,
+                                          const PairList& new_pairs) {
+  std::vector<ContactHistory> history(new_pairs.size());
+  std::size_t a = 0;
+  const std::size_t old_size = old_pairs.size();
+  for (std::size_t b = 0; b < new_pairs.size(); ++b) {
+    const auto key = [](const PairList& l, std::size_t k) {
+      return (static_cast<std::int64_t>(l.first[k]) << 32) | l.second[k];
+    };
+    const std::int64_t wanted = key(new_pairs, b);
+    while (a < old_size && key(old_pairs, a) < wanted)
+      ++a;
+    if (a < old_size && key(old_pairs, a) == wanted) history[b] = old_history[a];
+  }
+  return history;
+}
+
+void wrap_positions(SphereState& state, const Box& box) {
+  const auto wrap = [](std::vector<double>& values, double length) {
+    if (length <= 0.0) return;
+    for (double& v : values) {
+      if (v < 0.0 || v >= length) {
+        v -= length * std::floor(v / length);
+        if (v >= length) v -= length;  // -1e-17 wraps to exactly L: bring it to 0
+      }
+    }
+  };
+  wrap(state.position.x, box.length_x);
+  wrap(state.position.y, box.length_y);
+}
+
+double max_displacement_squared(const Vec3Array& position, const Vec3Array& reference) {
+  double largest = 0.0;
+  const std::size_t n = position.size();
+#pragma omp parallel for schedule(static) reduction(max : largest) if (n >= 1024)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = position.x[i] - reference.x[i];
+    const double dy = position.y[i] - reference.y[i];
+    const double dz = position.z[i] - reference.z[i];
+    largest = std::max(largest, dx * dx + dy * dy + dz * dz);
+  }
+  return largest;
+}
+
+}  // namespace shapepress::simulate

@@ -1,0 +1,47 @@
+#pragma once
+// Linked cells + a Verlet half list with a skin (DESIGN.md "Where engine speed comes from"):
+// every pair closer than ri + rj + skin appears once, as (first < second), sorted by
+// (first, second). The list is rebuilt when some sphere moved more than half the skin since the
+// last build. Periodic in x and y: a pair across a boundary carries the image shift to add to
+// x_second - x_first. Contact history lives in an array aligned with the pairs and is carried
+// over a rebuild by merging the old and new sorted pair lists (carry_history), never hashed.
+#include <cstdint>
+#include <vector>
+
+#include "simulate/contact_law.hpp"
+#include "simulate/state.hpp"
+
+namespace shapepress::simulate {
+
+struct PairList {
+  std::vector<std::int32_t> first;
+  std::vector<std::int32_t> second;
+  std::vector<double> shift_x;  // added to x[second] - x[first]
+  std::vector<double> shift_y;
+  // Per-sphere gather lists in fixed order (CSR): entries of sphere i are
+  // gather[gather_offset[i] .. gather_offset[i+1]) = 2·pair + (0 if i is first, 1 if second),
+  // in increasing pair index, which is increasing partner index: the order of a sum over a
+  // sphere's contacts never depends on threads or on the list's non-touching pairs.
+  std::vector<std::int32_t> gather_offset;
+  std::vector<std::int32_t> gather;
+  std::size_t size() const { return first.size(); }
+};
+
+// Builds the half list. InputError when a periodic length is shorter than three cells
+// (3 × (2 r_max + skin)): below that a pair could meet through two images.
+PairList build_pair_list(const SphereState& state, const Box& box, double skin);
+
+// History of pairs present in both lists is moved to the new list's slots; new pairs start
+// from zero history. Both lists must be sorted by (first, second).
+std::vector<ContactHistory> carry_history(const PairList& old_pairs,
+                                          const std::vector<ContactHistory>& old_history,
+                                          const PairList& new_pairs);
+
+// Moves positions back into [0, L) in the periodic directions (only at list builds, so the
+// shifts stored in the list stay valid between builds).
+void wrap_positions(SphereState& state, const Box& box);
+
+// Largest displacement since `reference` (positions at the last build), squared.
+double max_displacement_squared(const Vec3Array& position, const Vec3Array& reference);
+
+}  // namespace shapepress::simulate

@@ -1,0 +1,56 @@
+#pragma once
+// The sub-sphere state as a structure of arrays: each hot quantity is its own contiguous array of
+// doubles (DESIGN.md "Locality"), so the contact loop and the integrator stream through memory.
+// body[i] names the particle a sub-sphere belongs to: for plain spheres it is the sphere's own
+// index; bonded agglomerates (BMS) and rigid clumps (CMS) give several sub-spheres one body id,
+// which is how the contact loop will know which pairs are bonded or rigidly joined.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shapepress::simulate {
+
+struct Vec3Array {
+  std::vector<double> x, y, z;
+  void resize(std::size_t n, double value = 0.0) {
+    x.assign(n, value);
+    y.assign(n, value);
+    z.assign(n, value);
+  }
+  void push_back(double a, double b, double c) {
+    x.push_back(a);
+    y.push_back(b);
+    z.push_back(c);
+  }
+  std::size_t size() const { return x.size(); }
+  friend bool operator==(const Vec3Array&, const Vec3Array&) = default;
+};
+
+struct SphereState {
+  Vec3Array position;          // m
+  Vec3Array velocity;          // m/s
+  Vec3Array angular_velocity;  // rad/s
+  Vec3Array force;             // N, from the last force evaluation
+  Vec3Array torque;            // N·m
+  std::vector<double> radius;  // m
+  std::vector<double> mass;    // kg
+  std::vector<double> inverse_mass;
+  std::vector<double> inverse_inertia;  // solid sphere: I = 2/5 m r²
+  std::vector<std::int32_t> material;
+  std::vector<std::int32_t> body;
+
+  std::size_t size() const { return radius.size(); }
+  // A solid sphere at rest; its body id is its own index.
+  void add_sphere(double x, double y, double z, double r, double density, int material_index);
+};
+
+// The simulation box: periodic in x and y over [0, length_x) × [0, length_y) when periodic,
+// bounded in z by the walls. length ≤ 0 means not periodic in that direction.
+struct Box {
+  double length_x = 0.0;
+  double length_y = 0.0;
+  bool periodic_x() const { return length_x > 0.0; }
+  bool periodic_y() const { return length_y > 0.0; }
+};
+
+}  // namespace shapepress::simulate

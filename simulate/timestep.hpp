@@ -1,0 +1,18 @@
+#pragma once
+// The time step: a fraction of the Rayleigh time of the smallest sphere (the usual DEM rule,
+// e.g. LIGGGHTS' check/timestep/gran), checked against the Hertz collision time at the fastest
+// expected impact speed, which must span many steps.
+namespace shapepress::simulate {
+
+// t_R = π r √(ρ/G) / (0.1631 ν + 0.8766), G = E / (2(1+ν)).
+double rayleigh_time(double radius, double density, double youngs_modulus, double poisson_ratio);
+
+// Duration of a Hertz impact at relative speed v: t_c = 2.868 (m*² / (R* E*² v))^{1/5}
+// (Johnson 1985, §11.4).
+double hertz_collision_time(double effective_mass, double effective_radius,
+                            double effective_modulus, double speed);
+
+// Steps per Hertz collision below which the contact is not resolved: an InputError.
+inline constexpr double minimum_steps_per_collision = 10.0;
+
+}  // namespace shapepress::simulate
