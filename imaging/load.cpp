@@ -44,6 +44,7 @@ LoadedImage load_image(const std::filesystem::path& path) {
                     path.string(), lo));
   cv::Mat scaled;
   gray.convertTo(scaled, CV_32F, 1.0 / (hi - lo), -lo / (hi - lo));
+  cv::min(cv::max(scaled, 0.0), 1.0, scaled);  // rounding of the scaling must not leave [0, 1]
   loaded.image = GrayImage(scaled.cols, scaled.rows);
   for (int y = 0; y < scaled.rows; ++y)
     std::copy_n(scaled.ptr<float>(y), scaled.cols, &loaded.image.at(0, y));

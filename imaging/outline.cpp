@@ -8,37 +8,54 @@ namespace shapepress::imaging {
 
 std::vector<Point2> trace_outline(const std::function<bool(int, int)>& inside, int start_x,
                                   int start_y) {
-  // Start on the top edge of the first pixel, heading +x; the region is below (on the right
-  // of the direction of travel, y pointing down). Direction d, right = (-dy, dx).
-  int vx = start_x, vy = start_y, dx = 1, dy = 0;
-  const int sx = vx, sy = vy;
+  // The walk of ImageJ's Wand (8-connected), so that the corner list — and with it the traced
+  // perimeter, whose corner count depends on where the walk starts — is the same as ImageJ's.
+  // Vertices sit between pixels (x-1, y-1), (x, y-1), (x-1, y), (x, y). Directions: 0 = +x,
+  // 1 = -y, 2 = -x, 3 = +y; the pixel "in direction d" of a vertex is the one at d·90° − 45°.
+  // Outside pixels stay on the left; at each vertex turn as far left as an inside pixel allows.
+  auto inside_towards = [&](int x, int y, int direction) {
+    switch (direction & 3) {
+      case 0:
+        return inside(x, y);
+      case 1:
+        return inside(x, y - 1);
+      case 2:
+        return inside(x - 1, y - 1);
+      default:
+        return inside(x - 1, y);
+    }
+  };
+  int run_end = start_x;
+  while (inside(run_end + 1, start_y))
+    ++run_end;
+  // Start on the right edge of the start pixel's run, heading down (+y).
+  const int x0 = run_end + 1, y0 = start_y + 1, start_direction = 3;
+  int x = x0, y = y0, direction = start_direction;
   std::vector<Point2> corners;
-  corners.push_back({static_cast<double>(vx), static_cast<double>(vy)});
   do {
-    vx += dx;
-    vy += dy;
-    // Pixels ahead of vertex (vx, vy): left and right of the travel direction. A pixel's index
-    // is the floor of its centre, which sits half a step ahead and half a step to the side.
-    auto pixel = [&](double side) {
-      double cx = vx + 0.5 * dx + side * 0.5 * -dy, cy = vy + 0.5 * dy + side * 0.5 * dx;
-      return inside(static_cast<int>(std::floor(cx)), static_cast<int>(std::floor(cy)));
-    };
-    int ndx = dx, ndy = dy;
-    if (pixel(-1.0)) {  // ahead-left is inside: turn left (8-connected diagonal included)
-      ndx = dy;
-      ndy = -dx;
-    } else if (!pixel(1.0)) {  // nothing ahead: turn right
-      ndx = -dy;
-      ndy = dx;
+    int turn = direction + 1;
+    while (turn >= direction && !inside_towards(x, y, turn))
+      --turn;
+    if (turn != direction) corners.push_back({static_cast<double>(x), static_cast<double>(y)});
+    switch (turn & 3) {
+      case 0:
+        ++x;
+        break;
+      case 1:
+        --y;
+        break;
+      case 2:
+        --x;
+        break;
+      default:
+        ++y;
+        break;
     }
-    if (ndx != dx || ndy != dy) {
-      corners.push_back({static_cast<double>(vx), static_cast<double>(vy)});
-      dx = ndx;
-      dy = ndy;
-    }
-  } while (!(vx == sx && vy == sy && dx == 1 && dy == 0));
-  // The start vertex was pushed first and reached again at the end: drop the duplicate.
-  if (corners.size() > 1 && corners.back().x == sx && corners.back().y == sy) corners.pop_back();
+    direction = turn;
+  } while (x != x0 || y != y0 || (direction & 3) != start_direction);
+  // The walk started one step past the top-right corner of the run; ImageJ appends it here.
+  if (corners.empty() || corners.front().x != x)
+    corners.push_back({static_cast<double>(x), static_cast<double>(y)});
   return corners;
 }
 

@@ -11,9 +11,8 @@
 namespace shapepress::imaging {
 
 // Outer boundary of the 8-connected region containing `start` (the region's first pixel in
-// raster order), traced along pixel edges with the region on the right-hand side (clockwise on
-// screen). Only the corners (direction changes) are returned. `inside(x, y)` must be false
-// outside the image.
+// raster order), traced along pixel edges as ImageJ's Wand does. Only the corners (direction
+// changes) are returned, in ImageJ's order. `inside(x, y)` must be false outside the image.
 std::vector<Point2> trace_outline(const std::function<bool(int, int)>& inside, int start_x,
                                   int start_y);
 

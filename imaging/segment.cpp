@@ -69,7 +69,9 @@ cv::Mat denoise(const cv::Mat& image, const SegmentOptions& options) {
   return out;
 }
 
-double median_of_border(const cv::Mat& image) {
+double median_of_border(const cv::Mat& image8) {
+  cv::Mat image;
+  image8.convertTo(image, CV_32F);
   std::vector<float> values;
   for (int x = 0; x < image.cols; ++x) {
     values.push_back(image.at<float>(0, x));
@@ -272,9 +274,10 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
 
   cv::Mat smooth8 = to_8bit(smooth), ignored;
   double otsu = cv::threshold(smooth8, ignored, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
-  result.bright_particles = options.polarity == Polarity::automatic
-                                ? median_of_border(smooth8 * (1.0 / 255.0)) * 255.0 < otsu
-                                : options.polarity == Polarity::bright;
+  result.bright_particles =
+      options.polarity == Polarity::automatic
+          ? median_of_border(smooth8) <= otsu  // THRESH_BINARY keeps values > otsu
+          : options.polarity == Polarity::bright;
   if (!result.bright_particles) smooth = 1.0 - smooth;  // particles are bright from here on
 
   cv::Mat flat = options.background == Background::quadratic ? subtract_quadratic_background(smooth)

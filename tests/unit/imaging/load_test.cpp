@@ -1,0 +1,100 @@
+// Loading: every failure names the file and the cause; depths and colour are accepted; the
+// information bar is found.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include "common/error.hpp"
+#include "imaging/load.hpp"
+
+namespace shapepress::imaging {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Netpbm files written by hand (OpenCV reads them): P5 grey (8 or 16 bit, big-endian), P6 RGB.
+void write_netpbm(const fs::path& path, int w, int h, int channels, int maxval,
+                  const std::function<int(int, int)>& value) {
+  std::ofstream out(path, std::ios::binary);
+  out << (channels == 3 ? "P6" : "P5") << "\n" << w << " " << h << "\n" << maxval << "\n";
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < channels; ++c) {
+        int v = value(x, y);
+        if (maxval > 255) out.put(static_cast<char>(v >> 8));
+        out.put(static_cast<char>(v & 0xff));
+      }
+}
+
+fs::path temp_path(const std::string& name) {
+  fs::path dir =
+      fs::temp_directory_path() / ("shapepress_imaging_load_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+void expect_input_error(const fs::path& path, const std::string& cause) {
+  try {
+    load_image(path);
+    FAIL() << "expected InputError for " << path;
+  } catch (const InputError& e) {
+    std::string message = e.what();
+    EXPECT_NE(message.find(path.filename().string()), std::string::npos) << message;
+    EXPECT_NE(message.find(cause), std::string::npos) << message;
+  }
+}
+
+TEST(Load, BadFilesAreNamedWithTheirCause) {
+  expect_input_error(temp_path("does_not_exist.png"), "no such image file");
+  fs::path empty = temp_path("empty.png");
+  std::ofstream(empty).close();
+  expect_input_error(empty, "empty file");
+  fs::path text = temp_path("notes.tif");
+  std::ofstream(text) << "these are not pixels\n";
+  expect_input_error(text, "cannot be read as an image");
+  fs::path black = temp_path("black.pgm");
+  write_netpbm(black, 32, 32, 1, 255, [](int, int) { return 0; });
+  expect_input_error(black, "uniform");
+  fs::path white = temp_path("white.pgm");
+  write_netpbm(white, 32, 32, 1, 255, [](int, int) { return 255; });
+  expect_input_error(white, "uniform");
+}
+
+TEST(Load, SixteenBitAndColourImages) {
+  auto square = [](int x, int y) { return x >= 5 && x < 15 && y >= 5 && y < 15; };
+  fs::path deep_path = temp_path("deep.pgm");
+  write_netpbm(deep_path, 30, 20, 1, 65535,
+               [&](int x, int y) { return square(x, y) ? 41000 : 1000; });
+  LoadedImage d = load_image(deep_path);
+  EXPECT_EQ(d.bit_depth, 16);
+  EXPECT_FLOAT_EQ(d.image.at(0, 0), 0.0f);
+  EXPECT_FLOAT_EQ(d.image.at(7, 7), 1.0f);
+  EXPECT_FALSE(d.pixel_size_m);  // a PGM carries no SEM metadata
+
+  fs::path colour_path = temp_path("colour.ppm");
+  write_netpbm(colour_path, 30, 20, 3, 255, [&](int x, int y) { return square(x, y) ? 200 : 10; });
+  LoadedImage c = load_image(colour_path);
+  EXPECT_EQ(c.channels, 3);
+  EXPECT_FLOAT_EQ(c.image.at(7, 7), 1.0f);
+}
+
+TEST(Load, InformationBarIsDetectedAndNoisyScansAreNot) {
+  GrayImage image(200, 150);
+  unsigned state = 12345;
+  for (float& v : image.pixels) {  // scan noise: no row has one dominant value
+    state = state * 1103515245u + 12345u;
+    v = 0.3f + 0.2f * static_cast<float>((state >> 16) % 1000) / 1000.0f;
+  }
+  EXPECT_EQ(detect_info_bar_rows(image), 0);
+  for (int y = 130; y < 150; ++y)
+    for (int x = 0; x < 200; ++x)
+      image.at(x, y) = (y > 135 && y < 140 && x % 9 < 2) ? 1.0f : 0.0f;
+  EXPECT_EQ(detect_info_bar_rows(image), 20);
+  EXPECT_EQ(crop_rows(image, 130).height, 130);
+}
+
+}  // namespace
+}  // namespace shapepress::imaging
