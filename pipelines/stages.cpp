@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "imaging/cli.hpp"
+#include "simulate/cli.hpp"
 
 // Each stage library declares its setup function in its cli.hpp.
 
@@ -13,6 +14,8 @@ std::span<const Stage> registered_stages() {
   static const std::vector<Stage> stages = {
       Stage{"shape-stats", "measure particles in images", imaging::setup_shape_stats_cli},
       Stage{"synth-images", "render SEM-like images of known particles", imaging::setup_synth_images_cli},
+      Stage{"plate", "one sphere between two plates (validation rig)", simulate::setup_plate_cli},
+      Stage{"compact", "compact a sphere packing with a punch program", simulate::setup_compact_cli},
   };
   return stages;
 }

@@ -1,6 +1,7 @@
 #include "simulate/timestep.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace shapepress::simulate {
@@ -16,6 +17,47 @@ double hertz_collision_time(double effective_mass, double effective_radius,
   return 2.868 * std::pow(effective_mass * effective_mass /
                               (effective_radius * effective_modulus * effective_modulus * speed),
                           0.2);
+}
+
+}  // namespace shapepress::simulate
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+
+namespace shapepress::simulate {
+
+TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
+                                const std::vector<int>& wall_materials, std::optional<double> fixed,
+                                double fraction, double speed) {
+  TimeStepChoice choice;
+  if (state.size() == 0) throw InputError("no spheres to simulate");
+  std::size_t smallest = 0;
+  choice.rayleigh_time = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    const Material& m = materials.material(state.material[i]);
+    const double t = rayleigh_time(state.radius[i], m.density, m.youngs_modulus, m.poisson_ratio);
+    if (t < choice.rayleigh_time) choice.rayleigh_time = t, smallest = i;
+  }
+  if (!(fraction > 0.0 && fraction <= 1.0))
+    throw InputError("time_step_fraction must be in (0, 1]");
+  choice.time_step = fixed ? *fixed : fraction * choice.rayleigh_time;
+  if (!(choice.time_step > 0.0)) throw InputError("time_step must be > 0");
+  const double r = state.radius[smallest], m = state.mass[smallest];
+  const int mat = state.material[smallest];
+  const double v = std::max(speed, 1e-3);  // a resting bed still sees mm/s impacts
+  choice.collision_time =
+      hertz_collision_time(0.5 * m, 0.5 * r, materials.pair(mat, mat).effective_modulus, v);
+  for (int w : wall_materials)
+    choice.collision_time =
+        std::min(choice.collision_time,
+                 hertz_collision_time(m, r, materials.pair(mat, w).effective_modulus, v));
+  if (choice.time_step * minimum_steps_per_collision > choice.collision_time)
+    throw InputError(fmt::format(
+        "time step {:.3g} s resolves a Hertz collision at {:.3g} m/s ({:.3g} s) with fewer than "
+        "{} steps: lower time_step or time_step_fraction",
+        choice.time_step, v, choice.collision_time, minimum_steps_per_collision));
+  return choice;
 }
 
 }  // namespace shapepress::simulate

@@ -1,4 +1,10 @@
 #pragma once
+#include <optional>
+#include <vector>
+
+#include "simulate/materials.hpp"
+#include "simulate/state.hpp"
+
 // The time step: a fraction of the Rayleigh time of the smallest sphere (the usual DEM rule,
 // e.g. LIGGGHTS' check/timestep/gran), checked against the Hertz collision time at the fastest
 // expected impact speed, which must span many steps.
@@ -14,5 +20,22 @@ double hertz_collision_time(double effective_mass, double effective_radius,
 
 // Steps per Hertz collision below which the contact is not resolved: an InputError.
 inline constexpr double minimum_steps_per_collision = 10.0;
+
+}  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+
+struct TimeStepChoice {
+  double time_step = 0.0;       // s
+  double rayleigh_time = 0.0;   // of the smallest sphere
+  double collision_time = 0.0;  // shortest Hertz impact at `speed`, sphere–sphere or –wall
+};
+
+// `fixed` if given, else fraction × the Rayleigh time of the smallest sphere. InputError when
+// the step resolves a Hertz collision at `speed` (the fastest expected relative speed) with
+// fewer than minimum_steps_per_collision steps.
+TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
+                                const std::vector<int>& wall_materials, std::optional<double> fixed,
+                                double fraction, double speed);
 
 }  // namespace shapepress::simulate

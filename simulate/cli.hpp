@@ -1,0 +1,11 @@
+#pragma once
+#include "common/stage.hpp"
+
+namespace shapepress::simulate {
+
+// shapepress plate --config plate.toml --out DIR
+StageRunner setup_plate_cli(CLI::App& app);
+// shapepress compact --config compact.toml [--packing FILE | --restart SNAPSHOT] --out DIR
+StageRunner setup_compact_cli(CLI::App& app);
+
+}  // namespace shapepress::simulate

@@ -1,0 +1,120 @@
+#include "simulate/compact_setup.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+
+namespace shapepress::simulate {
+namespace {
+
+double expected_speed(const CompactConfig& c, const SphereState& s) {
+  double v = std::max({c.program.speed, c.program.unload_speed, c.program.max_speed});
+  for (std::size_t i = 0; i < s.size(); ++i)
+    v = std::max(v,
+                 std::sqrt(s.velocity.x[i] * s.velocity.x[i] + s.velocity.y[i] * s.velocity.y[i] +
+                           s.velocity.z[i] * s.velocity.z[i]));
+  const double g = std::hypot(c.run.gravity[0], c.run.gravity[1], c.run.gravity[2]);
+  return std::max(v, std::sqrt(2.0 * std::max(g, c.generate ? 9.81 : 0.0) * (c.punch - c.bottom)));
+}
+
+EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double dt) {
+  EngineSettings settings;
+  settings.time_step = dt;
+  settings.gravity = c.run.gravity;
+  const double d_min = 2.0 * *std::min_element(s.radius.begin(), s.radius.end());
+  settings.skin = c.run.skin ? *c.run.skin : 0.1 * d_min;
+  settings.max_overlap_fraction = c.run.max_overlap_fraction;
+  return settings;
+}
+
+CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap) {
+  CompactionSetup setup;
+  setup.program = c.program;
+  if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
+  setup.die_area = c.box_x * c.box_y;
+  setup.reference_gap = reference_gap;
+  setup.max_steps = c.run.steps;
+  setup.record_every = c.run.record_every;
+  setup.snapshot_every = c.run.snapshot_every;
+  if (setup.max_steps == 0 && !setup.program.target_gap &&
+      setup.program.mode == PunchProgram::Mode::displacement)
+    throw InputError("punch: give target_gap or target_strain, or run.steps to stop the run");
+  return setup;
+}
+
+// Settles a generated bed under gravity with the punch parked, then lowers the punch onto it.
+SphereState settle(const CompactConfig& c, SphereState state, const MaterialTable& table,
+                   const std::vector<PlaneWall>& walls, double dt) {
+  EngineSettings settings = settings_for(c, state, dt);
+  if (settings.gravity == std::array<double, 3>{0.0, 0.0, 0.0}) settings.gravity = {0, 0, -9.81};
+  Engine engine(std::move(state), Box{c.box_x, c.box_y}, table, walls, settings);
+  const auto steps = static_cast<std::int64_t>(std::ceil(c.settle_time / dt));
+  spdlog::info("settling {} spheres under gravity for {} steps", engine.state().size(), steps);
+  for (std::int64_t k = 0; k < steps; ++k)
+    engine.step();
+  SphereState settled = engine.state();
+  settled.velocity.resize(settled.size());
+  settled.angular_velocity.resize(settled.size());
+  return settled;
+}
+
+}  // namespace
+
+PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<SphereList> spheres) {
+  const MaterialTable table = c.materials.table();
+  const int particle = table.index_of(c.particle_material);
+  const int wall = table.index_of(c.wall_material);
+  const Box box{c.box_x, c.box_y};
+  const bool generated = !spheres;
+  if (generated) {
+    if (!c.generate)
+      throw InputError("no packing: pass --packing FILE or add a [generate] table to the config");
+    spheres = insert_random_spheres(box, *c.generate);
+  }
+  const double density = table.material(particle).density;
+  SphereState state = make_state(*spheres, density, particle);
+  std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
+                                  PlaneWall{c.punch, -1, 0.0, wall}};
+  PreparedCompaction out;
+  out.time_step = select_time_step(state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
+                                   expected_speed(c, state));
+  const double dt = out.time_step.time_step;
+  if (generated && c.settle_time > 0.0) {
+    state = settle(c, std::move(state), table, walls, dt);
+    double top = c.bottom;
+    for (std::size_t i = 0; i < state.size(); ++i)
+      top = std::max(top, state.position.z[i] + state.radius[i]);
+    walls[1].position = std::min(c.punch, top);
+  }
+  for (std::size_t i = 0; i < state.size(); ++i)
+    if (state.position.z[i] - state.radius[i] < c.bottom - 0.5 * state.radius[i] ||
+        state.position.z[i] + state.radius[i] > walls[1].position + 0.5 * state.radius[i])
+      throw InputError("packing: sphere " + std::to_string(i) +
+                       " lies outside the space between box.bottom and box.punch");
+  const EngineSettings settings = settings_for(c, state, dt);
+  out.engine = std::make_unique<Engine>(std::move(state), box, table, walls, settings);
+  out.punch.reference_gap = walls[1].position - walls[0].position;
+  out.setup = compaction_setup(c, out.punch.reference_gap);
+  return out;
+}
+
+PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snapshot) {
+  const MaterialTable table = c.materials.table();
+  PreparedCompaction out;
+  std::vector<int> wall_materials;
+  for (const PlaneWall& w : snapshot.checkpoint.walls)
+    wall_materials.push_back(w.material);
+  out.time_step = select_time_step(snapshot.state, table, wall_materials, c.run.time_step,
+                                   c.run.time_step_fraction, expected_speed(c, snapshot.state));
+  const EngineSettings settings = settings_for(c, snapshot.state, out.time_step.time_step);
+  out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
+                                        std::move(snapshot.checkpoint));
+  out.punch = snapshot.punch;
+  out.setup = compaction_setup(c, out.punch.reference_gap);
+  return out;
+}
+
+}  // namespace shapepress::simulate

@@ -1,0 +1,27 @@
+#pragma once
+// From a compact config and a packing (read, generated, or a snapshot) to an engine ready to
+// run: walls, time step, skin, settling of a generated bed, the punch program in metres.
+#include <memory>
+#include <optional>
+
+#include "simulate/compact.hpp"
+#include "simulate/config_io.hpp"
+#include "simulate/snapshot.hpp"
+#include "simulate/timestep.hpp"
+
+namespace shapepress::simulate {
+
+struct PreparedCompaction {
+  std::unique_ptr<Engine> engine;
+  CompactionSetup setup;
+  PunchState punch;
+  TimeStepChoice time_step;
+};
+
+// `spheres` empty: generate from config.generate (InputError if absent) and settle.
+PreparedCompaction prepare_compaction(const CompactConfig& config,
+                                      std::optional<SphereList> spheres);
+// Continues a run from a snapshot with the same config.
+PreparedCompaction resume_compaction(const CompactConfig& config, LoadedSnapshot snapshot);
+
+}  // namespace shapepress::simulate

@@ -1,0 +1,232 @@
+#include "simulate/snapshot.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/hdf5_file.hpp"
+
+namespace shapepress::simulate {
+namespace {
+
+std::vector<double> interleave(const Vec3Array& v) {
+  std::vector<double> out(3 * v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    out[3 * i] = v.x[i];
+    out[3 * i + 1] = v.y[i];
+    out[3 * i + 2] = v.z[i];
+  }
+  return out;
+}
+
+Vec3Array split(const std::vector<double>& values) {
+  Vec3Array v;
+  const std::size_t n = values.size() / 3;
+  v.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    v.x[i] = values[3 * i];
+    v.y[i] = values[3 * i + 1];
+    v.z[i] = values[3 * i + 2];
+  }
+  return v;
+}
+
+std::vector<double> history_values(const std::vector<ContactHistory>& history) {
+  std::vector<double> out;
+  out.reserve(3 * history.size());
+  for (const ContactHistory& h : history)
+    out.insert(out.end(), h.tangential, h.tangential + 3);
+  return out;
+}
+
+std::vector<ContactHistory> history_from(const std::vector<double>& values) {
+  std::vector<ContactHistory> out(values.size() / 3);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    for (int c = 0; c < 3; ++c)
+      out[k].tangential[c] = values[3 * k + c];
+  return out;
+}
+
+void write_vec3(H5Writer& file, const std::string& name, const Vec3Array& v,
+                std::string_view unit) {
+  file.write(name, interleave(v), {v.size(), 3});
+  file.unit(name, unit);
+}
+
+}  // namespace
+
+void write_snapshot(const std::filesystem::path& path, const Engine& engine,
+                    const PunchState& punch, const Provenance& provenance) {
+  const SphereState& s = engine.state();
+  const std::size_t n = s.size();
+  H5Writer file(path, provenance);
+  write_vec3(file, "/particles/position", s.position, "m");
+  write_vec3(file, "/particles/velocity", s.velocity, "m/s");
+  write_vec3(file, "/particles/angular_velocity", s.angular_velocity, "rad/s");
+  write_vec3(file, "/particles/force", s.force, "N");
+  write_vec3(file, "/particles/torque", s.torque, "N m");
+  file.write("/particles/radius", s.radius);
+  file.unit("/particles/radius", "m");
+  file.write("/particles/mass", s.mass);
+  file.unit("/particles/mass", "kg");
+  file.write("/particles/inverse_mass", s.inverse_mass);
+  file.write("/particles/inverse_inertia", s.inverse_inertia);
+  file.write("/particles/material", s.material);
+  file.write("/particles/body", s.body);
+  const std::vector<std::int32_t> contacts = engine.contacts_per_sphere();
+  file.write("/particles/contacts", contacts);
+
+  const EngineCheckpoint c = engine.checkpoint();
+  file.group("/engine");
+  file.attribute("/engine", "step", static_cast<std::int64_t>(c.step));
+  file.attribute("/engine", "time", c.time);
+  file.attribute("/engine", "energy_reference", c.energy_reference);
+  file.attribute("/engine", "work_in", c.work_in);
+  file.attribute("/engine", "box_x", engine.box().length_x);
+  file.attribute("/engine", "box_y", engine.box().length_y);
+  write_vec3(file, "/engine/build_reference", c.build_reference, "m");
+  file.write("/engine/contact_first", c.first);
+  file.write("/engine/contact_second", c.second);
+  file.write("/engine/contact_tangential", history_values(c.history), {c.history.size(), 3});
+  std::vector<ContactHistory> wall_history;
+  for (const auto& w : c.wall_history)
+    wall_history.insert(wall_history.end(), w.begin(), w.end());
+  file.write("/engine/wall_tangential", history_values(wall_history), {wall_history.size(), 3});
+
+  // Walls: the state, and each wall as a quad over the box for ParaView.
+  const auto& walls = c.walls;
+  std::vector<double> position, velocity, force, points;
+  std::vector<std::int32_t> facing, material, quads;
+  const double lx = engine.box().length_x, ly = engine.box().length_y;
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    position.push_back(walls[k].position);
+    velocity.push_back(walls[k].velocity);
+    force.push_back(c.wall_force[k]);
+    facing.push_back(walls[k].facing);
+    material.push_back(walls[k].material);
+    const double z = walls[k].position;
+    const double corners[4][2] = {{0, 0}, {lx, 0}, {lx, ly}, {0, ly}};
+    for (int q = 0; q < 4; ++q) {
+      points.insert(points.end(), {corners[q][0], corners[q][1], z});
+      quads.push_back(static_cast<std::int32_t>(4 * k + q));
+    }
+  }
+  file.write("/walls/position", position);
+  file.unit("/walls/position", "m");
+  file.write("/walls/velocity", velocity);
+  file.write("/walls/force", force);
+  file.write("/walls/facing", facing);
+  file.write("/walls/material", material);
+  file.write("/walls/points", points, {4 * walls.size(), 3});
+  file.write("/walls/quads", quads, {walls.size(), 4});
+  file.group("/punch");
+  file.attribute("/punch", "phase", static_cast<std::int64_t>(punch.phase));
+  file.attribute("/punch", "phase_start", punch.phase_start);
+  file.attribute("/punch", "reference_gap", punch.reference_gap);
+  file.attribute("/", "spheres", static_cast<std::int64_t>(n));
+  file.commit();
+}
+
+LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
+  H5Reader file(path);
+  if (!file.has("/engine") || !file.has("/particles/position"))
+    throw InputError("'" + path.string() + "' is not a shapepress snapshot (no /engine group)");
+  LoadedSnapshot out;
+  SphereState& s = out.state;
+  s.position = split(file.doubles("/particles/position"));
+  s.velocity = split(file.doubles("/particles/velocity"));
+  s.angular_velocity = split(file.doubles("/particles/angular_velocity"));
+  s.force = split(file.doubles("/particles/force"));
+  s.torque = split(file.doubles("/particles/torque"));
+  s.radius = file.doubles("/particles/radius");
+  s.mass = file.doubles("/particles/mass");
+  s.inverse_mass = file.doubles("/particles/inverse_mass");
+  s.inverse_inertia = file.doubles("/particles/inverse_inertia");
+  s.material = file.int32s("/particles/material");
+  s.body = file.int32s("/particles/body");
+  const std::size_t n = s.radius.size();
+
+  EngineCheckpoint& c = out.checkpoint;
+  c.step = file.attribute_int64("/engine", "step");
+  c.time = file.attribute_double("/engine", "time");
+  c.energy_reference = file.attribute_double("/engine", "energy_reference");
+  c.work_in = file.attribute_double("/engine", "work_in");
+  out.box =
+      Box{file.attribute_double("/engine", "box_x"), file.attribute_double("/engine", "box_y")};
+  c.build_reference = split(file.doubles("/engine/build_reference"));
+  c.first = file.int32s("/engine/contact_first");
+  c.second = file.int32s("/engine/contact_second");
+  c.history = history_from(file.doubles("/engine/contact_tangential"));
+  const auto position = file.doubles("/walls/position");
+  const auto velocity = file.doubles("/walls/velocity");
+  const auto facing = file.int32s("/walls/facing");
+  const auto material = file.int32s("/walls/material");
+  c.wall_force = file.doubles("/walls/force");
+  const auto wall_history = history_from(file.doubles("/engine/wall_tangential"));
+  if (wall_history.size() != position.size() * n || c.history.size() != c.first.size())
+    throw InputError("'" + path.string() + "': contact history does not match the spheres");
+  for (std::size_t k = 0; k < position.size(); ++k) {
+    c.walls.push_back(PlaneWall{position[k], facing[k], velocity[k], material[k]});
+    c.wall_history.emplace_back(wall_history.begin() + static_cast<std::ptrdiff_t>(k * n),
+                                wall_history.begin() + static_cast<std::ptrdiff_t>((k + 1) * n));
+  }
+  out.punch.phase = static_cast<PunchPhase>(file.attribute_int64("/punch", "phase"));
+  out.punch.phase_start = file.attribute_double("/punch", "phase_start");
+  out.punch.reference_gap = file.attribute_double("/punch", "reference_gap");
+  return out;
+}
+
+void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotIndexEntry>& entries) {
+  std::string xml =
+      "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+      "  <Grid Name=\"run\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const SnapshotIndexEntry& e : entries) {
+    const std::string f = e.file.generic_string();
+    const auto item = [&](std::string_view dataset, std::size_t rows, int columns) {
+      const std::string dims =
+          columns > 1 ? fmt::format("{} {}", rows, columns) : fmt::format("{}", rows);
+      return fmt::format(
+          "<DataItem Dimensions=\"{}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:{}"
+          "</DataItem>",
+          dims, f, dataset);
+    };
+    xml += fmt::format(
+        "   <Grid Name=\"t{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+        "    <Time Value=\"{:.17g}\"/>\n",
+        e.time, e.time);
+    xml += fmt::format(
+        "    <Grid Name=\"spheres\"><Topology TopologyType=\"Polyvertex\" "
+        "NumberOfElements=\"{}\"/>\n     <Geometry GeometryType=\"XYZ\">{}</Geometry>\n",
+        e.spheres, item("/particles/position", e.spheres, 3));
+    const auto attribute = [&](std::string_view name, std::string_view type,
+                               std::string_view dataset, int columns, bool integer) {
+      std::string data = item(dataset, e.spheres, columns);
+      if (integer) {
+        data.replace(data.find("Float\" Precision=\"8\""), 20, "Int\" Precision=\"4\"");
+      }
+      return fmt::format(
+          "     <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">{}"
+          "</Attribute>\n",
+          name, type, data);
+    };
+    xml += attribute("radius", "Scalar", "/particles/radius", 1, false);
+    xml += attribute("velocity", "Vector", "/particles/velocity", 3, false);
+    xml += attribute("force", "Vector", "/particles/force", 3, false);
+    xml += attribute("contacts", "Scalar", "/particles/contacts", 1, true);
+    xml += "    </Grid>\n";
+    xml += fmt::format(
+        "    <Grid Name=\"walls\"><Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"{}\">"
+        "<DataItem Dimensions=\"{} 4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">{}:"
+        "/walls/quads</DataItem></Topology>\n     <Geometry GeometryType=\"XYZ\">{}</Geometry>"
+        "</Grid>\n   </Grid>\n",
+        e.walls, e.walls, f, item("/walls/points", 4 * e.walls, 3));
+  }
+  xml += "  </Grid>\n </Domain>\n</Xdmf>\n";
+  write_file_atomically(path, xml);
+}
+
+}  // namespace shapepress::simulate

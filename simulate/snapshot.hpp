@@ -1,0 +1,36 @@
+#pragma once
+// Snapshots: one HDF5 file per snapshot with everything a restart needs (sphere state including
+// the last forces, contact history, walls, punch program state, list-build reference), plus an
+// XDMF sidecar indexing all snapshots of a run so ParaView opens them as a time series (spheres
+// as points with radius, velocity, force and contact count; each wall as a quad).
+#include <filesystem>
+#include <vector>
+
+#include "common/provenance.hpp"
+#include "simulate/engine.hpp"
+#include "simulate/punch.hpp"
+
+namespace shapepress::simulate {
+
+void write_snapshot(const std::filesystem::path& path, const Engine& engine,
+                    const PunchState& punch, const Provenance& provenance);
+
+struct LoadedSnapshot {
+  SphereState state;
+  Box box;
+  EngineCheckpoint checkpoint;
+  PunchState punch;
+};
+// InputError naming the file when it is not a shapepress snapshot.
+LoadedSnapshot read_snapshot(const std::filesystem::path& path);
+
+struct SnapshotIndexEntry {
+  std::filesystem::path file;  // relative to the XDMF file
+  double time = 0.0;
+  std::size_t spheres = 0;
+  std::size_t walls = 0;
+};
+// Writes the XDMF 3 sidecar atomically (rewritten after each snapshot).
+void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotIndexEntry>& entries);
+
+}  // namespace shapepress::simulate
