@@ -30,25 +30,70 @@ void fit_ellipse(const RegionSums& s, ParticleMeasurement& m) {
   m.ellipse_angle = angle < 0 ? angle + 180.0 : angle;
 }
 
-// Everything that depends only on the outline polygon and the area.
-void measure_outline(ParticleMeasurement& m, double perimeter) {
+// Points where a traced outline crosses from an inside to an outside pixel: the midpoint of
+// each unit pixel edge, moved along the line between the two pixel centres to where the
+// interpolated intensity equals `level` when an intensity image is given. Calipers of the
+// pixel-corner outline (ImageJ's Feret) exceed true widths by up to 0.7 px per side
+// diagonally and quantise them to whole pixels along the axes; these points do neither.
+std::vector<Point2> boundary_crossings(const std::vector<Point2>& corners, const LabelImage& labels,
+                                       int label, const GrayImage* intensity, double level) {
+  std::vector<Point2> points;
+  auto is_label = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < labels.width && y < labels.height && labels.at(x, y) == label;
+  };
+  for (std::size_t i = 0, n = corners.size(); i < n; ++i) {
+    const Point2& a = corners[i];
+    const Point2& b = corners[(i + 1) % n];
+    const double length = std::abs(b.x - a.x) + std::abs(b.y - a.y);  // axis-aligned
+    const double ux = (b.x - a.x) / length, uy = (b.y - a.y) / length;
+    for (double t = 0.5; t < length; t += 1.0) {
+      Point2 mid{a.x + ux * t, a.y + uy * t};
+      // The two pixels on either side of this unit edge, along its normal (-uy, ux).
+      int px = static_cast<int>(std::floor(mid.x - 0.5 * uy)),
+          py = static_cast<int>(std::floor(mid.y + 0.5 * ux));
+      int qx = static_cast<int>(std::floor(mid.x + 0.5 * uy)),
+          qy = static_cast<int>(std::floor(mid.y - 0.5 * ux));
+      if (!is_label(px, py)) std::swap(px, qx), std::swap(py, qy);
+      double f = 0.5;  // fraction of the way from the inside centre to the outside centre
+      bool outside_is_background =
+          qx >= 0 && qy >= 0 && qx < labels.width && qy < labels.height && labels.at(qx, qy) == 0;
+      if (intensity && outside_is_background) {
+        double inside_value = intensity->at(px, py), outside_value = intensity->at(qx, qy);
+        if (inside_value > outside_value)
+          f = std::clamp((inside_value - level) / (inside_value - outside_value), 0.0, 1.0);
+      }
+      points.push_back({px + 0.5 + f * (qx - px), py + 0.5 + f * (qy - py)});
+    }
+  }
+  return points;
+}
+
+// Everything that depends only on the outline polygon and the area. `shape_outline` is the
+// outline the aspect ratio and the Fourier descriptors are taken from.
+void measure_outline(ParticleMeasurement& m, double perimeter,
+                     const std::vector<Point2>& shape_outline) {
   m.perimeter = perimeter;
   m.equivalent_diameter = std::sqrt(4.0 * m.area / std::numbers::pi);
   std::vector<Point2> hull = convex_hull(m.outline);
   m.feret = feret_diameters(hull);
-  m.aspect_ratio = m.feret.max > 0 ? m.feret.min / m.feret.max : 0.0;
+  m.feret_imagej_ratio = m.feret.max > 0 ? m.feret.min / m.feret.max : 0.0;
+  Feret unbiased = feret_diameters(convex_hull(shape_outline));
+  m.aspect_ratio = unbiased.max > 0 ? unbiased.min / unbiased.max : 0.0;
   m.circularity = perimeter > 0
                       ? std::min(1.0, 4.0 * std::numbers::pi * m.area / (perimeter * perimeter))
                       : 0.0;
   double hull_area = polygon_area(hull);
   m.solidity = hull_area > 0 ? std::min(1.0, m.area / hull_area) : 0.0;
   m.convexity = perimeter > 0 ? std::min(1.0, polygon_perimeter(hull) / perimeter) : 0.0;
-  m.fourier = fourier_descriptors(radius_function(m.outline, m.centroid), &m.fourier_mean_radius);
+  m.fourier =
+      fourier_descriptors(radius_function(shape_outline, m.centroid), &m.fourier_mean_radius);
 }
 
 }  // namespace
 
-std::vector<ParticleMeasurement> measure_particles(const LabelImage& labels) {
+std::vector<ParticleMeasurement> measure_particles(const LabelImage& labels,
+                                                   const GrayImage* intensity, double level) {
+  if (intensity && intensity->empty()) intensity = nullptr;
   std::vector<RegionSums> sums(labels.count + 1);
   for (int y = 0; y < labels.height; ++y) {
     for (int x = 0; x < labels.width; ++x) {
@@ -80,7 +125,8 @@ std::vector<ParticleMeasurement> measure_particles(const LabelImage& labels) {
     };
     m.outline = trace_outline(inside, s.first_x, s.first_y);
     fit_ellipse(s, m);
-    measure_outline(m, traced_perimeter(m.outline));
+    measure_outline(m, traced_perimeter(m.outline),
+                    boundary_crossings(m.outline, labels, l, intensity, level));
   }
   return particles;
 }
@@ -100,7 +146,7 @@ ParticleMeasurement measure_polygon(const std::vector<Point2>& polygon) {
     cy += (a.y + b.y) * c;
   }
   m.centroid = {cx / (3 * twice), cy / (3 * twice)};
-  measure_outline(m, polygon_perimeter(polygon));
+  measure_outline(m, polygon_perimeter(polygon), polygon);
   return m;
 }
 

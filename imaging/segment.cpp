@@ -284,11 +284,21 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
                  : options.background == Background::rolling
                      ? subtract_rolling_background(smooth, options.rolling_radius_px)
                      : smooth;
-  cv::Mat flat8 = to_8bit(flat), mask;
+  cv::Mat flat8 = to_8bit(flat), mask, unit;
+  cv::normalize(flat, unit, 0.0, 1.0, cv::NORM_MINMAX, CV_32F);
   switch (options.threshold) {
-    case ThresholdMethod::otsu:
-      result.threshold = cv::threshold(flat8, mask, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+    case ThresholdMethod::otsu: {
+      // Otsu's split decides which pixels are particle; the level is then set half-way
+      // between the two classes' mean intensities, where a blurred step edge truly lies (a
+      // level off the mid-contrast moves every outline in or out and biases sizes).
+      double split = cv::threshold(flat8, mask, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+      double particle_mean = cv::mean(unit, mask)[0];
+      double background_mean = cv::mean(unit, flat8 <= split)[0];
+      double level = 0.5 * (particle_mean + background_mean);
+      mask = unit > level;
+      result.threshold = level * 255.0 - 0.5;  // as an 8-bit level, converted back below
       break;
+    }
     case ThresholdMethod::triangle:
       result.threshold =
           cv::threshold(flat8, mask, 0, 255, cv::THRESH_BINARY | cv::THRESH_TRIANGLE);
@@ -303,7 +313,13 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
       result.threshold = -1.0;
       break;
   }
-  result.threshold = result.threshold >= 0 ? result.threshold / 255.0 : result.threshold;
+  if (result.threshold >= 0) {
+    // 8-bit values above t are inside: the continuous level lies between t and t + 1.
+    result.threshold = (result.threshold + 0.5) / 255.0;
+    result.flattened = GrayImage(unit.cols, unit.rows);
+    for (int y = 0; y < unit.rows; ++y)
+      std::copy_n(unit.ptr<float>(y), unit.cols, &result.flattened.at(0, y));
+  }
   if (options.fill_holes) fill_holes(mask);
 
   if (options.split_touching) {

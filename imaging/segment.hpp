@@ -37,6 +37,9 @@ struct Segmentation {
   LabelImage labels;
   bool bright_particles = true;  // polarity used (detected or imposed)
   double threshold = 0.0;  // level used, as a fraction of the flattened range (global methods)
+  // The image as thresholded: particles bright, flattened, scaled to [0, 1]; with `threshold`
+  // it places outlines between pixels (empty for the adaptive threshold: no single level).
+  GrayImage flattened;
   int excluded_on_edge = 0;
   int excluded_by_size = 0;
 };

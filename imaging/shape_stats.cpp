@@ -53,7 +53,8 @@ ImageResult process_image(const std::filesystem::path& path, const ShapeStatsOpt
         "{}: no particle found ({} on the edge and {} outside the size range were excluded); "
         "check --polarity, --threshold and --min-area",
         path.string(), segmentation.excluded_on_edge, segmentation.excluded_by_size));
-  result.particles = measure_particles(segmentation.labels);
+  result.particles =
+      measure_particles(segmentation.labels, &segmentation.flattened, segmentation.threshold);
   report.particles = static_cast<int>(result.particles.size());
   return result;
 }
