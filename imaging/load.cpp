@@ -75,14 +75,20 @@ double mode_fraction(const GrayImage& image, int y, float* mode) {
 }  // namespace
 
 int detect_info_bar_rows(const GrayImage& image) {
-  constexpr double min_share = 0.03, max_share = 0.30, flat_fraction = 0.6;
+  // The bottom row must be mostly the bar's background; rows above belong to the bar while
+  // their most common value is that same background and covers at least 30 % of the row
+  // (rows through text). Scan rows with noise have no value covering even 10 %.
+  constexpr double min_share = 0.03, max_share = 0.30, bottom_fraction = 0.6,
+                   text_row_fraction = 0.3;
   const int max_rows = static_cast<int>(image.height * max_share);
   int rows = 0;
   float bar_value = 0.0f;
   for (int y = image.height - 1; y >= image.height - max_rows && y >= 0; --y) {
     float mode = 0.0f;
-    if (mode_fraction(image, y, &mode) < flat_fraction) break;
-    if (rows > 0 && mode != bar_value) break;
+    double fraction = mode_fraction(image, y, &mode);
+    if (rows == 0 ? fraction < bottom_fraction
+                  : (fraction < text_row_fraction || mode != bar_value))
+      break;
     bar_value = mode;
     ++rows;
   }

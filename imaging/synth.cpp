@@ -208,10 +208,10 @@ void draw_info_bar(cv::Mat& image, int rows, std::mt19937_64& rng) {
   while (x < image.cols * 0.6) {
     int w = width(rng);
     cv::rectangle(image, cv::Rect(x, y, w, h), 1.0f, cv::FILLED);
-    x += w + 3;
+    x += w + 6;
   }
   cv::rectangle(image,
-                cv::Rect(static_cast<int>(image.cols * 0.7), image.rows - rows / 2, image.cols / 6,
+                cv::Rect(static_cast<int>(image.cols * 0.7), image.rows - rows / 5, image.cols / 6,
                          std::max(1, rows / 10)),
                 1.0f, cv::FILLED);
 }

@@ -1,0 +1,171 @@
+// The two imaging stages as a user runs them: synth-images then shape-stats, the files they
+// write, and every bad-input case of issue 7 (exit 2, cause and file named; a mixed batch
+// still processes the good images).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "tests/support/command.hpp"
+
+namespace shapepress::imaging {
+namespace {
+
+namespace fs = std::filesystem;
+using shapepress::testing::run_shapepress;
+
+class ShapeStatsCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("shapepress_e2e_imaging_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  static nlohmann::json read_json(const std::string& file) {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+  }
+  static int data_rows(const std::string& csv) {
+    std::ifstream in(csv);
+    std::string line;
+    int rows = -1;  // the header
+    while (std::getline(in, line))
+      if (!line.empty() && line[0] != '#') ++rows;
+    return rows;
+  }
+  void write_pgm(const std::string& name, int w, int h, const std::function<int(int, int)>& value) {
+    std::ofstream out(path(name), std::ios::binary);
+    out << "P5\n" << w << " " << h << "\n255\n";
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        out.put(static_cast<char>(value(x, y)));
+  }
+  fs::path dir_;
+};
+
+TEST_F(ShapeStatsCli, SyntheticSemImagesEndToEnd) {
+  auto synth = run_shapepress("-q synth-images --out " + path("syn") +
+                              " --images 2 --touching-fraction 0 --pixel-size 0.8um");
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  auto stats = run_shapepress("-q shape-stats " + path("syn/synth_000.tif") + " " +
+                              path("syn/synth_001.tif") + " --out " + path("stats"));
+  ASSERT_EQ(stats.exit_code, 0) << stats.output;
+  for (const char* file : {"particles.csv", "summary.json", "overlays/synth_000_overlay.png",
+                           "overlays/synth_001_overlay.png", "plots/size_distribution.png",
+                           "plots/asr_histogram.png", "plots/fourier_spectrum.png"})
+    EXPECT_TRUE(fs::exists(path("stats/") + file)) << file;
+
+  const int truth =
+      data_rows(path("syn/synth_000_truth.csv")) + data_rows(path("syn/synth_001_truth.csv"));
+  EXPECT_EQ(data_rows(path("stats/particles.csv")), truth);  // no touching pairs: exact count
+  nlohmann::json s = read_json(path("stats/summary.json"));
+  EXPECT_EQ(s["particle_count"].get<int>(), truth);
+  // Pixel size and information bar come from the FEI metadata written by synth-images.
+  EXPECT_EQ(s["images"][0]["pixel_size_source"], "sem-metadata");
+  EXPECT_DOUBLE_EQ(s["images"][0]["pixel_size_m"].get<double>(), 8e-7);
+  EXPECT_EQ(s["images"][0]["info_bar_rows"].get<int>(), 40);
+  // The keys the geometry stage reads. Sizes: synth's default median is 50 px = 40 µm
+  // (log-normal, clamped to 30–120 px), so x50 (volume) lies between 24 and 96 µm.
+  for (const char* key : {"D2", "D3", "D8", "decay_exponent"})
+    EXPECT_TRUE(s["fourier"][key].is_number()) << key;
+  EXPECT_GT(s["size"]["x50_m"].get<double>(), 24e-6);
+  EXPECT_LT(s["size"]["x50_m"].get<double>(), 96e-6);
+  EXPECT_LE(s["size"]["x10_m"].get<double>(), s["size"]["x50_m"].get<double>());
+  EXPECT_LE(s["size"]["x50_m"].get<double>(), s["size"]["x90_m"].get<double>());
+  EXPECT_EQ(s["asr"]["quantiles"].size(), s["asr"]["quantile_levels"].size());
+  EXPECT_GT(s["asr"]["mean"].get<double>(), 0.4);
+  EXPECT_LE(s["asr"]["mean"].get<double>(), 1.0);
+}
+
+TEST_F(ShapeStatsCli, PngNeedsAPixelSizeAndFindsTheBar) {
+  ASSERT_EQ(run_shapepress("-q synth-images --out " + path("syn") + " --format png").exit_code, 0);
+  auto missing =
+      run_shapepress("-q shape-stats " + path("syn/synth_000.png") + " --out " + path("a"));
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("pixel size unknown"), std::string::npos) << missing.output;
+  EXPECT_NE(missing.output.find("synth_000.png"), std::string::npos) << missing.output;
+  auto given = run_shapepress("-q shape-stats " + path("syn/synth_000.png") +
+                              " --pixel-size 0.5um --out " + path("b"));
+  ASSERT_EQ(given.exit_code, 0) << given.output;
+  nlohmann::json s = read_json(path("b/summary.json"));
+  EXPECT_EQ(s["images"][0]["pixel_size_source"], "--pixel-size");
+  EXPECT_EQ(s["images"][0]["info_bar_rows"].get<int>(), 40);  // detected: no metadata in a PNG
+}
+
+TEST_F(ShapeStatsCli, BadInputsAreNamed) {
+  auto missing =
+      run_shapepress("-q shape-stats " + path("nope.tif") + " --pixel-size 1um --out " + path("o"));
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.output.find("nope.tif: no such image file"), std::string::npos)
+      << missing.output;
+
+  std::ofstream(path("notes.png")) << "not an image";
+  auto unreadable = run_shapepress("-q shape-stats " + path("notes.png") +
+                                   " --pixel-size 1um --out " + path("o"));
+  EXPECT_EQ(unreadable.exit_code, 2);
+  EXPECT_NE(unreadable.output.find("cannot be read as an image"), std::string::npos)
+      << unreadable.output;
+
+  std::ofstream(path("empty.png")).close();
+  auto empty = run_shapepress("-q shape-stats " + path("empty.png") + " --pixel-size 1um --out " +
+                              path("o"));
+  EXPECT_EQ(empty.exit_code, 2);
+  EXPECT_NE(empty.output.find("empty file"), std::string::npos) << empty.output;
+
+  write_pgm("black.pgm", 64, 64, [](int, int) { return 0; });
+  auto black = run_shapepress("-q shape-stats " + path("black.pgm") + " --pixel-size 1um --out " +
+                              path("o"));
+  EXPECT_EQ(black.exit_code, 2);
+  EXPECT_NE(black.output.find("uniform"), std::string::npos) << black.output;
+
+  // One particle, cut by the image edge: excluded like ImageJ's "exclude on edges".
+  write_pgm("edge.pgm", 100, 100,
+            [](int x, int y) { return std::hypot(x - 2, y - 50) < 20 ? 220 : 30; });
+  auto none =
+      run_shapepress("-q shape-stats " + path("edge.pgm") + " --pixel-size 1um --out " + path("o"));
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.output.find("no particle found"), std::string::npos) << none.output;
+  EXPECT_FALSE(fs::exists(path("o/summary.json")));  // nothing processed: nothing written
+
+  auto bad_option = run_shapepress("-q shape-stats " + path("edge.pgm") +
+                                   " --pixel-size 1um --split-neck 2 --out " + path("o"));
+  EXPECT_EQ(bad_option.exit_code, 2);
+  EXPECT_NE(bad_option.output.find("--split-neck"), std::string::npos) << bad_option.output;
+}
+
+TEST_F(ShapeStatsCli, MixedBatchProcessesTheGoodImages) {
+  ASSERT_EQ(run_shapepress("-q synth-images --out " + path("syn")).exit_code, 0);
+  std::ofstream(path("broken.tif")) << "II*\0garbage";
+  auto batch = run_shapepress("-q --threads 2 shape-stats " + path("missing.tif") + " " +
+                              path("syn/synth_000.tif") + " " + path("broken.tif") + " --out " +
+                              path("stats"));
+  EXPECT_EQ(batch.exit_code, 2) << batch.output;  // something was skipped
+  EXPECT_NE(batch.output.find("missing.tif"), std::string::npos) << batch.output;
+  EXPECT_NE(batch.output.find("broken.tif"), std::string::npos) << batch.output;
+  nlohmann::json s = read_json(path("stats/summary.json"));
+  EXPECT_EQ(s["images"].size(), 1u);
+  EXPECT_EQ(s["skipped"].size(), 2u);
+  EXPECT_GT(s["particle_count"].get<int>(), 30);
+}
+
+TEST_F(ShapeStatsCli, BlobsSampleImage) {
+  auto run = run_shapepress("-q shape-stats " + std::string(SHAPEPRESS_TEST_DATA) +
+                            "/imaging/blobs_raw.pgm --pixel-size 1um --out " + path("blobs"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // ImageJ finds 46 blobs off the edges at threshold 128 (blobs_raw_imagej.csv); Otsu, the
+  // neck split and the 20 px minimum area move that by a few.
+  int n = data_rows(path("blobs/particles.csv"));
+  EXPECT_GE(n, 40);
+  EXPECT_LE(n, 60);
+}
+
+}  // namespace
+}  // namespace shapepress::imaging
