@@ -110,6 +110,12 @@ void Engine::check_divergence() const {
   }
 }
 
+void Engine::rebase_energy() {
+  const EnergySummary e = energy();
+  energy_reference_ = e.kinetic + e.elastic;
+  work_in_ = 0.0;
+}
+
 std::vector<std::int32_t> Engine::contacts_per_sphere() const {
   std::vector<std::int32_t> count(state_.size(), 0);
   for (std::size_t p = 0; p < pairs_.size(); ++p)

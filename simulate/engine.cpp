@@ -60,7 +60,7 @@ void Engine::require_material_pairs() const {
   }
   for (int a = 0; a < materials_.count(); ++a) {
     if (!used[a]) continue;
-    for (int b = a; b < materials_.count(); ++b)
+    for (int b = a; b < materials_.count() && state_.size() > 1; ++b)
       if (used[b]) materials_.require_pair(a, b);
     for (const PlaneWall& w : walls_)
       materials_.require_pair(a, w.material);

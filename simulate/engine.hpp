@@ -75,7 +75,10 @@ class Engine {
   void check_divergence() const;
 
   const SphereState& state() const { return state_; }
-  SphereState& mutable_state() { return state_; }  // scenario set-up (initial velocities)
+  // Scenario set-up (launch velocities). Call rebase_energy() after changing velocities: the
+  // energy check must not count that change as energy from nowhere.
+  SphereState& mutable_state() { return state_; }
+  void rebase_energy();
   const Box& box() const { return box_; }
   const MaterialTable& materials() const { return materials_; }
   const EngineSettings& settings() const { return settings_; }

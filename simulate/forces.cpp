@@ -12,6 +12,7 @@ void Engine::pair_forces() {
   const SphereState& s = state_;
   const std::int64_t count = static_cast<std::int64_t>(pairs_.size());
   const double dt = settings_.time_step;
+  const double half_dt = 0.5 * dt;
   std::int64_t touching = 0;
 #pragma omp parallel for schedule(static) reduction(+ : touching) if (count >= parallel_min_pairs)
   for (std::int64_t p = 0; p < count; ++p) {
@@ -38,17 +39,25 @@ void Engine::pair_forces() {
     c.overlap = reach - d;
     const double* n = c.normal;
     const double rci = ri - 0.5 * c.overlap, rcj = rj - 0.5 * c.overlap;
-    const double wix = s.angular_velocity.x[i], wiy = s.angular_velocity.y[i],
-                 wiz = s.angular_velocity.z[i];
-    const double wjx = s.angular_velocity.x[j], wjy = s.angular_velocity.y[j],
-                 wjz = s.angular_velocity.z[j];
+    // Velocities at the end of the step, predicted from the half-step ones with the last force
+    // (v + dt/2 F/m): damping then acts on the same instant as the elastic force. With the
+    // half-step velocities alone the restitution error is first order in dt (4 % at e = 0.35
+    // and 0.2 Rayleigh times, 0.2 % with the prediction; validation/simulate).
+    const double imi = half_dt * s.inverse_mass[i], imj = half_dt * s.inverse_mass[j];
+    const double iii = half_dt * s.inverse_inertia[i], iij = half_dt * s.inverse_inertia[j];
+    const double wix = s.angular_velocity.x[i] + iii * s.torque.x[i],
+                 wiy = s.angular_velocity.y[i] + iii * s.torque.y[i],
+                 wiz = s.angular_velocity.z[i] + iii * s.torque.z[i];
+    const double wjx = s.angular_velocity.x[j] + iij * s.torque.x[j],
+                 wjy = s.angular_velocity.y[j] + iij * s.torque.y[j],
+                 wjz = s.angular_velocity.z[j] + iij * s.torque.z[j];
     // Contact point velocities: v + ω × (arm), arm = +rci n for i, -rcj n for j.
-    const double vcix = s.velocity.x[i] + rci * (wiy * n[2] - wiz * n[1]);
-    const double vciy = s.velocity.y[i] + rci * (wiz * n[0] - wix * n[2]);
-    const double vciz = s.velocity.z[i] + rci * (wix * n[1] - wiy * n[0]);
-    const double vcjx = s.velocity.x[j] - rcj * (wjy * n[2] - wjz * n[1]);
-    const double vcjy = s.velocity.y[j] - rcj * (wjz * n[0] - wjx * n[2]);
-    const double vcjz = s.velocity.z[j] - rcj * (wjx * n[1] - wjy * n[0]);
+    const double vcix = s.velocity.x[i] + imi * s.force.x[i] + rci * (wiy * n[2] - wiz * n[1]);
+    const double vciy = s.velocity.y[i] + imi * s.force.y[i] + rci * (wiz * n[0] - wix * n[2]);
+    const double vciz = s.velocity.z[i] + imi * s.force.z[i] + rci * (wix * n[1] - wiy * n[0]);
+    const double vcjx = s.velocity.x[j] + imj * s.force.x[j] - rcj * (wjy * n[2] - wjz * n[1]);
+    const double vcjy = s.velocity.y[j] + imj * s.force.y[j] - rcj * (wjz * n[0] - wjx * n[2]);
+    const double vcjz = s.velocity.z[j] + imj * s.force.z[j] - rcj * (wjx * n[1] - wjy * n[0]);
     c.relative_velocity[0] = vcjx - vcix;
     c.relative_velocity[1] = vcjy - vciy;
     c.relative_velocity[2] = vcjz - vciz;
@@ -90,6 +99,7 @@ void Engine::gather_forces() {
     wall_touching_[k].assign(static_cast<std::size_t>(n), 0);
   }
   const double dt = settings_.time_step;
+  const double half_dt = 0.5 * dt;
   const auto& g = settings_.gravity;
 #pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
@@ -122,11 +132,18 @@ void Engine::gather_forces() {
       c.overlap = ri - gap;
       const double rc = gap;  // the contact point lies on the plane
       const double* nn = c.normal;
-      const double wx = s.angular_velocity.x[i], wy = s.angular_velocity.y[i],
-                   wz = s.angular_velocity.z[i];
-      c.relative_velocity[0] = -(s.velocity.x[i] + rc * (wy * nn[2] - wz * nn[1]));
-      c.relative_velocity[1] = -(s.velocity.y[i] + rc * (wz * nn[0] - wx * nn[2]));
-      c.relative_velocity[2] = w.velocity - (s.velocity.z[i] + rc * (wx * nn[1] - wy * nn[0]));
+      // Predicted end-of-step velocities, as for sphere pairs (the force arrays still hold the
+      // last step's values: they are overwritten below, after this sphere's walls).
+      const double im = half_dt * s.inverse_mass[i], ii = half_dt * s.inverse_inertia[i];
+      const double wx = s.angular_velocity.x[i] + ii * s.torque.x[i],
+                   wy = s.angular_velocity.y[i] + ii * s.torque.y[i],
+                   wz = s.angular_velocity.z[i] + ii * s.torque.z[i];
+      const double vx = s.velocity.x[i] + im * s.force.x[i];
+      const double vy = s.velocity.y[i] + im * s.force.y[i];
+      const double vz = s.velocity.z[i] + im * s.force.z[i];
+      c.relative_velocity[0] = -(vx + rc * (wy * nn[2] - wz * nn[1]));
+      c.relative_velocity[1] = -(vy + rc * (wz * nn[0] - wx * nn[2]));
+      c.relative_velocity[2] = w.velocity - (vz + rc * (wx * nn[1] - wy * nn[0]));
       c.relative_rotation[0] = wx;
       c.relative_rotation[1] = wy;
       c.relative_rotation[2] = wz;
