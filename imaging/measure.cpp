@@ -30,14 +30,14 @@ void fit_ellipse(const RegionSums& s, ParticleMeasurement& m) {
   m.ellipse_angle = angle < 0 ? angle + 180.0 : angle;
 }
 
-// Points where a traced outline crosses from an inside to an outside pixel: the midpoint of
-// each unit pixel edge, moved along the line between the two pixel centres to where the
-// interpolated intensity equals `level` when an intensity image is given. Calipers of the
-// pixel-corner outline (ImageJ's Feret) exceed true widths by up to 0.7 px per side
-// diagonally and quantise them to whole pixels along the axes; these points do neither.
-std::vector<Point2> boundary_crossings(const std::vector<Point2>& corners, const LabelImage& labels,
-                                       int label, const GrayImage* intensity, double level) {
-  std::vector<Point2> points;
+// One unit pixel edge of a traced outline: the inside pixel p and the outside pixel q.
+struct BoundaryEdge {
+  int px, py, qx, qy;
+};
+
+std::vector<BoundaryEdge> boundary_edges(const std::vector<Point2>& corners,
+                                         const LabelImage& labels, int label) {
+  std::vector<BoundaryEdge> edges;
   auto is_label = [&](int x, int y) {
     return x >= 0 && y >= 0 && x < labels.width && y < labels.height && labels.at(x, y) == label;
   };
@@ -47,23 +47,66 @@ std::vector<Point2> boundary_crossings(const std::vector<Point2>& corners, const
     const double length = std::abs(b.x - a.x) + std::abs(b.y - a.y);  // axis-aligned
     const double ux = (b.x - a.x) / length, uy = (b.y - a.y) / length;
     for (double t = 0.5; t < length; t += 1.0) {
-      Point2 mid{a.x + ux * t, a.y + uy * t};
+      const double mx = a.x + ux * t, my = a.y + uy * t;
       // The two pixels on either side of this unit edge, along its normal (-uy, ux).
-      int px = static_cast<int>(std::floor(mid.x - 0.5 * uy)),
-          py = static_cast<int>(std::floor(mid.y + 0.5 * ux));
-      int qx = static_cast<int>(std::floor(mid.x + 0.5 * uy)),
-          qy = static_cast<int>(std::floor(mid.y - 0.5 * ux));
-      if (!is_label(px, py)) std::swap(px, qx), std::swap(py, qy);
-      double f = 0.5;  // fraction of the way from the inside centre to the outside centre
-      bool outside_is_background =
-          qx >= 0 && qy >= 0 && qx < labels.width && qy < labels.height && labels.at(qx, qy) == 0;
-      if (intensity && outside_is_background) {
-        double inside_value = intensity->at(px, py), outside_value = intensity->at(qx, qy);
-        if (inside_value > outside_value)
-          f = std::clamp((inside_value - level) / (inside_value - outside_value), 0.0, 1.0);
-      }
-      points.push_back({px + 0.5 + f * (qx - px), py + 0.5 + f * (qy - py)});
+      BoundaryEdge e{
+          static_cast<int>(std::floor(mx - 0.5 * uy)), static_cast<int>(std::floor(my + 0.5 * ux)),
+          static_cast<int>(std::floor(mx + 0.5 * uy)), static_cast<int>(std::floor(my - 0.5 * ux))};
+      if (!is_label(e.px, e.py)) e = {e.qx, e.qy, e.px, e.py};
+      edges.push_back(e);
     }
+  }
+  return edges;
+}
+
+// The particle's own mid-contrast level: half-way between the intensity two pixels inside
+// its outline and two pixels outside, averaged along the outline. Shading that survives the
+// background flattening changes the contrast from particle to particle; a global level would
+// then move each outline in or out by a fraction of the edge blur.
+double local_level(const std::vector<BoundaryEdge>& edges, const LabelImage& labels, int label,
+                   const GrayImage& intensity, double global_level) {
+  double inside_sum = 0, outside_sum = 0;
+  int inside_n = 0, outside_n = 0;
+  auto label_at = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < labels.width && y < labels.height ? labels.at(x, y) : -1;
+  };
+  for (const BoundaryEdge& e : edges) {
+    const int dx = e.qx - e.px, dy = e.qy - e.py;
+    if (label_at(e.px - 2 * dx, e.py - 2 * dy) == label) {
+      inside_sum += intensity.at(e.px - 2 * dx, e.py - 2 * dy);
+      ++inside_n;
+    }
+    if (label_at(e.qx + 2 * dx, e.qy + 2 * dy) == 0) {
+      outside_sum += intensity.at(e.qx + 2 * dx, e.qy + 2 * dy);
+      ++outside_n;
+    }
+  }
+  constexpr int min_samples = 8;
+  if (inside_n < min_samples || outside_n < min_samples) return global_level;
+  return 0.5 * (inside_sum / inside_n + outside_sum / outside_n);
+}
+
+// Points where the outline crosses from inside to outside: the midpoint of each unit pixel
+// edge or, with an intensity image, the point between the two pixel centres where the
+// interpolated intensity equals the particle's mid-contrast level. Calipers of the
+// pixel-corner outline (ImageJ's Feret) exceed true widths by up to 0.7 px per side
+// diagonally and quantise them to whole pixels along the axes; these points do neither.
+std::vector<Point2> boundary_crossings(const std::vector<Point2>& corners, const LabelImage& labels,
+                                       int label, const GrayImage* intensity, double level) {
+  std::vector<BoundaryEdge> edges = boundary_edges(corners, labels, label);
+  if (intensity) level = local_level(edges, labels, label, *intensity, level);
+  std::vector<Point2> points;
+  points.reserve(edges.size());
+  for (const BoundaryEdge& e : edges) {
+    double f = 0.5;  // fraction of the way from the inside centre to the outside centre
+    bool outside_is_background = e.qx >= 0 && e.qy >= 0 && e.qx < labels.width &&
+                                 e.qy < labels.height && labels.at(e.qx, e.qy) == 0;
+    if (intensity && outside_is_background) {
+      double inside_value = intensity->at(e.px, e.py), outside_value = intensity->at(e.qx, e.qy);
+      if (inside_value > outside_value)
+        f = std::clamp((inside_value - level) / (inside_value - outside_value), 0.0, 1.0);
+    }
+    points.push_back({e.px + 0.5 + f * (e.qx - e.px), e.py + 0.5 + f * (e.qy - e.py)});
   }
   return points;
 }
@@ -71,9 +114,10 @@ std::vector<Point2> boundary_crossings(const std::vector<Point2>& corners, const
 // Everything that depends only on the outline polygon and the area. `shape_outline` is the
 // outline the aspect ratio and the Fourier descriptors are taken from.
 void measure_outline(ParticleMeasurement& m, double perimeter,
-                     const std::vector<Point2>& shape_outline) {
+                     const std::vector<Point2>& shape_outline, bool subpixel) {
   m.perimeter = perimeter;
-  m.equivalent_diameter = std::sqrt(4.0 * m.area / std::numbers::pi);
+  m.outline_area = subpixel ? polygon_area(shape_outline) : m.area;
+  m.equivalent_diameter = std::sqrt(4.0 * m.outline_area / std::numbers::pi);
   std::vector<Point2> hull = convex_hull(m.outline);
   m.feret = feret_diameters(hull);
   m.feret_imagej_ratio = m.feret.max > 0 ? m.feret.min / m.feret.max : 0.0;
@@ -126,7 +170,8 @@ std::vector<ParticleMeasurement> measure_particles(const LabelImage& labels,
     m.outline = trace_outline(inside, s.first_x, s.first_y);
     fit_ellipse(s, m);
     measure_outline(m, traced_perimeter(m.outline),
-                    boundary_crossings(m.outline, labels, l, intensity, level));
+                    boundary_crossings(m.outline, labels, l, intensity, level),
+                    intensity != nullptr);
   }
   return particles;
 }
@@ -146,7 +191,7 @@ ParticleMeasurement measure_polygon(const std::vector<Point2>& polygon) {
     cy += (a.y + b.y) * c;
   }
   m.centroid = {cx / (3 * twice), cy / (3 * twice)};
-  measure_outline(m, polygon_perimeter(polygon), polygon);
+  measure_outline(m, polygon_perimeter(polygon), polygon, true);
   return m;
 }
 

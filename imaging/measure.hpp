@@ -11,10 +11,13 @@ namespace shapepress::imaging {
 
 struct ParticleMeasurement {
   int label = 0;
-  Point2 centroid;                   // px, pixel corners at integers (ImageJ)
-  double area = 0.0;                 // px², pixel count
-  double perimeter = 0.0;            // px, ImageJ traced perimeter
-  double equivalent_diameter = 0.0;  // px, √(4A/π)
+  Point2 centroid;         // px, pixel corners at integers (ImageJ)
+  double area = 0.0;       // px², pixel count
+  double perimeter = 0.0;  // px, ImageJ traced perimeter
+  // Area inside the sub-pixel outline when measured with the intensity image, else the pixel
+  // count; the equivalent diameter √(4A/π) is taken from it.
+  double outline_area = 0.0;
+  double equivalent_diameter = 0.0;  // px
   Feret feret;                       // px and degrees
   // ASR = Feret min / Feret max (QICPIC), with the calipers of the pixel-edge midpoints: free
   // of the pixel-corner bias of ImageJ's Feret (ratio of those in feret_imagej_ratio).
