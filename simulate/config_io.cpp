@@ -97,7 +97,10 @@ CompactConfig read_compact_config(const ConfigTable& root) {
     r.diameter_max = g.quantity("diameter_max", dim::length, r.diameter_min, Range::positive());
     r.seed = static_cast<std::uint64_t>(g.integer("seed", 1, Range::non_negative()));
     r.z_low = c.bottom;
-    r.z_high = c.punch;
+    const double height = g.quantity("height", dim::length, c.punch - c.bottom, Range::positive());
+    if (height > c.punch - c.bottom)
+      throw InputError(root.source_name() + ": generate.height is above box.punch");
+    r.z_high = c.bottom + height;
     c.settle_time = g.quantity("settle_time", dim::time, 0.2, Range::non_negative());
     c.generate = r;
   }

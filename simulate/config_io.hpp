@@ -14,8 +14,9 @@
 //   [punch]          mode = "displacement" | "servo", speed, target_gap | target_strain,
 //                    hold_time = 0, unload_speed = 0, target_stress, max_speed
 //   [generate]       (when no --packing) count, diameter_min, diameter_max, seed = 1,
-//                    settle_time = 0.2 s (settling under gravity, 9.81 m/s² down if [run]
-//                    gravity is zero; then the punch is lowered onto the bed)
+//                    height = box height (of the insertion region), settle_time = 0.2 s (settling
+//                    under gravity, 9.81 m/s² down if [run] gravity is zero; then the punch is
+//                    lowered onto the bed)
 // plate only:
 //   [sphere]         radius, material; [plate] material, speed, max_deformation = 0.01,
 //                    records = 50

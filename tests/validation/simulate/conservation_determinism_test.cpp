@@ -36,13 +36,15 @@ SphereState random_gas(int count, double length, double height, double speed, st
 }
 
 TEST(Energy, ElasticFrictionlessBoxConservesTotalEnergy) {
-  // Issue size: 1000 spheres, 1e5 steps; CI: 1000 spheres, 1e4 steps.
+  // Issue size: 1000 spheres, 1e5 steps; CI: 1000 spheres, 1e4 steps. Step 0.05 Rayleigh
+  // times: the energy error comes from where in a step each Hertz contact starts and ends and
+  // random-walks over collisions; measured worst drift over 1e5 steps: 1.4e-4 at 0.1 t_R.
   const int steps = full_validation() ? 100000 : 10000;
   const MaterialTable table = one_material(1.0, 0.0);
   const double length = 12e-3, height = 16e-3;
   Engine engine(random_gas(1000, length, height, 0.5, 11), Box{length, length}, table,
                 {PlaneWall{0.0, 1, 0.0, 0}, PlaneWall{height, -1, 0.0, 0}},
-                EngineSettings{0.5 * default_time_step(table, 0.4e-3), {0, 0, 0}, 0.1e-3});
+                EngineSettings{0.25 * default_time_step(table, 0.4e-3), {0, 0, 0}, 0.1e-3});
   const auto total = [&] {
     const EnergySummary e = engine.energy();
     return e.kinetic + e.elastic;

@@ -1,0 +1,163 @@
+// `shapepress plate` and `shapepress compact` as a user runs them: outputs, exit codes,
+// restart from a snapshot, errors naming the key.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "common/csv.hpp"
+#include "tests/support/command.hpp"
+
+namespace shapepress {
+namespace {
+
+using shapepress::testing::run_shapepress;
+using ::testing::HasSubstr;
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_simulate_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+void write(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+const std::string materials = R"(
+[[material]]
+name = "powder"
+youngs_modulus = "100 MPa"
+poisson_ratio = 0.3
+density = "1541 kg/m^3"
+
+[[interaction]]
+first = "powder"
+second = "powder"
+restitution = 0.5
+sliding_friction = 0.5
+)";
+
+std::string compact_config(const std::string& extra_run = "") {
+  return materials + R"(
+[run]
+record_every = 50
+snapshot_every = 1000
+gravity = [0.0, 0.0, -9.81]
+)" + extra_run +
+         R"(
+[box]
+x = "6 mm"
+y = "6 mm"
+punch = "20 mm"
+
+[particles]
+material = "powder"
+
+[walls]
+material = "powder"
+
+[generate]
+count = 150
+diameter_min = "0.8 mm"
+diameter_max = "1.2 mm"
+seed = 3
+settle_time = "20 ms"
+
+[punch]
+speed = "0.5 m/s"
+target_strain = 0.1
+hold_time = "0.5 ms"
+unload_speed = "0.5 m/s"
+)";
+}
+
+TEST(Plate, WritesForceCsvFollowingHertz) {
+  const auto dir = fresh_dir("plate");
+  write(dir / "plate.toml", materials + R"(
+[sphere]
+radius = "0.5 mm"
+material = "powder"
+
+[plate]
+material = "powder"
+speed = "0.005 m/s"
+max_deformation = 0.01
+records = 10
+)");
+  const auto result = run_shapepress("plate --config " + (dir / "plate.toml").string() + " --out " +
+                                     (dir / "out").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const CsvTable table = read_csv(dir / "out" / "force.csv");
+  const auto top = table.column("top_force_N");
+  const auto hertz = table.column("hertz_force_N");
+  ASSERT_EQ(top.size(), 10u);
+  EXPECT_NEAR(top.back() / hertz.back(), 1.0, 0.01);  // quasi-static at 1 % deformation
+  EXPECT_EQ(table.column("bottom_force_N").size(), 10u);
+}
+
+TEST(Compact, LoadHoldUnloadWithSnapshotsAndRestart) {
+  const auto dir = fresh_dir("compact");
+  write(dir / "compact.toml", compact_config());
+  const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
+                                     " --out " + (dir / "run").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("SUMMARY"));
+  const CsvTable punch = read_csv(dir / "run" / "punch.csv");
+  const auto phase = punch.column("phase");
+  const auto stress = punch.column("stress_Pa");
+  const auto strain = punch.column("strain");
+  EXPECT_EQ(phase.front(), 0.0);
+  EXPECT_EQ(phase.back(), 3.0);  // done: unloaded until the punch force vanished
+  EXPECT_GT(*std::max_element(stress.begin(), stress.end()), 0.0);
+  EXPECT_GE(*std::max_element(strain.begin(), strain.end()), 0.1);
+  EXPECT_EQ(stress.back(), 0.0);
+  EXPECT_TRUE(std::filesystem::exists(dir / "run" / "snapshots.xdmf"));
+  const auto snapshot = dir / "run" / "snapshots" / "step_0000001000.h5";
+  ASSERT_TRUE(std::filesystem::exists(snapshot));
+
+  const auto resumed =
+      run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() + " --restart " +
+                     snapshot.string() + " --out " + (dir / "resumed").string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const CsvTable again = read_csv(dir / "resumed" / "punch.csv");
+  // The resumed run ends on the same row, bit for bit (10 significant digits in the CSV).
+  EXPECT_EQ(again.rows.back(), punch.rows.back());
+}
+
+TEST(Compact, ReadsAPlainTextPacking) {
+  const auto dir = fresh_dir("packing");
+  write(dir / "packing.txt", "# x y z r\n0.001 0.001 0.0006 0.0005\n0.003 0.003 0.0006 0.0005\n");
+  write(dir / "compact.toml", compact_config());
+  const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
+                                     " --packing " + (dir / "packing.txt").string() +
+                                     " --steps 200 --out " + (dir / "run").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("steps=200"));
+}
+
+TEST(Compact, UnknownKeyIsExitTwoNamingIt) {
+  const auto dir = fresh_dir("badkey");
+  write(dir / "compact.toml", compact_config("skinn = \"0.1 mm\"\n"));
+  const auto result = run_shapepress("compact --config " + (dir / "compact.toml").string() +
+                                     " --out " + (dir / "run").string());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("skinn"));
+}
+
+TEST(Compact, DivergenceIsExitOneNamingSphereAndStep) {
+  const auto dir = fresh_dir("diverge");
+  // An overlap limit no real contact stays under: the run must stop, not write a NaN curve.
+  write(dir / "compact.toml", compact_config("max_overlap_fraction = 1e-9\n"));
+  const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
+                                     " --out " + (dir / "run").string());
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("diverged at step"));
+  EXPECT_THAT(result.output, HasSubstr("spheres"));
+}
+
+}  // namespace
+}  // namespace shapepress
