@@ -4,6 +4,7 @@
 #include <omp.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/error.hpp"
@@ -66,7 +67,9 @@ BatchResult process_batch(const std::vector<std::filesystem::path>& paths,
   std::vector<std::optional<ImageResult>> results(n);
   std::vector<std::string> failures(n);
   int done = 0;
-  const int team = threads > 0 ? threads : omp_get_max_threads();
+  // One image per thread; with fewer images than threads the outer team is smaller, and a
+  // team of one leaves the particle loop inside free to use the threads.
+  const int team = std::max(1, std::min(n, threads > 0 ? threads : omp_get_max_threads()));
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
   for (int i = 0; i < n; ++i) {
     try {
