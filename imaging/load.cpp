@@ -92,7 +92,11 @@ int detect_info_bar_rows(const GrayImage& image) {
     bar_value = mode;
     ++rows;
   }
-  return rows >= image.height * min_share ? rows : 0;
+  if (rows < image.height * min_share || rows >= max_rows) return 0;
+  // The scan above a bar is noisy. A clean (synthetic or binary) image whose bottom rows are
+  // plain background has no bar: cropping would cut into its particles.
+  float above = 0.0f;
+  return mode_fraction(image, image.height - rows - 1, &above) < text_row_fraction ? rows : 0;
 }
 
 GrayImage crop_rows(const GrayImage& image, int rows) {

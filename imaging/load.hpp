@@ -23,7 +23,8 @@ LoadedImage load_image(const std::filesystem::path& path);
 // Rows of a digitally drawn information bar at the bottom (0 if none): a block of rows, 3–30 %
 // of the height, in which one exact value (the bar's background) covers most of the bottom row
 // and at least 30 % of every row (text rows), as instruments draw it without noise. Detector
-// noise makes such rows impossible in the scan; --crop-bottom overrides the detection.
+// noise makes such rows impossible in the scan, and the row above the bar must be noisy (a
+// clean image with plain background rows has no bar); --crop-bottom overrides the detection.
 int detect_info_bar_rows(const GrayImage& image);
 
 // The top `rows` rows.

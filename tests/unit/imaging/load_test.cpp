@@ -94,6 +94,13 @@ TEST(Load, InformationBarIsDetectedAndNoisyScansAreNot) {
       image.at(x, y) = (y > 135 && y < 140 && x % 9 < 2) ? 1.0f : 0.0f;
   EXPECT_EQ(detect_info_bar_rows(image), 20);
   EXPECT_EQ(crop_rows(image, 130).height, 130);
+
+  // A clean binary image: plain background rows at the bottom are not a bar.
+  GrayImage clean(200, 150, 0.0f);
+  for (int y = 20; y < 140; ++y)
+    for (int x = 50; x < 150; ++x)
+      clean.at(x, y) = 1.0f;
+  EXPECT_EQ(detect_info_bar_rows(clean), 0);
 }
 
 }  // namespace
