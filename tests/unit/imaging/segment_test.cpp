@@ -105,6 +105,31 @@ TEST(Segment, SizeFilterAndThresholdMethods) {
   }
 }
 
+TEST(Segment, UnevenIlluminationIsFlattened) {
+  // A ramp from 0.0 to 0.6 across the image under particles of contrast 0.3: a global
+  // threshold without flattening merges the bright side's background with the particles.
+  std::vector<Disc> discs = {{30, 40, 12}, {90, 80, 14}, {150, 40, 12}, {210, 80, 14}};
+  GrayImage image = render(240, 120, discs, 0.3f, 0.0f);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 240; ++x)
+      image.at(x, y) += 0.6f * x / 240.0f;
+  for (Background background : {Background::quadratic, Background::rolling}) {
+    for (Denoise denoise : {Denoise::gaussian, Denoise::median}) {
+      SegmentOptions options;
+      options.background = background;
+      options.rolling_radius_px = 40;  // larger than the particles (radius <= 14)
+      options.denoise = denoise;
+      options.polarity = Polarity::bright;
+      EXPECT_EQ(segment_particles(image, options).labels.count, 4)
+          << static_cast<int>(background) << " " << static_cast<int>(denoise);
+    }
+  }
+  SegmentOptions flat_off;
+  flat_off.background = Background::none;
+  flat_off.polarity = Polarity::bright;
+  EXPECT_NE(segment_particles(image, flat_off).labels.count, 4);  // the test can fail
+}
+
 TEST(Segment, BadOptionsNameTheField) {
   SegmentOptions options;
   options.split_neck = 1.5;
