@@ -134,6 +134,12 @@ TEST_F(ShapeStatsCli, BadInputsAreNamed) {
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_NE(none.output.find("no particle found"), std::string::npos) << none.output;
   EXPECT_FALSE(fs::exists(path("o/summary.json")));  // nothing processed: nothing written
+  auto kept = run_shapepress("-q shape-stats " + path("edge.pgm") +
+                             " --pixel-size 1um --keep-edge-particles --crop-bottom 10 --out " +
+                             path("kept"));
+  EXPECT_EQ(kept.exit_code, 0) << kept.output;
+  EXPECT_EQ(data_rows(path("kept/particles.csv")), 1);
+  EXPECT_EQ(read_json(path("kept/summary.json"))["images"][0]["height_px"].get<int>(), 90);
 
   auto bad_option = run_shapepress("-q shape-stats " + path("edge.pgm") +
                                    " --pixel-size 1um --split-neck 2 --out " + path("o"));
