@@ -59,9 +59,10 @@ inline double restitution_damping(const PairConstants& p, double contact_stiffne
 // displacement ξ. ξ is first rotated into the current tangent plane keeping its length, then
 // incremented by vt dt. If the spring force exceeds μs |Fn| it is truncated to the Coulomb limit
 // and ξ is shrunk to match (no damping while sliding), as in LIGGGHTS `tangential history`.
-inline void mindlin_tangential(const PairConstants& p, const double n[3], const double vt[3],
-                               double kt, double gamma_t, double normal_force, double dt,
-                               ContactHistory& history, double force[3]) {
+[[gnu::always_inline]] inline void mindlin_tangential(const PairConstants& p, const double n[3],
+                                                      const double vt[3], double kt, double gamma_t,
+                                                      double normal_force, double dt,
+                                                      ContactHistory& history, double force[3]) {
   double* xi = history.tangential;
   const double length2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
   if (length2 > 0.0) {
@@ -93,8 +94,8 @@ inline void mindlin_tangential(const PairConstants& p, const double n[3], const 
 // τ_i = -μr R* |Fn| ωr/|ωr| with ωr the relative rotation in the tangent plane. Chatter guard:
 // below ωc = μr R* |Fn| dt / I* (the rotation the full torque removes in one step) the torque is
 // scaled by |ωr|/ωc, so it stops the relative rolling instead of reversing it every step.
-inline void cdt_rolling(const PairConstants& p, const ContactKinematics& c, double normal_force,
-                        double dt, double torque[3]) {
+[[gnu::always_inline]] inline void cdt_rolling(const PairConstants& p, const ContactKinematics& c,
+                                               double normal_force, double dt, double torque[3]) {
   torque[0] = torque[1] = torque[2] = 0.0;
   if (p.rolling_friction <= 0.0) return;
   const double* n = c.normal;
@@ -111,8 +112,9 @@ inline void cdt_rolling(const PairConstants& p, const ContactKinematics& c, doub
 }
 
 // The whole law for one touching contact. Updates `history`.
-inline ContactForce contact_force(const ContactKinematics& c, const PairConstants& p,
-                                  ContactHistory& history, double dt) {
+[[gnu::always_inline]] inline ContactForce contact_force(const ContactKinematics& c,
+                                                         const PairConstants& p,
+                                                         ContactHistory& history, double dt) {
   ContactForce out;
   const double* n = c.normal;
   const double* v = c.relative_velocity;

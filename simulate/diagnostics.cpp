@@ -119,7 +119,7 @@ void Engine::rebase_energy() {
 std::vector<std::int32_t> Engine::contacts_per_sphere() const {
   std::vector<std::int32_t> count(state_.size(), 0);
   for (std::size_t p = 0; p < pairs_.size(); ++p)
-    if (pair_results_[p].touching) ++count[pairs_.first[p]], ++count[pairs_.second[p]];
+    if (pair_touching_[p]) ++count[pairs_.first[p]], ++count[pairs_.second[p]];
   for (const auto& touching : wall_touching_)
     for (std::size_t i = 0; i < touching.size(); ++i)
       count[i] += touching[i];
@@ -134,7 +134,7 @@ EngineCheckpoint Engine::checkpoint() const {
   c.build_reference = build_reference_;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     const double* xi = history_[p].tangential;
-    if (pair_results_[p].touching || xi[0] != 0.0 || xi[1] != 0.0 || xi[2] != 0.0) {
+    if (pair_touching_[p] || xi[0] != 0.0 || xi[1] != 0.0 || xi[2] != 0.0) {
       c.first.push_back(pairs_.first[p]);
       c.second.push_back(pairs_.second[p]);
       c.history.push_back(history_[p]);

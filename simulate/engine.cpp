@@ -7,6 +7,25 @@
 
 namespace shapepress::simulate {
 
+namespace {
+
+// 1 for the pairs of `list` that appear in `touching` (both sorted by (first, second)).
+std::vector<std::uint8_t> touching_flags(const PairList& list, const PairList& touching) {
+  std::vector<std::uint8_t> flags(list.size(), 0);
+  std::size_t a = 0;
+  for (std::size_t b = 0; b < list.size() && a < touching.size(); ++b) {
+    const auto key = [](const PairList& l, std::size_t k) {
+      return (static_cast<std::int64_t>(l.first[k]) << 32) | l.second[k];
+    };
+    while (a < touching.size() && key(touching, a) < key(list, b))
+      ++a;
+    if (a < touching.size() && key(touching, a) == key(list, b)) flags[b] = 1;
+  }
+  return flags;
+}
+
+}  // namespace
+
 Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
                EngineSettings settings)
     : state_(std::move(state)),
@@ -47,6 +66,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   touching.second = std::move(checkpoint.second);
   history_ = carry_history(touching, checkpoint.history, pairs_);
   pair_results_.assign(pairs_.size(), PairResult{});
+  pair_touching_ = touching_flags(pairs_, touching);
   energy_reference_ = checkpoint.energy_reference;
   work_in_ = checkpoint.work_in;
 }
@@ -71,8 +91,17 @@ void Engine::build_list(bool wrap) {
   if (wrap) wrap_positions(state_, box_);
   PairList next = build_pair_list(state_, box_, settings_.skin);
   history_ = carry_history(pairs_, history_, next);
+  // Touching flags follow the pairs like the history does (a contact that stays closed must
+  // not be taken as newly opened and lose its spring).
+  PairList was_touching;
+  for (std::size_t p = 0; p < pairs_.size(); ++p)
+    if (pair_touching_[p]) {
+      was_touching.first.push_back(pairs_.first[p]);
+      was_touching.second.push_back(pairs_.second[p]);
+    }
+  pair_touching_ = touching_flags(next, was_touching);
   pairs_ = std::move(next);
-  pair_results_.assign(pairs_.size(), PairResult{});
+  pair_results_.resize(pairs_.size());
   build_reference_ = state_.position;
   ++list_builds_;
 }

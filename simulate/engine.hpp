@@ -125,9 +125,11 @@ class Engine {
     double force[3];  // on second
     double torque_first[3];
     double torque_second[3];
-    std::int32_t touching;
   };
-  std::vector<PairResult> pair_results_;
+  std::vector<PairResult> pair_results_;  // valid where pair_touching_ is 1
+  // One byte per pair: the gather skips non-touching pairs without reading their 72-byte
+  // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
+  std::vector<std::uint8_t> pair_touching_;
   std::vector<std::vector<ContactHistory>> wall_history_;
   std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
   std::vector<std::vector<std::uint8_t>> wall_touching_;

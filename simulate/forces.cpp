@@ -25,11 +25,14 @@ void Engine::pair_forces() {
     const double reach = ri + rj;
     const double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 >= reach * reach) {
-      out = PairResult{};
-      history_[p] = ContactHistory{};
+      if (pair_touching_[p]) {  // the contact just opened: its spring is released
+        pair_touching_[p] = 0;
+        history_[p] = ContactHistory{};
+      }
       continue;
     }
     ++touching;
+    pair_touching_[p] = 1;
     const double d = std::sqrt(d2);
     ContactKinematics c;
     const double inv_d = 1.0 / d;
@@ -83,7 +86,6 @@ void Engine::pair_forces() {
     out.torque_second[0] = -rcj * cx - f.rolling_torque[0];
     out.torque_second[1] = -rcj * cy - f.rolling_torque[1];
     out.torque_second[2] = -rcj * cz - f.rolling_torque[2];
-    out.touching = 1;
   }
   sphere_contacts_ = touching;
 }
@@ -94,9 +96,9 @@ void Engine::gather_forces() {
   const std::size_t wall_count = walls_.size();
   wall_force_per_sphere_.resize(wall_count);
   wall_touching_.resize(wall_count);
-  for (std::size_t k = 0; k < wall_count; ++k) {
-    wall_force_per_sphere_[k].assign(static_cast<std::size_t>(n), 0.0);
-    wall_touching_[k].assign(static_cast<std::size_t>(n), 0);
+  for (std::size_t k = 0; k < wall_count; ++k) {  // every entry is written below, each step
+    wall_force_per_sphere_[k].resize(static_cast<std::size_t>(n));
+    wall_touching_[k].resize(static_cast<std::size_t>(n));
   }
   const double dt = settings_.time_step;
   const double half_dt = 0.5 * dt;
@@ -106,8 +108,8 @@ void Engine::gather_forces() {
     double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
     for (std::int32_t e = pairs_.gather_offset[i]; e < pairs_.gather_offset[i + 1]; ++e) {
       const std::int32_t entry = pairs_.gather[e];
+      if (!pair_touching_[entry >> 1]) continue;
       const PairResult& r = pair_results_[entry >> 1];
-      if (!r.touching) continue;
       if ((entry & 1) == 0) {
         f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
         t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
@@ -123,7 +125,9 @@ void Engine::gather_forces() {
       const double ri = s.radius[i];
       const double gap = w.facing * (s.position.z[i] - w.position);
       if (gap >= ri) {
-        history = ContactHistory{};
+        if (wall_touching_[k][i]) history = ContactHistory{};
+        wall_touching_[k][i] = 0;
+        wall_force_per_sphere_[k][i] = 0.0;
         continue;
       }
       ContactKinematics c;

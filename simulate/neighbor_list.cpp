@@ -53,8 +53,12 @@ CellGrid make_grid(const SphereState& state, const Box& box, double cell) {
   return g;
 }
 
+// The shift that brings a separation to its nearest image (|d| < 1.5 L here: positions are
+// wrapped at builds and move less than half a skin between them).
 double minimum_image(double d, double length) {
-  return length > 0.0 ? -length * std::nearbyint(d / length) : 0.0;
+  if (length <= 0.0) return 0.0;
+  const double half = 0.5 * length;
+  return d > half ? -length : (d < -half ? length : 0.0);
 }
 
 }  // namespace
@@ -69,13 +73,13 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
   const int cells = g.n[0] * g.n[1] * g.n[2];
 
   // Counting sort of spheres into cells, keeping index order within a cell.
-  std::vector<std::int32_t> cell_of(count);
+  std::vector<std::int32_t> cell_of(count), cell_x(count), cell_y(count), cell_z(count);
   std::vector<std::int32_t> cell_start(static_cast<std::size_t>(cells) + 1, 0);
   for (int i = 0; i < count; ++i) {
-    const int c =
-        (g.coordinate(state.position.z[i], 2) * g.n[1] + g.coordinate(state.position.y[i], 1)) *
-            g.n[0] +
-        g.coordinate(state.position.x[i], 0);
+    cell_x[i] = g.coordinate(state.position.x[i], 0);
+    cell_y[i] = g.coordinate(state.position.y[i], 1);
+    cell_z[i] = g.coordinate(state.position.z[i], 2);
+    const int c = (cell_z[i] * g.n[1] + cell_y[i]) * g.n[0] + cell_x[i];
     cell_of[i] = c;
     ++cell_start[c + 1];
   }
@@ -102,23 +106,22 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
 #pragma omp for schedule(static)
     for (int i = 0; i < count; ++i) {
       partners.clear();
-      const int ci[3] = {cell_of[i] % g.n[0], (cell_of[i] / g.n[0]) % g.n[1],
-                         cell_of[i] / (g.n[0] * g.n[1])};
+      const int ci[3] = {cell_x[i], cell_y[i], cell_z[i]};
       for (int dz = -1; dz <= 1; ++dz) {
         const int cz = ci[2] + dz;
         if (cz < 0 || cz >= g.n[2]) continue;
         for (int dy = -1; dy <= 1; ++dy) {
-          int cy = ci[1] + dy;
-          if (g.periodic[1])
-            cy = (cy + g.n[1]) % g.n[1];
-          else if (cy < 0 || cy >= g.n[1])
-            continue;
+          int cy = ci[1] + dy;  // wrapped with branches: a modulo per cell costs a division
+          if (cy < 0 || cy >= g.n[1]) {
+            if (!g.periodic[1]) continue;
+            cy += cy < 0 ? g.n[1] : -g.n[1];
+          }
           for (int dx = -1; dx <= 1; ++dx) {
             int cx = ci[0] + dx;
-            if (g.periodic[0])
-              cx = (cx + g.n[0]) % g.n[0];
-            else if (cx < 0 || cx >= g.n[0])
-              continue;
+            if (cx < 0 || cx >= g.n[0]) {
+              if (!g.periodic[0]) continue;
+              cx += cx < 0 ? g.n[0] : -g.n[0];
+            }
             const int c = (cz * g.n[1] + cy) * g.n[0] + cx;
             for (int m = cell_start[c]; m < cell_start[c + 1]; ++m) {
               const int j = members[m];
