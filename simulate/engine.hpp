@@ -105,9 +105,11 @@ class Engine {
 
  private:
   void build_list(bool wrap);
-  void compute_forces();
+  // Forces and torques of the current positions; `kick` > 0 also adds kick × F/m to the
+  // velocities (the second half kick of velocity Verlet, fused into the gather).
+  void compute_forces(double kick);
   void pair_forces();
-  void gather_forces();  // per sphere: its contacts in fixed order, walls, gravity
+  void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
   void require_material_pairs() const;
 
   SphereState state_;

@@ -90,7 +90,7 @@ void Engine::pair_forces() {
   sphere_contacts_ = touching;
 }
 
-void Engine::gather_forces() {
+void Engine::gather_forces(double kick) {
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
   const std::size_t wall_count = walls_.size();
@@ -173,6 +173,15 @@ void Engine::gather_forces() {
     s.torque.x[i] = t[0];
     s.torque.y[i] = t[1];
     s.torque.z[i] = t[2];
+    if (kick > 0.0) {
+      const double im = kick * s.inverse_mass[i], ii = kick * s.inverse_inertia[i];
+      s.velocity.x[i] += s.force.x[i] * im;
+      s.velocity.y[i] += s.force.y[i] * im;
+      s.velocity.z[i] += s.force.z[i] * im;
+      s.angular_velocity.x[i] += t[0] * ii;
+      s.angular_velocity.y[i] += t[1] * ii;
+      s.angular_velocity.z[i] += t[2] * ii;
+    }
   }
   // Wall totals summed in sphere order on one thread: the same bits for any thread count.
   wall_force_.assign(wall_count, 0.0);

@@ -41,7 +41,4 @@ std::vector<ContactHistory> carry_history(const PairList& old_pairs,
 // shifts stored in the list stay valid between builds).
 void wrap_positions(SphereState& state, const Box& box);
 
-// Largest displacement since `reference` (positions at the last build), squared.
-double max_displacement_squared(const Vec3Array& position, const Vec3Array& reference);
-
 }  // namespace shapepress::simulate
