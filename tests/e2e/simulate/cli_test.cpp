@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "common/csv.hpp"
@@ -115,7 +116,11 @@ TEST(Compact, LoadHoldUnloadWithSnapshotsAndRestart) {
   EXPECT_GT(*std::max_element(stress.begin(), stress.end()), 0.0);
   EXPECT_GE(*std::max_element(strain.begin(), strain.end()), 0.1);
   EXPECT_EQ(stress.back(), 0.0);
-  EXPECT_TRUE(std::filesystem::exists(dir / "run" / "snapshots.xdmf"));
+  std::ifstream xdmf(dir / "run" / "snapshots.xdmf");
+  const std::string index((std::istreambuf_iterator<char>(xdmf)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(index, HasSubstr("Polyvertex"));  // spheres as points for ParaView's glyphs
+  EXPECT_THAT(index, HasSubstr("snapshots/step_0000001000.h5:/particles/radius"));
+  EXPECT_THAT(index, HasSubstr("Quadrilateral"));  // the punch and the bottom plate
   const auto snapshot = dir / "run" / "snapshots" / "step_0000001000.h5";
   ASSERT_TRUE(std::filesystem::exists(snapshot));
 

@@ -1,0 +1,58 @@
+// The punch program's phases: displacement to a target gap, hold, unload until the force
+// vanishes; the servo's bounded speed; and the time-step check against the Hertz time.
+#include <gtest/gtest.h>
+
+#include "common/error.hpp"
+#include "simulate/punch.hpp"
+#include "simulate/timestep.hpp"
+
+namespace shapepress::simulate {
+namespace {
+
+TEST(Punch, DisplacementProgramLoadsHoldsAndUnloadsUntilTheForceVanishes) {
+  PunchProgram p;
+  p.speed = 1.0;
+  p.target_gap = 0.01;
+  p.hold_time = 0.5;
+  p.unload_speed = 2.0;
+  PunchState state;
+  EXPECT_EQ(punch_velocity(p, state, 0.0, 0.02, 0.0), -1.0);
+  EXPECT_EQ(state.phase, PunchPhase::load);
+  EXPECT_EQ(punch_velocity(p, state, 1.0, 0.0099, 5e6), 0.0);  // target reached: hold
+  EXPECT_EQ(state.phase, PunchPhase::hold);
+  EXPECT_EQ(punch_velocity(p, state, 1.4, 0.0099, 4e6), 0.0);
+  EXPECT_EQ(punch_velocity(p, state, 1.6, 0.0099, 4e6), 2.0);  // hold over: unload upwards
+  EXPECT_EQ(state.phase, PunchPhase::unload);
+  EXPECT_EQ(punch_velocity(p, state, 1.7, 0.0101, 1e3), 2.0);
+  EXPECT_EQ(punch_velocity(p, state, 1.8, 0.0102, 0.0), 0.0);  // force gone: done
+  EXPECT_EQ(state.phase, PunchPhase::done);
+}
+
+TEST(Punch, ServoSpeedIsBoundedAndProportionalNearTheTarget) {
+  PunchProgram p;
+  p.mode = PunchProgram::Mode::servo;
+  p.target_stress = 1e6;
+  p.max_speed = 0.1;
+  p.hold_time = 1.0;
+  PunchState state;
+  EXPECT_EQ(punch_velocity(p, state, 0.0, 0.01, 0.0), -0.1);  // far below: full speed down
+  EXPECT_EQ(punch_velocity(p, state, 0.0, 0.01, 3e6), 0.1);   // far above: full speed up
+  EXPECT_NEAR(punch_velocity(p, state, 0.0, 0.01, 0.975e6), -0.05, 1e-12);  // half the band
+  EXPECT_EQ(state.phase, PunchPhase::load);
+  punch_velocity(p, state, 0.1, 0.01, 1.005e6);  // within 1 %: holds the stress
+  EXPECT_EQ(state.phase, PunchPhase::hold);
+  EXPECT_GT(punch_velocity(p, state, 0.2, 0.01, 1.03e6), 0.0);  // still servoing in the hold
+}
+
+TEST(TimeStep, StepTooCoarseForAHertzCollisionIsAnInputError) {
+  const MaterialTable table({{"m", 1e8, 0.3, 1541.0}}, {{"m", "m", 0.5, 0.5}});
+  SphereState s;
+  s.add_sphere(0, 0, 0, 0.5e-3, 1541.0, 0);
+  const TimeStepChoice ok = select_time_step(s, table, {0}, std::nullopt, 0.2, 2.5);
+  EXPECT_NEAR(ok.time_step, 0.2 * ok.rayleigh_time, 1e-20);
+  EXPECT_GT(ok.collision_time, minimum_steps_per_collision * ok.time_step);
+  EXPECT_THROW(select_time_step(s, table, {0}, 1e-5, 0.2, 2.5), InputError);
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
