@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "geometry/cli.hpp"
+#include "analysis/cli.hpp"
 #include "imaging/cli.hpp"
 #include "simulate/cli.hpp"
 
@@ -14,8 +16,12 @@ std::span<const Stage> registered_stages() {
   static const std::vector<Stage> stages = {
       Stage{"shape-stats", "measure particles in images", imaging::setup_shape_stats_cli},
       Stage{"synth-images", "render SEM-like images of known particles", imaging::setup_synth_images_cli},
+      Stage{"generate", "make 3D particles from shape statistics", geometry::setup_generate_cli},
+      Stage{"describe", "3D descriptors of meshes (L, I, S, sphericity, projected ASR)", geometry::setup_describe_cli},
+      Stage{"fill", "fill particle meshes with sub-spheres (BMS, CMS)", geometry::setup_fill_cli},
       Stage{"plate", "one sphere between two plates (validation rig)", simulate::setup_plate_cli},
       Stage{"compact", "compact a sphere packing with a punch program", simulate::setup_compact_cli},
+      Stage{"report", "charts, metrics.json and report.html of compaction and plate runs", analysis::setup_report_cli},
   };
   return stages;
 }

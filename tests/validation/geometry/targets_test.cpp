@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <numeric>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -13,6 +15,14 @@ namespace shapepress::geometry {
 namespace {
 
 const std::string data = std::string(SHAPEPRESS_TEST_DATA) + "/geometry/";
+
+// The criteria are for 150-particle populations (SHAPEPRESS_FULL_VALIDATION=1, a few
+// minutes); CI runs 60, whose sampling error (mean of 60 ratios with a 5 % spread: ±0.006) still
+// leaves the 0.02 criterion meaningful.
+int population_size() {
+  const char* full = std::getenv("SHAPEPRESS_FULL_VALIDATION");
+  return full != nullptr && std::string(full) == "1" ? 150 : 60;
+}
 
 struct Means {
   double asr = 0, elongation = 0, flatness = 0;
@@ -35,7 +45,7 @@ Means measure(const std::vector<GeneratedParticle>& particles, int directions) {
 TEST(Targets, ProjectedAsrOfAvicelLikePopulationMatchesTheImageDistribution) {
   const ShapeTargets targets = read_shape_targets(data + "avicel_ph200_projected.toml");
   GenerateOptions options;
-  options.count = 150;
+  options.count = population_size();
   options.seed = 42;
   const auto particles = generate_population(targets, options);
   const Means m = measure(particles, 8);
@@ -48,7 +58,7 @@ TEST(Targets, ProjectedAsrOfAvicelLikePopulationMatchesTheImageDistribution) {
 
 void expect_box_means(const ShapeTargets& targets, const char* label) {
   GenerateOptions options;
-  options.count = 150;
+  options.count = population_size();
   options.seed = 7;
   const Means m = measure(generate_population(targets, options), 4);
   std::printf("%s: ASR %.4f (target %.4f) elongation %.4f (%.4f) flatness %.4f (%.4f)\n", label,

@@ -1,0 +1,82 @@
+// The CGAL parts of descriptors.hpp: the optimal bounding box and the convex hull.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Random.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
+#include <CGAL/optimal_bounding_box.h>
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+
+#include "geometry/descriptors.hpp"
+
+namespace shapepress::geometry {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+
+std::vector<Point> to_points(const std::vector<Vec3>& points) {
+  std::vector<Point> out;
+  out.reserve(points.size());
+  for (const Vec3& p : points)
+    out.emplace_back(p.x(), p.y(), p.z());
+  return out;
+}
+
+}  // namespace
+
+OrientedBox minimum_oriented_box(const std::vector<Vec3>& points, std::uint64_t seed) {
+  const std::vector<Point> cgal_points = to_points(points);
+  Kernel::Aff_transformation_3 transformation;
+  CGAL::oriented_bounding_box(
+      cgal_points, transformation,
+      CGAL::parameters::random_seed(static_cast<unsigned>(seed)).use_convex_hull(true));
+  Mat3 rotation;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      rotation(i, j) = CGAL::to_double(transformation.m(i, j));
+  // In the rotated frame the box is axis-aligned: its sides are the extents there.
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& p : points) {
+    const Vec3 q = rotation * p;
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  const Vec3 extents = hi - lo;
+  std::array<int, 3> order = {0, 1, 2};
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return extents[a] > extents[b]; });
+  OrientedBox box;
+  for (int k = 0; k < 3; ++k) {
+    box.lengths[k] = extents[order[static_cast<std::size_t>(k)]];
+    box.axes.col(k) = rotation.row(order[static_cast<std::size_t>(k)]).transpose();
+  }
+  if (box.axes.determinant() < 0.0) box.axes.col(2) = -box.axes.col(2);
+  box.centre = rotation.transpose() * (0.5 * (lo + hi));
+  return box;
+}
+
+std::vector<std::size_t> convex_hull_vertices(const std::vector<Vec3>& points) {
+  const std::vector<Point> cgal_points = to_points(points);
+  std::vector<Point> extreme;
+  CGAL::extreme_points_3(cgal_points, std::back_inserter(extreme));
+  std::map<std::array<double, 3>, std::size_t> index;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    index.try_emplace({points[i].x(), points[i].y(), points[i].z()}, i);
+  std::vector<std::size_t> ids;
+  for (const Point& p : extreme)
+    ids.push_back(index.at({p.x(), p.y(), p.z()}));
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+double convex_hull_volume(const std::vector<Vec3>& points) {
+  const std::vector<Point> cgal_points = to_points(points);
+  CGAL::Surface_mesh<Point> hull;
+  CGAL::convex_hull_3(cgal_points.begin(), cgal_points.end(), hull);
+  return CGAL::Polygon_mesh_processing::volume(hull);
+}
+
+}  // namespace shapepress::geometry
