@@ -100,6 +100,19 @@ records = 10
   EXPECT_EQ(table.column("bottom_force_N").size(), 10u);
 }
 
+TEST(Plate, ShippedRubberSphereConfigRuns) {
+  const auto dir = fresh_dir("plate_shipped");
+  const std::filesystem::path config = std::filesystem::path(SHAPEPRESS_TEST_DATA) / ".." / ".." /
+                                       "pipelines" / "configs" / "plate-rubber-sphere.toml";
+  const auto result =
+      run_shapepress("plate --config " + config.string() + " --out " + dir.string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const CsvTable table = read_csv(dir / "force.csv");
+  // The paper's rubber sphere at 1 % deformation: Hertz within the validation tolerance.
+  EXPECT_NEAR(table.column("top_force_N").back() / table.column("hertz_force_N").back(), 1.0,
+              0.005);
+}
+
 TEST(Compact, LoadHoldUnloadWithSnapshotsAndRestart) {
   const auto dir = fresh_dir("compact");
   write(dir / "compact.toml", compact_config());
