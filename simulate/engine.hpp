@@ -4,6 +4,18 @@
 // periodic x/y, divergence detection. Deterministic: each contact's force is computed once into
 // a per-contact array, then every sphere gathers its contacts in a fixed order (no atomics), so
 // results are bit-identical for any thread count.
+//
+// Where the next models plug in (issues for bonds, clumps and the multi-contact law):
+// - Normal law per material pair: PairConstants::normal_law selects a branch of
+//   contact_force(); the elastic–plastic law keeps δp and δmax in ContactHistory, which the
+//   list merge, the snapshots and the restart already carry field by field.
+// - Love–Weber particle stress σi = (1/Vi) Σc lic ⊗ fc (paper Eq. 6's P_ij): the gather visits
+//   each sphere's contacts in fixed order with the normal and force at hand; it fills a per-sphere
+//   stress array there, read by the next step's pair loop (the law uses the previous step's p).
+// - Bodies: SphereState::body groups sub-spheres. Bonds become a second pair array (pair,
+//   bond state) evaluated like contacts and gathered through the same per-sphere lists; rigid
+//   clumps sum their sub-spheres' forces per body after the gather and integrate the body
+//   (quaternion, principal inertia) instead of the sub-spheres.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -87,7 +99,7 @@ class Engine {
   std::int64_t step_index() const { return step_; }
   double time() const { return time_; }
 
-  // z force the spheres exert on wall k (> 0 pushes a bottom plate down... see wall_load).
+  // z component of the force the spheres exert on wall k (< 0 on a loaded bottom plate).
   double wall_force(std::size_t k) const { return wall_force_[k]; }
   // Compressive load on wall k, > 0 when the spheres press on it.
   double wall_load(std::size_t k) const { return -walls_[k].facing * wall_force_[k]; }

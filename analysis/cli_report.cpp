@@ -1,0 +1,63 @@
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "analysis/cli.hpp"
+#include "analysis/report.hpp"
+#include "common/error.hpp"
+
+namespace shapepress::analysis {
+namespace {
+
+struct ReportCli {
+  std::vector<std::string> runs;
+  std::string out;
+  std::optional<double> poisson_ratio;
+  std::vector<double> heckel_window{0.3, 1.0};
+  std::vector<double> kawakita_window{0.05, 1.0};
+};
+
+int run(const ReportCli& cli, const RunContext& context) {
+  ReportOptions options;
+  for (const std::string& r : cli.runs)
+    options.runs.emplace_back(r);
+  options.out = cli.out;
+  options.windows = {cli.heckel_window[0], cli.heckel_window[1], cli.kawakita_window[0],
+                     cli.kawakita_window[1]};
+  if (cli.poisson_ratio && !(*cli.poisson_ratio >= 0.0 && *cli.poisson_ratio < 0.5))
+    throw InputError(fmt::format("--poisson-ratio {}: expected 0 <= nu < 0.5", *cli.poisson_ratio));
+  options.poisson_ratio = cli.poisson_ratio;
+  options.command_line = context.command_line;
+  const ReportResult result = write_report(options);
+  spdlog::info("report: {} compaction and {} plate run(s), {} charts, {}", result.compaction_runs,
+               result.plate_runs, result.charts.size(), result.html.string());
+  return 0;
+}
+
+}  // namespace
+
+StageRunner setup_report_cli(CLI::App& app) {
+  auto cli = std::make_shared<ReportCli>();
+  app.add_option("runs", cli->runs,
+                 "run folders: compaction (punch.csv) or plate (force.csv); several are overlaid")
+      ->required();
+  app.add_option("--out", cli->out, "report folder (report.html, metrics.json, *.svg/png/csv)")
+      ->required();
+  app.add_option("--poisson-ratio", cli->poisson_ratio,
+                 "plate runs: the sphere's Poisson ratio, to draw and compare Tatara's curve");
+  app.add_option("--heckel-window", cli->heckel_window,
+                 "Heckel fit on loading points with stress in [LO, HI] x peak stress")
+      ->expected(2)
+      ->capture_default_str();
+  app.add_option("--kawakita-window", cli->kawakita_window,
+                 "Kawakita fit on loading points with stress in [LO, HI] x peak stress")
+      ->expected(2)
+      ->capture_default_str();
+  return [cli](const RunContext& context) { return run(*cli, context); };
+}
+
+}  // namespace shapepress::analysis

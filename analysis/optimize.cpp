@@ -1,0 +1,233 @@
+#include "analysis/optimize.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+
+namespace shapepress::analysis {
+namespace {
+
+using Point = std::vector<double>;
+
+struct Box {
+  const std::vector<double>& lower;
+  const std::vector<double>& upper;
+  void clamp(Point& x) const {
+    for (std::size_t i = 0; i < lower.size(); ++i)
+      x[i] = std::clamp(x[i], lower[i], upper[i]);
+  }
+};
+
+Point combine(const Point& a, const Point& b, double t) {  // a + t (b − a)
+  Point r(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    r[i] = a[i] + t * (b[i] - a[i]);
+  return r;
+}
+
+void check_options(const NelderMeadOptions& options, std::size_t n) {
+  const bool bounded = !options.lower.empty() || !options.upper.empty();
+  if (bounded && (options.lower.size() != n || options.upper.size() != n))
+    throw InputError(fmt::format("Nelder-Mead: {} parameters but {} lower and {} upper bounds", n,
+                                 options.lower.size(), options.upper.size()));
+  for (std::size_t i = 0; i < options.lower.size(); ++i)
+    if (!(options.lower[i] < options.upper[i]))
+      throw InputError(fmt::format("Nelder-Mead: parameter {} has lower bound {} >= upper {}", i,
+                                   options.lower[i], options.upper[i]));
+  if (!options.initial_step.empty() && options.initial_step.size() != n)
+    throw InputError(fmt::format("Nelder-Mead: {} parameters but {} initial steps", n,
+                                 options.initial_step.size()));
+}
+
+// The first simplex: the start and one step along each axis (stepping backwards when the
+// forward step would leave the box).
+std::vector<Point> initial_simplex(const Point& start, const NelderMeadOptions& options) {
+  const std::size_t n = start.size();
+  std::vector<Point> simplex(n + 1, start);
+  for (std::size_t i = 0; i < n; ++i) {
+    double step = options.initial_step.empty() ? (start[i] != 0.0 ? 0.1 * std::abs(start[i]) : 0.1)
+                                               : options.initial_step[i];
+    if (!options.upper.empty() && start[i] + step > options.upper[i]) step = -step;
+    simplex[i + 1][i] += step;
+  }
+  return simplex;
+}
+
+}  // namespace
+
+MinimumResult minimize_nelder_mead(const Objective& objective, Point start,
+                                   const NelderMeadOptions& options) {
+  const std::size_t n = start.size();
+  if (n == 0) throw InputError("Nelder-Mead: no parameters to optimise");
+  check_options(options, n);
+  const Box box{options.lower, options.upper};
+  box.clamp(start);
+  MinimumResult result;
+  auto evaluate = [&](Point& x) {
+    box.clamp(x);
+    ++result.evaluations;
+    const double v = objective(x);
+    return std::isnan(v) ? HUGE_VAL : v;  // a failed trial is a bad point, not a crash
+  };
+  std::vector<Point> simplex = initial_simplex(start, options);
+  std::vector<double> values(n + 1);
+  for (std::size_t i = 0; i <= n; ++i)
+    values[i] = evaluate(simplex[i]);
+  std::vector<std::size_t> order(n + 1);
+  while (true) {
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+    const std::size_t best = order.front(), worst = order.back(), second = order[n - 1];
+    double size = 0.0;
+    for (std::size_t i = 0; i <= n; ++i)
+      for (std::size_t k = 0; k < n; ++k)
+        size = std::max(size, std::abs(simplex[i][k] - simplex[best][k]));
+    if (values[worst] - values[best] <= options.value_tolerance &&
+        size <= options.parameter_tolerance) {
+      result.converged = true;
+      break;
+    }
+    if (result.evaluations >= options.max_evaluations) break;
+    if (options.progress && !options.progress(result.evaluations, values[best])) break;
+
+    Point centroid(n, 0.0);
+    for (std::size_t i = 0; i <= n; ++i)
+      if (i != worst)
+        for (std::size_t k = 0; k < n; ++k)
+          centroid[k] += simplex[i][k] / static_cast<double>(n);
+    Point reflected = combine(centroid, simplex[worst], -1.0);
+    const double fr = evaluate(reflected);
+    if (fr < values[best]) {
+      Point expanded = combine(centroid, simplex[worst], -2.0);
+      const double fe = evaluate(expanded);
+      if (fe < fr) {
+        simplex[worst] = expanded, values[worst] = fe;
+      } else {
+        simplex[worst] = reflected, values[worst] = fr;
+      }
+      continue;
+    }
+    if (fr < values[second]) {
+      simplex[worst] = reflected, values[worst] = fr;
+      continue;
+    }
+    // Contraction: outside when the reflection improved on the worst point, inside otherwise.
+    const bool outside = fr < values[worst];
+    Point contracted = combine(centroid, outside ? reflected : simplex[worst], 0.5);
+    const double fc = evaluate(contracted);
+    if (fc < (outside ? fr : values[worst])) {
+      simplex[worst] = contracted, values[worst] = fc;
+      continue;
+    }
+    for (std::size_t i = 0; i <= n; ++i) {  // shrink towards the best point
+      if (i == best) continue;
+      simplex[i] = combine(simplex[best], simplex[i], 0.5);
+      values[i] = evaluate(simplex[i]);
+    }
+  }
+  const std::size_t best =
+      static_cast<std::size_t>(std::min_element(values.begin(), values.end()) - values.begin());
+  result.parameters = simplex[best];
+  result.value = values[best];
+  return result;
+}
+
+ScalarMinimum minimize_brent(const std::function<double(double)>& f, double lower, double upper,
+                             double x_tolerance, int max_evaluations) {
+  if (!(lower < upper))
+    throw InputError(fmt::format("Brent minimisation: empty interval [{}, {}]", lower, upper));
+  const double golden = 0.5 * (3.0 - std::sqrt(5.0));  // 0.381966…
+  double a = lower, b = upper;
+  double x = a + golden * (b - a), w = x, v = x;
+  double fx = f(x), fw = fx, fv = fx;
+  int evaluations = 1;
+  double d = 0.0, e = 0.0;  // last step and the one before it
+  while (evaluations < max_evaluations) {
+    const double middle = 0.5 * (a + b);
+    const double tol1 = 1e-12 * std::abs(x) + 0.5 * x_tolerance, tol2 = 2.0 * tol1;
+    if (std::abs(x - middle) <= tol2 - 0.5 * (b - a)) break;
+    bool parabolic = false;
+    if (std::abs(e) > tol1) {  // try a parabola through x, w, v
+      double r = (x - w) * (fx - fv), q = (x - v) * (fx - fw);
+      double p = (x - v) * q - (x - w) * r;
+      q = 2.0 * (q - r);
+      if (q > 0.0) p = -p;
+      q = std::abs(q);
+      if (std::abs(p) < std::abs(0.5 * q * e) && p > q * (a - x) && p < q * (b - x)) {
+        e = d;
+        d = p / q;
+        const double u = x + d;
+        if (u - a < tol2 || b - u < tol2) d = x < middle ? tol1 : -tol1;
+        parabolic = true;
+      }
+    }
+    if (!parabolic) {  // golden section into the larger part
+      e = (x < middle ? b : a) - x;
+      d = golden * e;
+    }
+    const double u = std::abs(d) >= tol1 ? x + d : x + (d > 0 ? tol1 : -tol1);
+    const double fu = f(u);
+    ++evaluations;
+    if (fu <= fx) {
+      (u < x ? b : a) = x;
+      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
+    } else {
+      (u < x ? a : b) = u;
+      if (fu <= fw || w == x) {
+        v = w, fv = fw, w = u, fw = fu;
+      } else if (fu <= fv || v == x || v == w) {
+        v = u, fv = fu;
+      }
+    }
+  }
+  return {x, fx, evaluations};
+}
+
+double find_root_brent(const std::function<double(double)>& f, double lower, double upper,
+                       double x_tolerance, int max_evaluations) {
+  double a = lower, b = upper, fa = f(a), fb = f(b);
+  if (fa == 0.0) return a;
+  if (fb == 0.0) return b;
+  if ((fa > 0.0) == (fb > 0.0) || std::isnan(fa) || std::isnan(fb))
+    throw ComputationError(
+        fmt::format("root finder: f({}) = {} and f({}) = {} do not bracket a root", a, fa, b, fb));
+  double c = a, fc = fa, d = b - a, e = d;
+  for (int evaluations = 2; evaluations < max_evaluations; ++evaluations) {
+    if ((fb > 0.0) == (fc > 0.0)) c = a, fc = fa, d = e = b - a;
+    if (std::abs(fc) < std::abs(fb)) a = b, b = c, c = a, fa = fb, fb = fc, fc = fa;
+    const double tol = 2e-16 * std::abs(b) + 0.5 * x_tolerance;
+    const double m = 0.5 * (c - b);
+    if (std::abs(m) <= tol || fb == 0.0) return b;
+    if (std::abs(e) >= tol && std::abs(fa) > std::abs(fb)) {  // secant or inverse quadratic
+      double p, q, s = fb / fa;
+      if (a == c) {
+        p = 2.0 * m * s, q = 1.0 - s;
+      } else {
+        const double qa = fa / fc, r = fb / fc;
+        p = s * (2.0 * m * qa * (qa - r) - (b - a) * (r - 1.0));
+        q = (qa - 1.0) * (r - 1.0) * (s - 1.0);
+      }
+      if (p > 0.0) q = -q;
+      p = std::abs(p);
+      if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e * q))) {
+        e = d, d = p / q;
+      } else {
+        d = m, e = m;  // interpolation would leave the bracket: bisect
+      }
+    } else {
+      d = m, e = m;
+    }
+    a = b, fa = fb;
+    b += std::abs(d) > tol ? d : (m > 0.0 ? tol : -tol);
+    fb = f(b);
+  }
+  throw ComputationError(fmt::format("root finder: no convergence in {} evaluations on [{}, {}]",
+                                     max_evaluations, lower, upper));
+}
+
+}  // namespace shapepress::analysis

@@ -1,0 +1,55 @@
+#pragma once
+// Small derivative-free optimisers for calibration (fit model parameters so a run matches a
+// reference curve): Nelder–Mead in n dimensions with box bounds, golden/Brent minimisation and
+// Brent root finding in one dimension. Free functions, plain inputs and outputs, an optional
+// progress callback (STYLE.md).
+#include <functional>
+#include <vector>
+
+namespace shapepress::analysis {
+
+using Objective = std::function<double(const std::vector<double>&)>;
+
+struct NelderMeadOptions {
+  std::vector<double> lower;           // bounds, empty = unbounded; else one per parameter
+  std::vector<double> upper;           //
+  std::vector<double> initial_step;    // simplex edge per parameter; empty = 10 % of |x0| (or 0.1)
+  double value_tolerance = 1e-10;      // stop when the simplex values span less than this
+  double parameter_tolerance = 1e-10;  // ... and the simplex is smaller than this (per axis)
+  int max_evaluations = 2000;
+  // Called after each iteration with (evaluations so far, best value); return false to stop.
+  std::function<bool(int, double)> progress;
+};
+
+struct MinimumResult {
+  std::vector<double> parameters;
+  double value = 0.0;
+  int evaluations = 0;
+  bool converged = false;  // tolerances met (false: evaluation budget or progress stopped it)
+};
+
+// Nelder–Mead (Lagarias et al. 1998 coefficients: reflection 1, expansion 2, contraction ½,
+// shrink ½). Bounds are honoured by clamping every trial point into the box, so the objective is
+// never called outside it.
+MinimumResult minimize_nelder_mead(const Objective& objective, std::vector<double> start,
+                                   const NelderMeadOptions& options = {});
+
+struct ScalarMinimum {
+  double x = 0.0;
+  double value = 0.0;
+  int evaluations = 0;
+};
+
+// Brent's minimisation (golden section with parabolic steps) on [lower, upper]; absolute
+// tolerance in x. Finds a local minimum; the global one when f is unimodal on the interval.
+// f is flat at a minimum (f changes as δx²), so x cannot be located better than about
+// √ε·|x| ≈ 1.5e-8·|x|: tolerances below that only cost evaluations.
+ScalarMinimum minimize_brent(const std::function<double(double)>& f, double lower, double upper,
+                             double x_tolerance = 1e-8, int max_evaluations = 200);
+
+// Brent's root finder on a bracket [lower, upper] with f(lower)·f(upper) ≤ 0; ComputationError
+// if the bracket does not straddle a root. Tolerance absolute in x.
+double find_root_brent(const std::function<double(double)>& f, double lower, double upper,
+                       double x_tolerance, int max_evaluations = 200);
+
+}  // namespace shapepress::analysis

@@ -1,0 +1,46 @@
+#pragma once
+// Charts drawn by gnuplot (Debian gnuplot-nox) from a generated script: SVG for the HTML report,
+// PNG for slides. Beside every chart go its data as CSV and the gnuplot script, so any chart can
+// be re-plotted or restyled without re-running the analysis.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace shapepress::analysis {
+
+enum class SeriesStyle { lines, dashed, points };
+
+struct Series {
+  std::string title;
+  std::vector<double> x;
+  std::vector<double> y;
+  SeriesStyle style = SeriesStyle::lines;
+};
+
+struct Chart {
+  std::string title;
+  std::string x_label;  // with the unit, "stress [MPa]"
+  std::string y_label;
+  std::string x_column;  // CSV column names with units, "stress_MPa"
+  std::string y_column;
+  std::vector<Series> series;
+};
+
+struct ChartFiles {
+  std::filesystem::path svg, png, csv, script;
+};
+
+// The gnuplot script that draws `chart` into `svg` and `png` (data inline, as datablocks).
+std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
+                           const std::filesystem::path& png);
+
+// Writes <stem>.csv (columns series index, x_column, y_column; a comment line "series k =
+// title" per series), <stem>.gp, and, through gnuplot,
+// <stem>.svg and <stem>.png; every file appears under its final name only when complete.
+// ComputationError naming gnuplot if it is not on PATH or fails.
+ChartFiles plot_chart(const Chart& chart, const std::filesystem::path& stem);
+
+// The gnuplot executable found on PATH, or an empty path.
+std::filesystem::path find_gnuplot();
+
+}  // namespace shapepress::analysis

@@ -1,0 +1,185 @@
+#include "analysis/report.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "analysis/plate_analysis.hpp"
+#include "analysis/plot.hpp"
+#include "analysis/report_html.hpp"
+#include "analysis/runs.hpp"
+#include "common/atomic_file.hpp"
+#include "common/provenance.hpp"
+
+namespace shapepress::analysis {
+namespace {
+
+constexpr double mega = 1e6;
+
+std::vector<LoadedRun> load_runs(const ReportOptions& options) {
+  std::vector<LoadedRun> runs;
+  for (const std::filesystem::path& folder : options.runs) {
+    LoadedRun run;
+    run.files = find_run(folder);
+    run.label = std::filesystem::weakly_canonical(folder).filename().string();
+    if (run.files.kind == RunKind::compaction) {
+      run.punch = read_punch_curve(run.files.csv);
+      run.compaction = analyse_compaction(*run.punch, options.windows);
+    } else {
+      run.plate = read_plate_curve(run.files.csv);
+      run.plate_metrics = analyse_plate(*run.plate, options.poisson_ratio);
+    }
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+std::vector<double> scaled(const std::vector<double>& values, double factor) {
+  std::vector<double> out;
+  out.reserve(values.size());
+  for (double v : values)
+    out.push_back(v * factor);
+  return out;
+}
+
+// Rows [first, last) of a column.
+std::vector<double> rows_of(const std::vector<double>& values, std::size_t first,
+                            std::size_t last) {
+  return {values.begin() + static_cast<std::ptrdiff_t>(first),
+          values.begin() + static_cast<std::ptrdiff_t>(last)};
+}
+
+std::size_t unload_start(const PunchCurve& c) {
+  for (std::size_t i = 0; i < c.phase.size(); ++i)
+    if (c.phase[i] >= static_cast<int>(PunchPhase::unload)) return i;
+  return c.phase.size();
+}
+
+std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs) {
+  Chart stress_strain{"Stress-strain (load solid, unload dashed)",
+                      "engineering strain (H0-H)/H0",
+                      "punch stress [MPa]",
+                      "strain",
+                      "stress_MPa",
+                      {}};
+  Chart density{"Solid fraction vs stress (loading)",
+                "punch stress [MPa]",
+                "solid fraction D",
+                "stress_MPa",
+                "solid_fraction",
+                {}};
+  Chart heckel{"Heckel plot (points) and fit (dashed)",
+               "punch stress P [MPa]",
+               "ln(1/(1-D))",
+               "stress_MPa",
+               "heckel_ln_1_over_1_minus_D",
+               {}};
+  Chart kawakita{"Kawakita plot (points) and fit (dashed)",
+                 "punch stress P [MPa]",
+                 "P/C [MPa]",
+                 "stress_MPa",
+                 "P_over_C_MPa",
+                 {}};
+  for (const LoadedRun& run : runs) {
+    if (!run.punch) continue;
+    const PunchCurve& c = *run.punch;
+    const CompactionMetrics& m = *run.compaction;
+    std::vector<double> strain;
+    for (double h : c.gap)
+      strain.push_back((c.reference_gap - h) / c.reference_gap);
+    const std::size_t split = unload_start(c), n = c.gap.size();
+    stress_strain.series.push_back({run.label + " load", rows_of(strain, 0, split),
+                                    scaled(rows_of(c.stress, 0, split), 1 / mega)});
+    if (split < n)
+      stress_strain.series.push_back({run.label + " unload", rows_of(strain, split - 1, n),
+                                      scaled(rows_of(c.stress, split - 1, n), 1 / mega),
+                                      SeriesStyle::dashed});
+    Series d{run.label, {}, {}}, h{run.label, {}, {}, SeriesStyle::points},
+        k{run.label, {}, {}, SeriesStyle::points};
+    for (std::size_t i : loading_rows(c)) {
+      d.x.push_back(c.stress[i] / mega), d.y.push_back(c.solid_fraction[i]);
+      if (c.stress[i] <= 0.0) continue;
+      if (c.solid_fraction[i] > 0.0 && c.solid_fraction[i] < 1.0)
+        h.x.push_back(c.stress[i] / mega), h.y.push_back(std::log(1 / (1 - c.solid_fraction[i])));
+      if (strain[i] > 0.0)
+        k.x.push_back(c.stress[i] / mega), k.y.push_back(c.stress[i] / mega / strain[i]);
+    }
+    density.series.push_back(std::move(d));
+    heckel.series.push_back(std::move(h));
+    kawakita.series.push_back(std::move(k));
+    // Fit lines over the fitted window: ln(1/(1−D)) = K P + A; P/C = P/a + 1/(a b).
+    const double p0 = m.heckel.stress_lower, p1 = m.heckel.stress_upper;
+    heckel.series.push_back(
+        {fmt::format("{} fit, Py = {:.3g} MPa", run.label, m.heckel.yield_pressure / mega),
+         {p0 / mega, p1 / mega},
+         {m.heckel.k * p0 + m.heckel.a, m.heckel.k * p1 + m.heckel.a},
+         SeriesStyle::dashed});
+    const double q0 = m.kawakita.stress_lower, q1 = m.kawakita.stress_upper;
+    const KawakitaFit& kf = m.kawakita;
+    kawakita.series.push_back(
+        {fmt::format("{} fit, a = {:.3g}, 1/b = {:.3g} MPa", run.label, kf.a, 1 / kf.b / mega),
+         {q0 / mega, q1 / mega},
+         {(q0 / kf.a + 1 / (kf.a * kf.b)) / mega, (q1 / kf.a + 1 / (kf.a * kf.b)) / mega},
+         SeriesStyle::dashed});
+  }
+  return {stress_strain, density, heckel, kawakita};
+}
+
+Chart plate_chart(const std::vector<LoadedRun>& runs, std::optional<double> poisson_ratio) {
+  Chart chart{"Sphere between plates: force vs deformation",
+              "deformation Delta/(2R)",
+              "plate force [N]",
+              "deformation",
+              "force_N",
+              {}};
+  for (const LoadedRun& run : runs) {
+    if (!run.plate) continue;
+    const PlateCurve& c = *run.plate;
+    chart.series.push_back({run.label + " simulated", c.deformation, c.top_force});
+    const Curve hertz = monotone_prefix({c.deformation, c.hertz_force, "Hertz"});
+    chart.series.push_back({run.label + " Hertz", hertz.x, hertz.y, SeriesStyle::dashed});
+    if (!poisson_ratio) continue;
+    const ElasticSphere sphere = infer_sphere(c, *poisson_ratio);
+    std::vector<double> approaches;
+    for (double d : hertz.x)
+      approaches.push_back(2 * sphere.radius * d);
+    chart.series.push_back({fmt::format("{} Tatara (nu = {})", run.label, *poisson_ratio), hertz.x,
+                            tatara_plate_forces(sphere, approaches), SeriesStyle::dashed});
+  }
+  return chart;
+}
+
+}  // namespace
+
+ReportResult write_report(const ReportOptions& options) {
+  options.windows.check();
+  const std::vector<LoadedRun> runs = load_runs(options);
+  std::filesystem::create_directories(options.out);
+  ReportResult result;
+  std::vector<std::pair<std::string, std::filesystem::path>> charts;  // (title, svg)
+  for (const LoadedRun& run : runs)
+    (run.punch ? result.compaction_runs : result.plate_runs) += 1;
+  if (result.compaction_runs > 0) {
+    const std::vector<Chart> cs = compaction_charts(runs);
+    const char* stems[] = {"stress_strain", "solid_fraction_stress", "heckel", "kawakita"};
+    for (std::size_t i = 0; i < cs.size(); ++i)
+      charts.emplace_back(cs[i].title, plot_chart(cs[i], options.out / stems[i]).svg);
+  }
+  if (result.plate_runs > 0) {
+    const Chart chart = plate_chart(runs, options.poisson_ratio);
+    charts.emplace_back(chart.title, plot_chart(chart, options.out / "plate_force").svg);
+  }
+  for (const auto& chart : charts)
+    result.charts.push_back(chart.second);
+  const ReportProvenance provenance{options.command_line, shapepress_version(),
+                                    shapepress_git_revision()};
+  result.metrics = options.out / "metrics.json";
+  write_file_atomically(result.metrics, metrics_json(runs, options.windows, provenance));
+  result.html = options.out / "report.html";
+  write_file_atomically(result.html, report_html(runs, charts, provenance));
+  return result;
+}
+
+}  // namespace shapepress::analysis

@@ -1,0 +1,33 @@
+#pragma once
+// The report of one or several runs: charts (SVG + PNG + data CSV), metrics.json and a
+// self-contained report.html (DESIGN.md, "run/… ──report──▶ report/").
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/compaction.hpp"
+
+namespace shapepress::analysis {
+
+struct ReportOptions {
+  std::vector<std::filesystem::path> runs;  // run folders: punch.csv or force.csv inside
+  std::filesystem::path out;
+  FitWindows windows;
+  std::optional<double> poisson_ratio;  // plate runs: ν of the sphere, for Tatara
+  std::string command_line;             // provenance of the report
+};
+
+struct ReportResult {
+  std::vector<std::filesystem::path> charts;  // the SVGs written
+  std::filesystem::path metrics;
+  std::filesystem::path html;
+  int compaction_runs = 0;
+  int plate_runs = 0;
+};
+
+// Reads every run (InputError naming the folder, file or column that is wrong), then writes the
+// charts, metrics.json and report.html into options.out.
+ReportResult write_report(const ReportOptions& options);
+
+}  // namespace shapepress::analysis

@@ -1,0 +1,40 @@
+#pragma once
+// Reading run folders for the report: a compaction run (punch.csv from `shapepress compact`) or
+// a plate run (force.csv from `shapepress plate`). InputError names the file and the column.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "analysis/compaction.hpp"
+
+namespace shapepress::analysis {
+
+enum class RunKind { compaction, plate };
+
+struct PlateCurve {
+  std::vector<double> deformation;  // Δ/(2R)
+  std::vector<double> approach;     // Δ, total plate approach [m]
+  std::vector<double> top_force;    // N
+  std::vector<double> hertz_force;  // N, as the run computed it
+};
+
+struct RunFiles {
+  std::filesystem::path folder;
+  std::filesystem::path csv;  // punch.csv or force.csv
+  RunKind kind = RunKind::compaction;
+  std::vector<std::string> comments;  // the '#' lines of the CSV: the run's provenance
+};
+
+// Which kind of run a folder holds; InputError if it is missing or has neither CSV.
+RunFiles find_run(const std::filesystem::path& folder);
+
+// The '#' lines at the top of a CSV, without the "# ".
+std::vector<std::string> csv_comments(const std::filesystem::path& path);
+
+// punch.csv: the columns time_s, gap_m, top_force_N, stress_Pa, solid_fraction, phase, and H0
+// and the die area from the comment "strain from H0 = … m; die area … m^2".
+PunchCurve read_punch_curve(const std::filesystem::path& path);
+// force.csv: deformation, approach_m, top_force_N, hertz_force_N.
+PlateCurve read_plate_curve(const std::filesystem::path& path);
+
+}  // namespace shapepress::analysis

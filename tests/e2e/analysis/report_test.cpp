@@ -1,0 +1,159 @@
+// `shapepress report` as a user runs it: on the synthetic runs of tests/data/analysis (known
+// numbers), on real plate and compact runs made by the binary, and on bad input (exit codes).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "tests/support/command.hpp"
+
+namespace shapepress {
+namespace {
+
+using shapepress::testing::run_command;
+using shapepress::testing::run_shapepress;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+const std::filesystem::path data = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis";
+const std::filesystem::path repo =
+    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_analysis_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The values of a metric in metrics.json, one per run that has it, in run order.
+std::vector<double> metric(const std::string& json, const std::string& name) {
+  const std::regex pattern("\"" + name + "\": \\{\"value\": ([^,]+),");
+  std::vector<double> values;
+  for (auto it = std::sregex_iterator(json.begin(), json.end(), pattern);
+       it != std::sregex_iterator(); ++it)
+    values.push_back((*it)[1] == "null" ? NAN : std::stod((*it)[1]));
+  return values;
+}
+
+// Single-quoted for the shell (GCC 12 -O3 trips -Wrestrict on "'" + std::string + "'").
+std::string quote(const std::filesystem::path& path) {
+  std::string quoted(1, '\'');
+  quoted.append(path.string());
+  quoted.push_back('\'');
+  return quoted;
+}
+
+TEST(ReportE2e, SyntheticRunsGiveTheirKnownNumbers) {
+  const auto out = fresh_dir("synthetic");
+  const auto r =
+      run_shapepress("report " + quote(data / "compaction_run") + " " + quote(data / "plate_run") +
+                     " --poisson-ratio 0.46 --out " + quote(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* stem :
+       {"stress_strain", "solid_fraction_stress", "heckel", "kawakita", "plate_force"})
+    for (const char* ext : {".svg", ".png", ".csv", ".gp"})
+      EXPECT_TRUE(std::filesystem::exists(out / (std::string(stem) + ext))) << stem << ext;
+  const std::string json = read_text(out / "metrics.json");
+  // The synthetic compaction is Heckel-exact with Py = 50 MPa, A = 0.5; 10-digit CSV values
+  // leave ~1e-9 relative rounding.
+  ASSERT_EQ(metric(json, "heckel_yield_pressure").size(), 1u) << json;
+  EXPECT_NEAR(metric(json, "heckel_yield_pressure")[0], 50e6, 1e-6 * 50e6);
+  EXPECT_NEAR(metric(json, "heckel_A")[0], 0.5, 1e-7);
+  EXPECT_NEAR(metric(json, "elastic_recovery")[0], 0.04, 1e-8);  // unloaded to 1.04 H_min
+  EXPECT_NEAR(metric(json, "peak_stress")[0], 100e6, 1.0);
+  EXPECT_GT(metric(json, "H0")[0], 0.0);
+  // The plate "simulation" is Tatara's curve itself: the report's Tatara must match it to the
+  // digits written, and be 59 % above Hertz at 40 % deformation (the reference table's ratio).
+  EXPECT_LT(metric(json, "tatara_max_relative_error")[0], 1e-6);
+  EXPECT_NEAR(metric(json, "hertz_max_relative_error")[0], 0.59295, 1e-4);
+  EXPECT_NEAR(metric(json, "radius")[0], 0.01, 1e-10);
+  const std::string html = read_text(out / "report.html");
+  EXPECT_THAT(html, HasSubstr("<svg"));
+  EXPECT_THAT(html, HasSubstr("heckel_yield_pressure"));
+  EXPECT_THAT(html, HasSubstr("make_synthetic_runs.py"));  // the inputs' provenance lines
+  EXPECT_THAT(html, Not(HasSubstr("<?xml")));              // SVG embedded, not the file
+}
+
+TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
+  const auto dir = fresh_dir("real");
+  // The shipped plate rig (rubber sphere, 1 % deformation) and a 500-sphere compaction.
+  auto r = run_shapepress("plate --config " +
+                          quote(repo / "pipelines/configs/plate-rubber-sphere.toml") + " --out " +
+                          quote(dir / "plate"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string config = read_text(repo / "pipelines/configs/compact-spheres.toml");
+  config = std::regex_replace(config, std::regex(R"(\ncount = \d+)"), "\ncount = 500");
+  config = std::regex_replace(config, std::regex(R"(\nx = "[^"]*")"), "\nx = \"8 mm\"");
+  config = std::regex_replace(config, std::regex(R"(\ny = "[^"]*")"), "\ny = \"8 mm\"");
+  config = std::regex_replace(config, std::regex(R"(\nsettle_time = "[^"]*")"),
+                              "\nsettle_time = \"120 ms\"");
+  std::ofstream(dir / "compact.toml") << config;
+  r = run_shapepress("--quiet --threads 2 compact --config " + quote(dir / "compact.toml") +
+                     " --out " + quote(dir / "compact"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_shapepress("report " + quote(dir / "compact") + " " + quote(data / "compaction_run") +
+                     " " + quote(dir / "plate") + " --poisson-ratio 0.46 --out " +
+                     quote(dir / "report"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string json = read_text(dir / "report" / "metrics.json");
+  const std::vector<double> py = metric(json, "heckel_yield_pressure");
+  ASSERT_EQ(py.size(), 2u) << json;  // two compaction runs overlaid
+  EXPECT_GT(py[0], 0.0);
+  const std::vector<double> recovery = metric(json, "elastic_recovery");
+  EXPECT_GT(recovery[0], 0.0);  // elastic spheres spring back
+  EXPECT_LT(recovery[0], 0.25);
+  EXPECT_GT(metric(json, "work_of_compaction")[0], metric(json, "work_of_unloading")[0]);
+  // The plate engine is Hertz: within a few % of Hertz, and Tatara is 6.6 % stiffer at 1 %.
+  const double hertz_error = metric(json, "hertz_rms_relative_error")[0];
+  const double tatara_error = metric(json, "tatara_rms_relative_error")[0];
+  EXPECT_LT(hertz_error, tatara_error);
+  EXPECT_GT(tatara_error, 0.02);
+  // Overlaid: the stress–strain data hold both compaction runs' load branches.
+  const std::string csv = read_text(dir / "report" / "stress_strain.csv");
+  EXPECT_THAT(csv, HasSubstr("compact load"));
+  EXPECT_THAT(csv, HasSubstr("compaction_run load"));
+}
+
+TEST(ReportE2e, BadInputIsExitTwoNamingTheFileOrColumn) {
+  const auto out = fresh_dir("bad");
+  auto r = run_shapepress("report " + quote(out / "missing_run") + " --out " + quote(out / "r"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("missing_run"));
+  r = run_shapepress("report " + quote(data / "bad_run") + " --out " + quote(out / "r"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("stress_Pa"));
+  EXPECT_THAT(r.output, HasSubstr("bad_run/punch.csv"));
+  r = run_shapepress("report " + quote(data) + " --out " + quote(out / "r"));  // no CSV inside
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("punch.csv"));
+  r = run_shapepress("report --out " + quote(out / "r"));  // no run folder
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_shapepress("report " + quote(data / "compaction_run") +
+                     " --heckel-window 0.9 0.2 --out " + quote(out / "r"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("Heckel"));
+  EXPECT_FALSE(std::filesystem::exists(out / "r" / "report.html"));
+}
+
+TEST(ReportE2e, WithoutGnuplotTheRunFailsNamingIt) {
+  const auto out = fresh_dir("no_gnuplot");
+  const auto r = run_command("PATH=" + quote(out) + " " + std::string(SHAPEPRESS_BINARY) +
+                             " report " + quote(data / "plate_run") + " --out " + quote(out / "r"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("gnuplot"));
+}
+
+}  // namespace
+}  // namespace shapepress

@@ -1,0 +1,90 @@
+#include "analysis/plot.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/csv.hpp"
+#include "common/error.hpp"
+
+namespace shapepress::analysis {
+namespace {
+
+Chart two_series() {
+  return {"Test chart",
+          "strain",
+          "stress [MPa]",
+          "strain",
+          "stress_MPa",
+          {{"load", {0.0, 0.1, 0.2}, {0.0, 1.0, 4.0}},
+           {"unload, it's dashed", {0.2, 0.15}, {4.0, 0.0}, SeriesStyle::dashed}}};
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class PlotTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = std::filesystem::temp_directory_path() /
+              ("shapepress_plot_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(folder_);
+  }
+  void TearDown() override { std::filesystem::remove_all(folder_); }
+  std::filesystem::path folder_;
+};
+
+TEST(PlotScript, HoldsTheDataInlineAndBothTerminals) {
+  const std::string s = gnuplot_script(two_series(), "a.svg", "a.png");
+  EXPECT_NE(s.find("$series0 << EOD\n0 0\n0.1 1\n0.2 4\nEOD"), std::string::npos) << s;
+  EXPECT_NE(s.find("set terminal svg"), std::string::npos);
+  EXPECT_NE(s.find("set terminal pngcairo"), std::string::npos);
+  EXPECT_NE(s.find("'unload, it''s dashed'"), std::string::npos);  // quote doubled for gnuplot
+  EXPECT_NE(s.find("dt 2"), std::string::npos);                    // the dashed style
+}
+
+TEST_F(PlotTest, WritesSvgPngDataAndScript) {
+  if (find_gnuplot().empty()) GTEST_SKIP() << "gnuplot is not installed";
+  const ChartFiles files = plot_chart(two_series(), folder_ / "chart");
+  EXPECT_NE(read_text(files.svg).find("<svg"), std::string::npos);
+  EXPECT_GT(std::filesystem::file_size(files.png), 1000u);
+  const std::string png = read_text(files.png);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const CsvTable table = read_csv(files.csv);
+  EXPECT_EQ(table.columns, (std::vector<std::string>{"series", "strain", "stress_MPa"}));
+  ASSERT_EQ(table.rows.size(), 5u) << "one row per point of both series";
+  EXPECT_EQ(table.column("series"), (std::vector<double>{0, 0, 0, 1, 1}));
+  EXPECT_EQ(table.column("stress_MPa")[2], 4.0);
+  EXPECT_NE(read_text(files.csv).find("# series 1 = unload, it's dashed"), std::string::npos);
+  EXPECT_NE(read_text(files.script).find("set output 'chart.svg'"), std::string::npos);
+  for (const auto& entry : std::filesystem::directory_iterator(folder_))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
+        << "temporary file left: " << entry.path();
+}
+
+TEST_F(PlotTest, MissingGnuplotIsAComputationErrorNamingIt) {
+  const char* old_path = std::getenv("PATH");
+  const std::string saved = old_path ? old_path : "";
+  ::setenv("PATH", folder_.c_str(), 1);  // a folder without gnuplot
+  std::string message;
+  try {
+    plot_chart(two_series(), folder_ / "chart");
+  } catch (const ComputationError& e) {
+    message = e.what();
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+  EXPECT_NE(message.find("gnuplot"), std::string::npos) << message;
+  EXPECT_FALSE(std::filesystem::exists(folder_ / "chart.svg"));
+}
+
+}  // namespace
+}  // namespace shapepress::analysis

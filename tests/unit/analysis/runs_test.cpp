@@ -1,0 +1,73 @@
+// Reading run folders: the synthetic runs in tests/data/analysis (make_synthetic_runs.py).
+#include "analysis/runs.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.hpp"
+
+namespace shapepress::analysis {
+namespace {
+
+const std::filesystem::path data = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis";
+
+std::string message_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no InputError";
+}
+
+TEST(Runs, FindsTheKindOfRunAndItsProvenanceComments) {
+  const RunFiles compaction = find_run(data / "compaction_run");
+  EXPECT_EQ(compaction.kind, RunKind::compaction);
+  EXPECT_EQ(compaction.csv.filename(), "punch.csv");
+  ASSERT_EQ(compaction.comments.size(), 3u);
+  EXPECT_EQ(compaction.comments[2], "phase: 0 load, 1 hold, 2 unload, 3 done");
+  EXPECT_EQ(find_run(data / "plate_run").kind, RunKind::plate);
+}
+
+TEST(Runs, ReadsAPunchCurveWithH0AndDieAreaFromTheComment) {
+  const PunchCurve c = read_punch_curve(data / "compaction_run" / "punch.csv");
+  // H0 = solid height / D(P = 0) = 4 mm / (1 − e^{−0.5}), written with 10 digits.
+  EXPECT_NEAR(c.reference_gap, 4e-3 / (1 - std::exp(-0.5)), 1e-12);
+  EXPECT_DOUBLE_EQ(c.die_area, 1e-4);
+  ASSERT_EQ(c.gap.size(), 101u + 5u + 20u);
+  EXPECT_EQ(c.phase.front(), 0);
+  EXPECT_EQ(c.phase.back(), 3);
+  EXPECT_DOUBLE_EQ(c.stress[100], 100e6);
+}
+
+TEST(Runs, ErrorsNameTheFolderFileAndColumn) {
+  EXPECT_NE(message_of([] { find_run(data / "no_such_run"); }).find("no_such_run"),
+            std::string::npos);
+  const std::string empty = message_of([] { find_run(data); });  // a folder without CSVs
+  EXPECT_NE(empty.find("punch.csv"), std::string::npos) << empty;
+  const std::string missing = message_of([] { read_punch_curve(data / "bad_run" / "punch.csv"); });
+  EXPECT_NE(missing.find("bad_run/punch.csv"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("stress_Pa"), std::string::npos) << missing;
+  const std::string no_force =
+      message_of([] { read_plate_curve(data / "compaction_run" / "punch.csv"); });
+  EXPECT_NE(no_force.find("deformation"), std::string::npos) << no_force;
+}
+
+TEST(Runs, APunchCsvWithoutTheH0CommentIsRejected) {
+  const auto folder = std::filesystem::temp_directory_path() / "shapepress_analysis_runs_test";
+  std::filesystem::create_directories(folder);
+  {
+    std::ofstream out(folder / "punch.csv");
+    out << "time_s,gap_m,top_force_N,stress_Pa,solid_fraction,phase\n"
+           "0,0.01,0,0,0.5,0\n0,0.009,1,1e4,0.55,0\n0,0.008,2,2e4,0.6,0\n";
+  }
+  const std::string message = message_of([&] { read_punch_curve(folder / "punch.csv"); });
+  EXPECT_NE(message.find("H0"), std::string::npos) << message;
+  std::filesystem::remove_all(folder);
+}
+
+}  // namespace
+}  // namespace shapepress::analysis
