@@ -27,8 +27,8 @@ std::string gp_quoted(std::string_view text) {
   return out + "'";
 }
 
-std::string style_of(SeriesStyle style, int index) {
-  const int colour = index % 8 + 1;
+std::string style_of(SeriesStyle style, int given_colour, int index) {
+  const int colour = given_colour > 0 ? (given_colour - 1) % 8 + 1 : index % 8 + 1;
   switch (style) {
     case SeriesStyle::points:
       return fmt::format("with points pt 7 ps 0.5 lc {}", colour);
@@ -79,8 +79,9 @@ std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
   std::string plot = "plot ";
   for (std::size_t k = 0; k < chart.series.size(); ++k) {
     if (k > 0) plot += ", ";
-    plot += fmt::format("$series{} using 1:2 title {} {}", k, gp_quoted(chart.series[k].title),
-                        style_of(chart.series[k].style, static_cast<int>(k)));
+    plot +=
+        fmt::format("$series{} using 1:2 title {} {}", k, gp_quoted(chart.series[k].title),
+                    style_of(chart.series[k].style, chart.series[k].colour, static_cast<int>(k)));
   }
   s += fmt::format("set terminal svg size 800,560 dynamic font 'sans,12'\nset output {}\n{}\n",
                    gp_quoted(svg.string()), plot);

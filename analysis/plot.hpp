@@ -15,6 +15,8 @@ struct Series {
   std::vector<double> x;
   std::vector<double> y;
   SeriesStyle style = SeriesStyle::lines;
+  int colour = 0;  // gnuplot line colour 1–8; 0: by position, so series sharing one (a run's
+                   // load and unload, its points and fit) can be told from other runs
 };
 
 struct Chart {

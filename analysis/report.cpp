@@ -82,8 +82,10 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs) {
                  "stress_MPa",
                  "P_over_C_MPa",
                  {}};
+  int colour = 0;  // one colour per run across its load/unload and points/fit series
   for (const LoadedRun& run : runs) {
     if (!run.punch) continue;
+    ++colour;
     const PunchCurve& c = *run.punch;
     const CompactionMetrics& m = *run.compaction;
     std::vector<double> strain;
@@ -91,13 +93,15 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs) {
       strain.push_back((c.reference_gap - h) / c.reference_gap);
     const std::size_t split = unload_start(c), n = c.gap.size();
     stress_strain.series.push_back({run.label + " load", rows_of(strain, 0, split),
-                                    scaled(rows_of(c.stress, 0, split), 1 / mega)});
+                                    scaled(rows_of(c.stress, 0, split), 1 / mega),
+                                    SeriesStyle::lines, colour});
     if (split < n)
       stress_strain.series.push_back({run.label + " unload", rows_of(strain, split - 1, n),
                                       scaled(rows_of(c.stress, split - 1, n), 1 / mega),
-                                      SeriesStyle::dashed});
-    Series d{run.label, {}, {}}, h{run.label, {}, {}, SeriesStyle::points},
-        k{run.label, {}, {}, SeriesStyle::points};
+                                      SeriesStyle::dashed, colour});
+    Series d{run.label, {}, {}, SeriesStyle::lines, colour},
+        h{run.label, {}, {}, SeriesStyle::points, colour},
+        k{run.label, {}, {}, SeriesStyle::points, colour};
     for (std::size_t i : loading_rows(c)) {
       d.x.push_back(c.stress[i] / mega), d.y.push_back(c.solid_fraction[i]);
       if (c.stress[i] <= 0.0) continue;
@@ -115,14 +119,16 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs) {
         {fmt::format("{} fit, Py = {:.3g} MPa", run.label, m.heckel.yield_pressure / mega),
          {p0 / mega, p1 / mega},
          {m.heckel.k * p0 + m.heckel.a, m.heckel.k * p1 + m.heckel.a},
-         SeriesStyle::dashed});
+         SeriesStyle::dashed,
+         colour});
     const double q0 = m.kawakita.stress_lower, q1 = m.kawakita.stress_upper;
     const KawakitaFit& kf = m.kawakita;
     kawakita.series.push_back(
         {fmt::format("{} fit, a = {:.3g}, 1/b = {:.3g} MPa", run.label, kf.a, 1 / kf.b / mega),
          {q0 / mega, q1 / mega},
          {(q0 / kf.a + 1 / (kf.a * kf.b)) / mega, (q1 / kf.a + 1 / (kf.a * kf.b)) / mega},
-         SeriesStyle::dashed});
+         SeriesStyle::dashed,
+         colour});
   }
   return {stress_strain, density, heckel, kawakita};
 }

@@ -113,7 +113,8 @@ TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
   EXPECT_GT(py[0], 0.0);
   const std::vector<double> recovery = metric(json, "elastic_recovery");
   EXPECT_GT(recovery[0], 0.0);  // elastic spheres spring back
-  EXPECT_LT(recovery[0], 0.25);
+  EXPECT_LT(recovery[0],
+            0.5);  // measured 0.20 (500 spheres, 25 % strain); a bed never regains half
   EXPECT_GT(metric(json, "work_of_compaction")[0], metric(json, "work_of_unloading")[0]);
   // The plate engine is Hertz: within a few % of Hertz, and Tatara is 6.6 % stiffer at 1 %.
   const double hertz_error = metric(json, "hertz_rms_relative_error")[0];

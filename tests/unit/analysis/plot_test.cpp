@@ -50,6 +50,12 @@ TEST(PlotScript, HoldsTheDataInlineAndBothTerminals) {
   EXPECT_NE(s.find("set terminal pngcairo"), std::string::npos);
   EXPECT_NE(s.find("'unload, it''s dashed'"), std::string::npos);  // quote doubled for gnuplot
   EXPECT_NE(s.find("dt 2"), std::string::npos);                    // the dashed style
+  EXPECT_NE(s.find("with lines lw 2 lc 1"), std::string::npos);    // colour by position
+  Chart same_colour = two_series();
+  same_colour.series[0].colour = same_colour.series[1].colour = 3;  // one run's load and unload
+  const std::string t = gnuplot_script(same_colour, "a.svg", "a.png");
+  EXPECT_NE(t.find("with lines lw 2 lc 3"), std::string::npos) << t;
+  EXPECT_NE(t.find("with lines dt 2 lw 2 lc 3"), std::string::npos) << t;
 }
 
 TEST_F(PlotTest, WritesSvgPngDataAndScript) {
