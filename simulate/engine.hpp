@@ -141,6 +141,8 @@ class Engine {
     double torque_second[3];
   };
   std::vector<PairResult> pair_results_;  // valid where pair_touching_ is 1
+  std::vector<double> geometry_;          // per sphere x, y, z, r (pair_forces)
+  std::vector<double> motion_;            // per sphere predicted v, ω, then m, 1/I
   // One byte per pair: the gather skips non-touching pairs without reading their 72-byte
   // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
   std::vector<std::uint8_t> pair_touching_;
