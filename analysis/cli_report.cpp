@@ -33,6 +33,10 @@ int run(const ReportCli& cli, const RunContext& context) {
   options.poisson_ratio = cli.poisson_ratio;
   options.command_line = context.command_line;
   const ReportResult result = write_report(options);
+  if (result.plate_runs > 0 && !options.poisson_ratio)
+    spdlog::info(
+        "report: no --poisson-ratio, plate runs are compared with Hertz only (Tatara "
+        "needs the sphere's Poisson ratio, which force.csv does not carry)");
   spdlog::info("report: {} compaction and {} plate run(s), {} charts, {}", result.compaction_runs,
                result.plate_runs, result.charts.size(), result.html.string());
   return 0;

@@ -33,6 +33,17 @@ std::vector<LoadedRun> load_runs(const ReportOptions& options) {
     }
     runs.push_back(std::move(run));
   }
+  // Two folders with one name (a/run, b/run) would share a legend entry: name them with their
+  // parent folder too.
+  std::vector<bool> shared(runs.size(), false);
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    for (std::size_t j = 0; j < runs.size(); ++j)
+      if (i != j && runs[i].label == runs[j].label) shared[i] = true;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (!shared[i]) continue;
+    const auto path = std::filesystem::weakly_canonical(options.runs[i]);
+    runs[i].label = (path.parent_path().filename() / path.filename()).string();
+  }
   return runs;
 }
 

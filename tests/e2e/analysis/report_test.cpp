@@ -127,6 +127,24 @@ TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
   EXPECT_THAT(csv, HasSubstr("compaction_run load"));
 }
 
+TEST(ReportE2e, SameNamedFoldersGetDistinctLabelsAndPlateWithoutNuIsHertzOnly) {
+  const auto dir = fresh_dir("labels");
+  for (const char* parent : {"a", "b"}) {
+    std::filesystem::create_directories(dir / parent / "run");
+    std::filesystem::copy_file(data / "plate_run" / "force.csv",
+                               dir / parent / "run" / "force.csv");
+  }
+  const auto r = run_shapepress("report " + quote(dir / "a" / "run") + " " +
+                                quote(dir / "b" / "run") + " --out " + quote(dir / "report"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("Hertz only"));
+  const std::string json = read_text(dir / "report" / "metrics.json");
+  EXPECT_THAT(json, HasSubstr("\"label\": \"a/run\""));
+  EXPECT_THAT(json, HasSubstr("\"label\": \"b/run\""));
+  EXPECT_TRUE(metric(json, "tatara_rms_relative_error").empty());
+  EXPECT_EQ(metric(json, "hertz_rms_relative_error").size(), 2u);
+}
+
 TEST(ReportE2e, BadInputIsExitTwoNamingTheFileOrColumn) {
   const auto out = fresh_dir("bad");
   auto r = run_shapepress("report " + quote(out / "missing_run") + " --out " + quote(out / "r"));
