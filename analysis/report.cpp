@@ -1,11 +1,13 @@
 #include "analysis/report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "analysis/curves.hpp"
 #include "analysis/plate_analysis.hpp"
 #include "analysis/plot.hpp"
 #include "analysis/report_html.hpp"
@@ -168,6 +170,32 @@ Chart plate_chart(const std::vector<LoadedRun>& runs, std::optional<double> pois
   return chart;
 }
 
+// Loading stress against strain of every compaction run, compared at 10 strains up to the
+// largest strain all of them reach; nothing with fewer than two runs.
+std::optional<StressSpread> stress_spread(const std::vector<LoadedRun>& runs) {
+  std::vector<Curve> family;
+  for (const LoadedRun& run : runs) {
+    if (!run.punch) continue;
+    const PunchCurve& c = *run.punch;
+    Curve loading{{}, {}, run.label};
+    for (std::size_t i : loading_rows(c)) {
+      loading.x.push_back((c.reference_gap - c.gap[i]) / c.reference_gap);
+      loading.y.push_back(c.stress[i]);
+    }
+    loading = monotone_prefix(loading);
+    if (loading.x.size() >= 2) family.push_back(std::move(loading));
+  }
+  if (family.size() < 2) return std::nullopt;
+  double common = HUGE_VAL;
+  for (const Curve& c : family)
+    common = std::min(common, c.x.back());
+  StressSpread spread;
+  for (int i = 1; i <= 10; ++i)
+    spread.strain.push_back(common * i / 10.0);
+  spread.spread = spread_at(family, spread.strain);
+  return spread;
+}
+
 }  // namespace
 
 ReportResult write_report(const ReportOptions& options) {
@@ -193,9 +221,10 @@ ReportResult write_report(const ReportOptions& options) {
   const ReportProvenance provenance{options.command_line, shapepress_version(),
                                     shapepress_git_revision()};
   result.metrics = options.out / "metrics.json";
-  write_file_atomically(result.metrics, metrics_json(runs, options.windows, provenance));
+  const std::optional<StressSpread> spread = stress_spread(runs);
+  write_file_atomically(result.metrics, metrics_json(runs, options.windows, provenance, spread));
   result.html = options.out / "report.html";
-  write_file_atomically(result.html, report_html(runs, charts, provenance));
+  write_file_atomically(result.html, report_html(runs, charts, provenance, spread));
   return result;
 }
 

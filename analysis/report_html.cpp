@@ -143,7 +143,8 @@ std::string html_escape(std::string_view text) {
 }
 
 std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& windows,
-                         const ReportProvenance& provenance) {
+                         const ReportProvenance& provenance,
+                         const std::optional<StressSpread>& spread) {
   std::string s = "{\n";
   s += fmt::format(
       "  \"provenance\": {{\"command_line\": \"{}\", \"shapepress_version\": \"{}\", "
@@ -155,6 +156,16 @@ std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& w
       "\"heckel\": [{}, {}], \"kawakita\": [{}, {}]}},\n",
       json_number(windows.heckel_lower), json_number(windows.heckel_upper),
       json_number(windows.kawakita_lower), json_number(windows.kawakita_upper));
+  if (spread) {
+    s += "  \"stress_spread\": {\"meaning\": \"(max - min)/mean of the loading stress of the "
+         "compaction runs at each strain\", \"strain\": [";
+    for (std::size_t i = 0; i < spread->strain.size(); ++i)
+      s += (i == 0 ? "" : ", ") + json_number(spread->strain[i]);
+    s += "], \"spread\": [";
+    for (std::size_t i = 0; i < spread->spread.size(); ++i)
+      s += (i == 0 ? "" : ", ") + json_number(spread->spread[i]);
+    s += "]},\n";
+  }
   s += "  \"runs\": [";
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const LoadedRun& run = runs[r];
@@ -178,7 +189,8 @@ std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& w
 
 std::string report_html(const std::vector<LoadedRun>& runs,
                         const std::vector<std::pair<std::string, std::filesystem::path>>& charts,
-                        const ReportProvenance& provenance) {
+                        const ReportProvenance& provenance,
+                        const std::optional<StressSpread>& spread) {
   std::string s =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<title>shapepress report</title>\n<style>\n"
@@ -205,6 +217,14 @@ std::string report_html(const std::vector<LoadedRun>& runs,
       s += fmt::format("<tr><td>{}</td><td class=\"num\">{}</td><td>{}</td><td>{}</td></tr>\n",
                        m.name, std::isfinite(m.value) ? fmt::format("{:.6g}", m.value) : "-",
                        m.unit, html_escape(m.meaning));
+    s += "</table>\n";
+  }
+  if (spread) {
+    s += "<h3>Spread of the compaction runs</h3>\n<p>(max - min)/mean of the loading stress at "
+         "each strain.</p>\n<table>\n<tr><th>strain</th><th>spread</th></tr>\n";
+    for (std::size_t i = 0; i < spread->strain.size(); ++i)
+      s += fmt::format("<tr><td class=\"num\">{:.4g}</td><td class=\"num\">{:.4g}</td></tr>\n",
+                       spread->strain[i], spread->spread[i]);
     s += "</table>\n";
   }
   s += "<h2>Provenance</h2>\n";

@@ -121,6 +121,8 @@ TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
   const double tatara_error = metric(json, "tatara_rms_relative_error")[0];
   EXPECT_LT(hertz_error, tatara_error);
   EXPECT_GT(tatara_error, 0.02);
+  // Two different compactions: their stresses differ at every compared strain.
+  EXPECT_THAT(json, HasSubstr("\"stress_spread\""));
   // Overlaid: the stress–strain data hold both compaction runs' load branches.
   const std::string csv = read_text(dir / "report" / "stress_strain.csv");
   EXPECT_THAT(csv, HasSubstr("compact load"));
@@ -143,6 +145,23 @@ TEST(ReportE2e, SameNamedFoldersGetDistinctLabelsAndPlateWithoutNuIsHertzOnly) {
   EXPECT_THAT(json, HasSubstr("\"label\": \"b/run\""));
   EXPECT_TRUE(metric(json, "tatara_rms_relative_error").empty());
   EXPECT_EQ(metric(json, "hertz_rms_relative_error").size(), 2u);
+}
+
+// The spread of a family of identical runs is zero; the synthetic curve reaches strain 0.5713.
+TEST(ReportE2e, IdenticalCompactionRunsHaveNoSpread) {
+  const auto dir = fresh_dir("spread");
+  const auto r = run_shapepress("report " + quote(data / "compaction_run") + " " +
+                                quote(data / "compaction_run") + " --out " + quote(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string json = read_text(dir / "metrics.json");
+  const std::smatch match = [&] {
+    std::smatch m;
+    std::regex_search(json, m, std::regex(R"("strain": \[([^\]]*)\], "spread": \[([^\]]*)\])"));
+    return m;
+  }();
+  ASSERT_EQ(match.size(), 3u) << json;
+  EXPECT_EQ(match[2].str(), "0, 0, 0, 0, 0, 0, 0, 0, 0, 0");
+  EXPECT_THAT(match[1].str(), HasSubstr("0.5713444712"));  // the common strain range's end
 }
 
 TEST(ReportE2e, BadInputIsExitTwoNamingTheFileOrColumn) {
