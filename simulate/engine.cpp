@@ -55,6 +55,9 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   if (checkpoint.wall_history.size() != walls_.size())
     throw InputError("checkpoint: wall history does not match the walls");
   wall_history_ = std::move(checkpoint.wall_history);
+  // "May be touching" for every sphere: the first gather then releases the spring of any wall
+  // contact that opens, as the continuous run does (a spring is non-zero only while touching).
+  wall_touching_.assign(walls_.size(), std::vector<std::uint8_t>(state_.size(), 1));
   wall_force_ = std::move(checkpoint.wall_force);
   // Rebuild without wrapping: the continuous run wraps only at its own builds, and the shifts
   // come from the current (possibly unwrapped) positions, so the same pairs see the same
