@@ -101,17 +101,20 @@ TriangleMesh rough_sphere(const std::vector<double>& spectrum, std::uint64_t see
 
 void stretch_to_box_ratios(TriangleMesh& mesh, double elongation, double flatness, double tolerance,
                            std::uint64_t seed) {
-  // The box found after one stretch along the box's own axes is (nearly always) the same box, so
-  // two rounds reach the tolerance; a third is the rare case of the box turning.
-  for (int iteration = 0; iteration < 3; ++iteration) {
-    const OrientedBox box = minimum_oriented_box(mesh.vertices, seed);
-    const Vec3 s = box.lengths;
-    if (std::abs(s[1] / s[0] - elongation) < tolerance &&
-        std::abs(s[2] / s[1] - flatness) < tolerance)
-      return;
-    stretch_along(mesh, box.axes,
-                  Vec3(1.0, elongation * s[0] / s[1], elongation * flatness * s[0] / s[2]));
-  }
+  // First exactly along x, y, z (a stretch scales the extents along its own axes exactly), then
+  // along the minimum box's axes, which for a nearly round base shape are close to x, y, z:
+  // one box search (and one correction when it disagrees) instead of a loop of them.
+  const Aabb aligned = bounding_box(mesh.vertices);
+  const Vec3 e = aligned.size();
+  stretch_along(mesh, Mat3::Identity(),
+                Vec3(1.0, elongation * e.x() / e.y(), elongation * flatness * e.x() / e.z()));
+  const OrientedBox box = minimum_oriented_box(mesh.vertices, seed);
+  const Vec3 s = box.lengths;
+  if (std::abs(s[1] / s[0] - elongation) < tolerance &&
+      std::abs(s[2] / s[1] - flatness) < tolerance)
+    return;
+  stretch_along(mesh, box.axes,
+                Vec3(1.0, elongation * s[0] / s[1], elongation * flatness * s[0] / s[2]));
 }
 
 void GenerateOptions::check() const {
@@ -143,10 +146,9 @@ std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
     const std::uint64_t stream = mix(options.seed ^ mix(i + 1));
     Rng rng(stream);
     particle.size_m = targets.size_quantile(uniform01(rng));
-    particle.elongation_target =
-        std::clamp(e_target * (1.0 + options.ratio_spread * standard_normal(rng)), 0.05, 1.0);
-    particle.flatness_target =
-        std::clamp(f_target * (1.0 + options.ratio_spread * standard_normal(rng)), 0.05, 1.0);
+    // Spread deviates, turned into ratios below once the whole population's are known.
+    particle.elongation_target = std::clamp(standard_normal(rng), -2.0, 2.0);
+    particle.flatness_target = std::clamp(standard_normal(rng), -2.0, 2.0);
     for (int draw = 0; draw <= options.max_redraws; ++draw) {
       particle.seed = mix(stream + static_cast<std::uint64_t>(draw));
       particle.mesh = rough_sphere(spectrum, particle.seed, options.subdivisions);
@@ -159,6 +161,22 @@ std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
       throw ComputationError(fmt::format(
           "no valid particle in {} draws: the roughness (D3 = {}, D8 = {}) folds the surface",
           options.max_redraws + 1, targets.D3, targets.D8));
+  // Per-particle 3D ratios: target ± spread, with the deviates centred over the population and
+  // the spread capped at (1 - target)/2 so that no ratio is clipped at 1: the population's mean
+  // is the target itself, not the target minus a clipping bias.
+  {
+    double mean_e = 0.0, mean_f = 0.0;
+    for (const GeneratedParticle& p : particles) {
+      mean_e += p.elongation_target / static_cast<double>(n);
+      mean_f += p.flatness_target / static_cast<double>(n);
+    }
+    const double de = std::min(options.ratio_spread * e_target, 0.5 * (1.0 - e_target));
+    const double df = std::min(options.ratio_spread * f_target, 0.5 * (1.0 - f_target));
+    for (GeneratedParticle& p : particles) {
+      p.elongation_target = std::clamp(e_target + de * (p.elongation_target - mean_e), 0.05, 1.0);
+      p.flatness_target = std::clamp(f_target + df * (p.flatness_target - mean_f), 0.05, 1.0);
+    }
+  }
   if (progress) progress(static_cast<int>(n) / 2);
 
   // 2. Shape: either the image's projected-ASR distribution (population calibration of one
@@ -206,8 +224,6 @@ std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t i = 0; i < n; ++i) {
       GeneratedParticle& p = particles[i];
-      stretch_along(p.mesh, Mat3::Identity(),
-                    Vec3(1.0, p.elongation_target, p.elongation_target * p.flatness_target));
       stretch_to_box_ratios(p.mesh, p.elongation_target, p.flatness_target);
     }
   }

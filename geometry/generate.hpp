@@ -24,7 +24,8 @@ TriangleMesh rough_sphere(const std::vector<double>& spectrum, std::uint64_t see
                           int subdivisions = 4);
 
 // Stretches along the mesh's own minimum oriented box axes until I/L and S/I are within
-// `tolerance` of the targets (a few CGAL box computations).
+// `tolerance` of the targets: exactly along x, y, z, then at most one correction along the box
+// axes (one or two box searches).
 void stretch_to_box_ratios(TriangleMesh& mesh, double elongation, double flatness,
                            double tolerance = 2e-3, std::uint64_t seed = 1);
 
