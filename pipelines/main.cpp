@@ -77,6 +77,16 @@ std::vector<std::string> option_names(const CLI::App& app) {
   return names;
 }
 
+// The first word a stage did not understand, with the closest of its options.
+int unknown_argument_error(const CLI::App& sub, const std::string& extra) {
+  std::optional<std::string> guess =
+      shapepress::closest_match(extra.substr(0, extra.find('=')), option_names(sub));
+  return usage_error(
+      fmt::format("'{}' is not an option or argument of 'shapepress {}'", extra, sub.get_name()),
+      guess ? fmt::format("Did you mean '{}'? (shapepress {} --help)", *guess, sub.get_name())
+            : fmt::format("shapepress {} --help lists its options", sub.get_name()));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -126,6 +136,25 @@ int main(int argc, char** argv) {
               : "shapepress --help lists the stages");
   }
 
+  // A mistyped option of the stage is reported before CLI11 complains about a required value it
+  // hid ("--confg x" leaves --config missing).
+  if (words.stage) {
+    CLI::App* sub = app.get_subcommand(*words.stage);
+    std::vector<std::string> names = option_names(*sub);
+    bool after_stage = false;
+    for (int i = 1; i < argc; ++i) {
+      std::string arg = argv[i];
+      if (!after_stage) {
+        after_stage = arg == *words.stage;
+        continue;
+      }
+      if (arg == "--") break;
+      if (arg.starts_with("--") &&
+          std::find(names.begin(), names.end(), arg.substr(0, arg.find('='))) == names.end())
+        return unknown_argument_error(*sub, arg);
+    }
+  }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -136,17 +165,7 @@ int main(int argc, char** argv) {
 
   for (auto& [sub, runner] : runners) {
     if (!sub->parsed()) continue;
-    std::vector<std::string> extras = sub->remaining();
-    if (!extras.empty()) {
-      std::vector<std::string> names = option_names(*sub);
-      std::optional<std::string> guess =
-          closest_match(extras.front().substr(0, extras.front().find('=')), names);
-      return usage_error(
-          fmt::format("'{}' is not an option or argument of 'shapepress {}'", extras.front(),
-                      sub->get_name()),
-          guess ? fmt::format("Did you mean '{}'? (shapepress {} --help)", *guess, sub->get_name())
-                : fmt::format("shapepress {} --help lists its options", sub->get_name()));
-    }
+    if (!sub->remaining().empty()) return unknown_argument_error(*sub, sub->remaining().front());
     try {
       configure_logging(log_level, context.quiet);
       if (context.threads > 0) omp_set_num_threads(context.threads);
