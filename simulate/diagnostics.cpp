@@ -9,6 +9,18 @@
 #include "simulate/engine.hpp"
 
 namespace shapepress::simulate {
+namespace {
+
+// Overlap of list pair p (negative when apart), with its periodic image shift.
+double pair_overlap(const SphereState& s, const PairList& pairs, std::size_t p) {
+  const int i = pairs.first[p], j = pairs.second[p];
+  const double dx = s.position.x[j] - s.position.x[i] + pairs.shift_x[p];
+  const double dy = s.position.y[j] - s.position.y[i] + pairs.shift_y[p];
+  const double dz = s.position.z[j] - s.position.z[i];
+  return s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+}  // namespace
 
 EnergySummary Engine::energy() const {
   const SphereState& s = state_;
@@ -33,10 +45,7 @@ EnergySummary Engine::energy() const {
   };
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     const int i = pairs_.first[p], j = pairs_.second[p];
-    const double dx = s.position.x[j] - s.position.x[i] + pairs_.shift_x[p];
-    const double dy = s.position.y[j] - s.position.y[i] + pairs_.shift_y[p];
-    const double dz = s.position.z[j] - s.position.z[i];
-    const double overlap = s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double overlap = pair_overlap(s, pairs_, p);
     if (overlap <= 0.0) continue;
     add_contact(materials_.pair(s.material[i], s.material[j]),
                 s.radius[i] * s.radius[j] / (s.radius[i] + s.radius[j]), overlap, history_[p]);
@@ -66,10 +75,7 @@ void Engine::check_divergence() const {
   const double fraction = settings_.max_overlap_fraction;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     const int i = pairs_.first[p], j = pairs_.second[p];
-    const double dx = s.position.x[j] - s.position.x[i] + pairs_.shift_x[p];
-    const double dy = s.position.y[j] - s.position.y[i] + pairs_.shift_y[p];
-    const double dz = s.position.z[j] - s.position.z[i];
-    const double overlap = s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double overlap = pair_overlap(s, pairs_, p);
     if (overlap > fraction * std::min(s.radius[i], s.radius[j]))
       throw ComputationError(fmt::format(
           "diverged at step {}: spheres {} and {} overlap by {:.3g} m, more than {} of the "
