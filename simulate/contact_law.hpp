@@ -33,7 +33,7 @@ struct ContactKinematics {
   double relative_rotation[3];  // ωi - ωj, for rolling friction
   double effective_radius;      // R* = ri rj / (ri + rj); wall: ri
   double effective_mass;        // m* = mi mj / (mi + mj); wall: mi
-  double effective_inertia;     // I* = Ii Ij / (Ii + Ij); wall: Ii (chatter guard)
+  double inverse_inertia_sum;   // 1/I* = 1/Ii + 1/Ij; wall: 1/Ii (chatter guard)
 };
 
 struct ContactForce {
@@ -50,10 +50,8 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
 
 // Damping sub-model (LIGGGHTS): γ = -2√(5/6) β √(S m*), S = 2E*√(R*δ) (normal) or 8G*√(R*δ)
 // (tangential). The Hertz + √δ-scaled damping gives a restitution independent of impact speed.
-inline double restitution_damping(const PairConstants& p, double contact_stiffness,
-                                  double effective_mass) {
-  return p.damping_factor * std::sqrt(contact_stiffness * effective_mass);
-}
+// PairConstants holds damping_factor × √(2E*) and × √(8G*), so contact_force takes one sqrt
+// for both.
 
 // Tangential sub-model: Mindlin spring kt = 8 G* √(R* δ) on the accumulated tangential
 // displacement ξ. ξ is first rotated into the current tangent plane keeping its length, then
@@ -105,7 +103,7 @@ inline double restitution_damping(const PairConstants& p, double contact_stiffne
   const double wr_norm = std::sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
   const double magnitude = p.rolling_friction * c.effective_radius * std::fabs(normal_force);
   if (wr_norm == 0.0 || magnitude == 0.0) return;
-  const double guard = magnitude * dt / c.effective_inertia;
+  const double guard = magnitude * dt * c.inverse_inertia_sum;
   const double scale = magnitude / (wr_norm > guard ? wr_norm : guard);
   for (int k = 0; k < 3; ++k)
     torque[k] = -scale * wr[k];
@@ -122,18 +120,20 @@ inline double restitution_damping(const PairConstants& p, double contact_stiffne
   const double vt[3] = {v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2]};
   const double sqrt_r_overlap = std::sqrt(c.effective_radius * c.overlap);
 
+  // Both damping coefficients share √(√(R*δ) m*) (restitution_damping with S = 2E*√(R*δ) and
+  // kt = 8G*√(R*δ)); the pair constants hold the rest, so one sqrt serves both.
+  const double damping_root = std::sqrt(sqrt_r_overlap * c.effective_mass);
   double normal_force = 0.0;
   switch (p.normal_law) {
     case NormalLaw::hertz: {
       const double kn = hertz_normal_stiffness(p, sqrt_r_overlap);
-      const double gamma_n =
-          restitution_damping(p, 2.0 * p.effective_modulus * sqrt_r_overlap, c.effective_mass);
+      const double gamma_n = p.normal_damping_scale * damping_root;
       normal_force = kn * c.overlap - gamma_n * vn;
       break;
     }
   }
   const double kt = 8.0 * p.effective_shear_modulus * sqrt_r_overlap;
-  const double gamma_t = restitution_damping(p, kt, c.effective_mass);
+  const double gamma_t = p.tangential_damping_scale * damping_root;
   double tangential[3];
   mindlin_tangential(p, n, vt, kt, gamma_t, normal_force, dt, history, tangential);
   for (int k = 0; k < 3; ++k)

@@ -38,6 +38,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<
   require_material_pairs();
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
   build_list(true);
+  pack_spheres();
   compute_forces(0.0);
   energy_reference_ = energy().kinetic + energy().elastic;
 }
@@ -104,7 +105,8 @@ void Engine::build_list(bool wrap) {
     }
   pair_touching_ = touching_flags(next, was_touching);
   pairs_ = std::move(next);
-  pair_results_.resize(pairs_.size());
+  // Zero for every pair: the force pass rewrites the touching ones before they are gathered.
+  pair_results_.assign(pairs_.size(), PairResult{});
   build_reference_ = state_.position;
   ++list_builds_;
 }
@@ -135,7 +137,15 @@ void Engine::step() {
   const double* __restrict rx = build_reference_.x.data();
   const double* __restrict ry = build_reference_.y.data();
   const double* __restrict rz = build_reference_.z.data();
-  // Half kick and drift, fused with the largest displacement since the last list build.
+  const double* __restrict radius = s.radius.data();
+  const double* __restrict mass = s.mass.data();
+  geometry_.resize(4 * static_cast<std::size_t>(n));
+  motion_.resize(8 * static_cast<std::size_t>(n));
+  double* __restrict geometry = geometry_.data();
+  double* __restrict motion = motion_.data();
+  // Half kick and drift, fused with the largest displacement since the last list build and with
+  // the packed copies the pair loop reads (pack_spheres(): the predicted end-of-step velocity
+  // v(t+dt/2) + dt/2 F(t)/m is the half-step velocity plus the same half kick once more).
   double largest = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : largest) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
@@ -149,6 +159,12 @@ void Engine::step() {
     px[i] += dt * vx[i];
     py[i] += dt * vy[i];
     pz[i] += dt * vz[i];
+    double* gi = geometry + 4 * i;
+    gi[0] = px[i], gi[1] = py[i], gi[2] = pz[i], gi[3] = radius[i];
+    double* mi = motion + 8 * i;
+    mi[0] = vx[i] + fx[i] * im, mi[1] = vy[i] + fy[i] * im, mi[2] = vz[i] + fz[i] * im;
+    mi[3] = wx[i] + tx[i] * ii, mi[4] = wy[i] + ty[i] * ii, mi[5] = wz[i] + tz[i] * ii;
+    mi[6] = mass[i], mi[7] = inverse_inertia[i];
     const double dx = px[i] - rx[i], dy = py[i] - ry[i], dz = pz[i] - rz[i];
     const double d2 = dx * dx + dy * dy + dz * dz;
     largest = largest > d2 ? largest : d2;
@@ -165,7 +181,11 @@ void Engine::step() {
   time_ += dt;
   ++step_;
   const double half_skin = 0.5 * settings_.skin;
-  if (largest > half_skin * half_skin) build_list(true);
+  if (largest > half_skin * half_skin) {
+    build_list(true);
+    for (std::int64_t i = 0; i < n; ++i)  // the build wrapped positions into the box
+      geometry[4 * i] = px[i], geometry[4 * i + 1] = py[i];
+  }
   compute_forces(half);  // and the second half kick, fused into the gather
   // Work of the walls on the spheres: the spheres' force on a wall is -(the wall's on them).
   for (std::size_t k = 0; k < walls_.size(); ++k)

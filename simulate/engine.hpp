@@ -120,6 +120,7 @@ class Engine {
   // Forces and torques of the current positions; `kick` > 0 also adds kick × F/m to the
   // velocities (the second half kick of velocity Verlet, fused into the gather).
   void compute_forces(double kick);
+  void pack_spheres();  // geometry_ and motion_ from the state (step() fuses this into its drift)
   void pair_forces();
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
   void require_material_pairs() const;
@@ -140,12 +141,13 @@ class Engine {
     double torque_first[3];
     double torque_second[3];
   };
-  std::vector<PairResult> pair_results_;  // valid where pair_touching_ is 1
+  std::vector<PairResult> pair_results_;  // zero where pair_touching_ is 0
   std::vector<double> geometry_;          // per sphere x, y, z, r (pair_forces)
   std::vector<double> motion_;            // per sphere predicted v, ω, then m, 1/I
   // One byte per pair: the gather skips non-touching pairs without reading their 72-byte
   // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
   std::vector<std::uint8_t> pair_touching_;
+  std::vector<std::int32_t> touching_index_;  // per thread chunk: its touching pairs (pair loop)
   std::vector<std::vector<ContactHistory>> wall_history_;
   std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
   std::vector<std::vector<std::uint8_t>> wall_touching_;

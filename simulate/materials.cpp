@@ -33,6 +33,8 @@ PairConstants pair_constants(const Material& a, const Material& b, const Interac
   p.effective_shear_modulus =
       1.0 / ((2.0 - a.poisson_ratio) / shear_a + (2.0 - b.poisson_ratio) / shear_b);
   p.damping_factor = restitution_damping_factor(in.restitution);
+  p.normal_damping_scale = p.damping_factor * std::sqrt(2.0 * p.effective_modulus);
+  p.tangential_damping_scale = p.damping_factor * std::sqrt(8.0 * p.effective_shear_modulus);
   p.sliding_friction = in.sliding_friction;
   p.rolling_friction = in.rolling_friction;
   p.normal_law = in.normal_law;
@@ -43,7 +45,7 @@ PairConstants pair_constants(const Material& a, const Material& b, const Interac
 
 MaterialTable::MaterialTable(std::vector<Material> materials,
                              const std::vector<Interaction>& interactions)
-    : materials_(std::move(materials)) {
+    : materials_(std::move(materials)), count_(static_cast<int>(materials_.size())) {
   if (materials_.empty()) throw InputError("no material given: at least one [[material]]");
   for (const Material& m : materials_)
     check_material(m);

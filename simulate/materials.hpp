@@ -35,6 +35,10 @@ struct PairConstants {
   double effective_modulus = 0.0;        // E*: 1/E* = (1-νi²)/Ei + (1-νj²)/Ej
   double effective_shear_modulus = 0.0;  // G*: 1/G* = (2-νi)/Gi + (2-νj)/Gj
   double damping_factor = 0.0;           // -2 √(5/6) β ≥ 0, β = ln e / √(ln² e + π²)
+  // γn = normal_damping_scale √(√(R*δ) m*), γt = tangential_damping_scale √(√(R*δ) m*): the
+  // damping of contact_law.hpp with the constant roots taken here, so a contact needs one sqrt.
+  double normal_damping_scale = 0.0;      // damping_factor √(2 E*)
+  double tangential_damping_scale = 0.0;  // damping_factor √(8 G*)
   double sliding_friction = 0.0;
   double rolling_friction = 0.0;
   NormalLaw normal_law = NormalLaw::hertz;
@@ -49,16 +53,17 @@ class MaterialTable {
  public:
   MaterialTable(std::vector<Material> materials, const std::vector<Interaction>& interactions);
 
-  int count() const { return static_cast<int>(materials_.size()); }
+  int count() const { return count_; }
   const Material& material(int index) const { return materials_[index]; }
   int index_of(const std::string& name) const;  // InputError listing the known names
-  const PairConstants& pair(int i, int j) const { return pairs_[i * count() + j]; }
+  const PairConstants& pair(int i, int j) const { return pairs_[i * count_ + j]; }
   bool has_pair(int i, int j) const { return defined_[i * count() + j] != 0; }
   // InputError naming the two materials when their interaction was not given.
   void require_pair(int i, int j) const;
 
  private:
   std::vector<Material> materials_;
+  int count_ = 0;  // materials_.size(), kept so the pair lookup in the contact loop is one multiply
   std::vector<PairConstants> pairs_;
   std::vector<char> defined_;
 };

@@ -66,7 +66,8 @@ double minimum_image(double d, double length) {
 PairList build_pair_list(const SphereState& state, const Box& box, double skin) {
   const int count = static_cast<int>(state.size());
   PairList list;
-  list.gather_offset.assign(static_cast<std::size_t>(count) + 1, 0);
+  list.first_offset.assign(static_cast<std::size_t>(count) + 1, 0);
+  list.second_offset.assign(static_cast<std::size_t>(count) + 1, 0);
   if (count == 0) return list;
   const double r_max = *std::max_element(state.radius.begin(), state.radius.end());
   const CellGrid g = make_grid(state, box, 2.0 * r_max + skin);
@@ -161,20 +162,20 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
     list.shift_y.insert(list.shift_y.end(), part.shift_y.begin(), part.shift_y.end());
   }
 
-  // Gather lists: entries appended in pair order, so each sphere's are sorted by pair index.
+  // Gather lists: second_pairs filled in pair order, so each sphere's are sorted by pair index.
   const std::size_t pairs = list.size();
   for (std::size_t p = 0; p < pairs; ++p) {
-    ++list.gather_offset[list.first[p] + 1];
-    ++list.gather_offset[list.second[p] + 1];
+    ++list.first_offset[list.first[p] + 1];
+    ++list.second_offset[list.second[p] + 1];
   }
-  for (int i = 0; i < count; ++i)
-    list.gather_offset[i + 1] += list.gather_offset[i];
-  list.gather.resize(2 * pairs);
-  std::vector<std::int32_t> fill(list.gather_offset.begin(), list.gather_offset.end() - 1);
-  for (std::size_t p = 0; p < pairs; ++p) {
-    list.gather[fill[list.first[p]]++] = static_cast<std::int32_t>(2 * p);
-    list.gather[fill[list.second[p]]++] = static_cast<std::int32_t>(2 * p + 1);
+  for (int i = 0; i < count; ++i) {
+    list.first_offset[i + 1] += list.first_offset[i];
+    list.second_offset[i + 1] += list.second_offset[i];
   }
+  list.second_pairs.resize(pairs);
+  std::vector<std::int32_t> fill(list.second_offset.begin(), list.second_offset.end() - 1);
+  for (std::size_t p = 0; p < pairs; ++p)
+    list.second_pairs[fill[list.second[p]]++] = static_cast<std::int32_t>(p);
   return list;
 }
 

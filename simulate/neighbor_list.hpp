@@ -18,12 +18,15 @@ struct PairList {
   std::vector<std::int32_t> second;
   std::vector<double> shift_x;  // added to x[second] - x[first]
   std::vector<double> shift_y;
-  // Per-sphere gather lists in fixed order (CSR): entries of sphere i are
-  // gather[gather_offset[i] .. gather_offset[i+1]) = 2·pair + (0 if i is first, 1 if second),
-  // in increasing pair index, which is increasing partner index: the order of a sum over a
-  // sphere's contacts never depends on threads or on the list's non-touching pairs.
-  std::vector<std::int32_t> gather_offset;
-  std::vector<std::int32_t> gather;
+  // Per-sphere gather lists in fixed order. Pairs are sorted by first, so the pairs where i is
+  // first are the contiguous range [first_offset[i], first_offset[i+1]); the pairs where i is
+  // second are second_pairs[second_offset[i] .. second_offset[i+1]) (CSR), in increasing pair
+  // index, which is increasing partner index. A sphere sums its "second" pairs (partners < i),
+  // then its "first" pairs (partners > i): the order of a sum over a sphere's contacts never
+  // depends on threads or on the list's non-touching pairs.
+  std::vector<std::int32_t> first_offset;
+  std::vector<std::int32_t> second_offset;
+  std::vector<std::int32_t> second_pairs;
   std::size_t size() const { return first.size(); }
 };
 

@@ -22,7 +22,7 @@ ContactKinematics resting_contact(double overlap) {
   c.overlap = overlap;
   c.effective_radius = 2.5e-4;
   c.effective_mass = 4e-7;
-  c.effective_inertia = 1e-14;
+  c.inverse_inertia_sum = 1e14;
   return c;
 }
 
@@ -84,10 +84,10 @@ TEST(ContactLaw, RollingTorqueIsConstantAndGuardedNearRest) {
   cdt_rolling(p, c, fn, dt, torque);
   EXPECT_NEAR(torque[0], -0.1 * 2.5e-4 * fn, 1e-15);
   // Slow: the torque only removes the relative rotation, it does not reverse it.
-  const double guard = 0.1 * 2.5e-4 * fn * dt / c.effective_inertia;
+  const double guard = 0.1 * 2.5e-4 * fn * dt * c.inverse_inertia_sum;
   c.relative_rotation[0] = 0.25 * guard;
   cdt_rolling(p, c, fn, dt, torque);
-  const double change = torque[0] * dt / c.effective_inertia;
+  const double change = torque[0] * dt * c.inverse_inertia_sum;
   EXPECT_NEAR(change, -0.25 * guard, 1e-12 * guard);
   // Spin about the normal is not rolling.
   c.relative_rotation[0] = 0.0;

@@ -49,9 +49,22 @@ TEST(NeighborList, HalfListEqualsBruteForceWithPeriodicImages) {
   EXPECT_EQ(found, expected);
   EXPECT_EQ(found.size(), list.size());  // each pair once
   EXPECT_GT(list.size(), 100u);          // the scene really has crossing pairs to find
-  // Every pair appears in both spheres' gather lists.
-  EXPECT_EQ(list.gather.size(), 2 * list.size());
-  EXPECT_EQ(list.gather_offset.back(), static_cast<int>(2 * list.size()));
+  // Every pair appears in both spheres' gather lists: as first in a contiguous range, as second
+  // in the CSR, each in increasing pair order.
+  const int n = static_cast<int>(list.first_offset.size()) - 1;
+  ASSERT_EQ(list.second_pairs.size(), list.size());
+  EXPECT_EQ(list.first_offset.back(), static_cast<int>(list.size()));
+  EXPECT_EQ(list.second_offset.back(), static_cast<int>(list.size()));
+  for (int i = 0; i < n; ++i) {
+    for (int p = list.first_offset[i]; p < list.first_offset[i + 1]; ++p)
+      ASSERT_EQ(list.first[p], i);
+    for (int e = list.second_offset[i]; e < list.second_offset[i + 1]; ++e) {
+      ASSERT_EQ(list.second[list.second_pairs[e]], i);
+      if (e > list.second_offset[i]) {
+        ASSERT_LT(list.second_pairs[e - 1], list.second_pairs[e]);
+      }
+    }
+  }
 }
 
 TEST(NeighborList, HistoryFollowsPairsAcrossRebuilds) {
