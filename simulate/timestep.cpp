@@ -22,6 +22,7 @@ double hertz_collision_time(double effective_mass, double effective_radius,
 }  // namespace shapepress::simulate
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "common/error.hpp"
 
@@ -57,6 +58,12 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
         "time step {:.3g} s resolves a Hertz collision at {:.3g} m/s ({:.3g} s) with fewer than "
         "{} steps: lower time_step or time_step_fraction",
         choice.time_step, v, choice.collision_time, minimum_steps_per_collision));
+  if (choice.time_step * accurate_steps_per_collision > choice.collision_time)
+    spdlog::warn(
+        "time step {:.3g} s resolves a Hertz collision at {:.3g} m/s with {:.0f} steps: the "
+        "restitution may be off the input by more than 1 % (it is within 1 % from {} steps)",
+        choice.time_step, v, choice.collision_time / choice.time_step,
+        accurate_steps_per_collision);
   return choice;
 }
 
