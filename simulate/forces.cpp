@@ -162,12 +162,36 @@ void Engine::gather_forces(double kick) {
     wall_touching_[k].resize(static_cast<std::size_t>(n));
   }
   const double dt = settings_.time_step;
-  const double half_dt = 0.5 * dt;
   const auto& g = settings_.gravity;
   const std::int32_t* __restrict first_offset = pairs_.first_offset.data();
   const std::int32_t* __restrict second_offset = pairs_.second_offset.data();
   const std::int32_t* __restrict second_pairs = pairs_.second_pairs.data();
   const PairResult* __restrict results = pair_results_.data();
+  // Raw pointers hoisted out of the loop: through the containers the compiler reloads every
+  // array's address after each store.
+  const double* __restrict geometry = geometry_.data();
+  const double* __restrict motion = motion_.data();
+  const std::int32_t* __restrict material = s.material.data();
+  const double* __restrict inverse_mass = s.inverse_mass.data();
+  double* __restrict fx = s.force.x.data();
+  double* __restrict fy = s.force.y.data();
+  double* __restrict fz = s.force.z.data();
+  double* __restrict tx = s.torque.x.data();
+  double* __restrict ty = s.torque.y.data();
+  double* __restrict tz = s.torque.z.data();
+  double* __restrict vx = s.velocity.x.data();
+  double* __restrict vy = s.velocity.y.data();
+  double* __restrict vz = s.velocity.z.data();
+  double* __restrict wx = s.angular_velocity.x.data();
+  double* __restrict wy = s.angular_velocity.y.data();
+  double* __restrict wz = s.angular_velocity.z.data();
+  const PlaneWall* walls = walls_.data();
+  std::vector<double*> wall_force_per_sphere(wall_count);
+  std::vector<std::uint8_t*> wall_touching(wall_count);
+  for (std::size_t k = 0; k < wall_count; ++k) {
+    wall_force_per_sphere[k] = wall_force_per_sphere_[k].data();
+    wall_touching[k] = wall_touching_[k].data();
+  }
 #pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
     double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
@@ -184,15 +208,14 @@ void Engine::gather_forces(double kick) {
       t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
     }
     // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
+    const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
     for (std::size_t k = 0; k < wall_count; ++k) {
-      const PlaneWall& w = walls_[k];
-      ContactHistory& history = wall_history_[k][i];
-      const double ri = s.radius[i];
-      const double gap = w.facing * (s.position.z[i] - w.position);
+      const PlaneWall& w = walls[k];
+      const double gap = w.facing * (zi - w.position);
       if (gap >= ri) {
-        if (wall_touching_[k][i]) history = ContactHistory{};
-        wall_touching_[k][i] = 0;
-        wall_force_per_sphere_[k][i] = 0.0;
+        if (wall_touching[k][i]) wall_history_[k][i] = ContactHistory{};
+        wall_touching[k][i] = 0;
+        wall_force_per_sphere[k][i] = 0.0;
         continue;
       }
       ContactKinematics c;
@@ -201,15 +224,9 @@ void Engine::gather_forces(double kick) {
       c.overlap = ri - gap;
       const double rc = gap;  // the contact point lies on the plane
       const double* nn = c.normal;
-      // Predicted end-of-step velocities, as for sphere pairs (the force arrays still hold the
-      // last step's values: they are overwritten below, after this sphere's walls).
-      const double im = half_dt * s.inverse_mass[i], ii = half_dt * s.inverse_inertia[i];
-      const double wx = s.angular_velocity.x[i] + ii * s.torque.x[i],
-                   wy = s.angular_velocity.y[i] + ii * s.torque.y[i],
-                   wz = s.angular_velocity.z[i] + ii * s.torque.z[i];
-      const double vx = s.velocity.x[i] + im * s.force.x[i];
-      const double vy = s.velocity.y[i] + im * s.force.y[i];
-      const double vz = s.velocity.z[i] + im * s.force.z[i];
+      // Predicted end-of-step velocities, as for sphere pairs (pack_spheres()).
+      const double* mi = motion + 8 * i;
+      const double vx = mi[0], vy = mi[1], vz = mi[2], wx = mi[3], wy = mi[4], wz = mi[5];
       c.relative_velocity[0] = -(vx + rc * (wy * nn[2] - wz * nn[1]));
       c.relative_velocity[1] = -(vy + rc * (wz * nn[0] - wx * nn[2]));
       c.relative_velocity[2] = w.velocity - (vz + rc * (wx * nn[1] - wy * nn[0]));
@@ -217,10 +234,10 @@ void Engine::gather_forces(double kick) {
       c.relative_rotation[1] = wy;
       c.relative_rotation[2] = wz;
       c.effective_radius = ri;
-      c.effective_mass = s.mass[i];
-      c.inverse_inertia_sum = s.inverse_inertia[i];
-      const PairConstants& pc = materials_.pair(s.material[i], w.material);
-      const ContactForce cf = contact_force(c, pc, history, dt);
+      c.effective_mass = mi[6];
+      c.inverse_inertia_sum = mi[7];
+      const PairConstants& pc = materials_.pair(material[i], w.material);
+      const ContactForce cf = contact_force(c, pc, wall_history_[k][i], dt);
       const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
       const double cy = nn[2] * cf.force[0] - nn[0] * cf.force[2];
       const double cz = nn[0] * cf.force[1] - nn[1] * cf.force[0];
@@ -228,24 +245,17 @@ void Engine::gather_forces(double kick) {
       t[0] += -rc * cx + cf.rolling_torque[0];
       t[1] += -rc * cy + cf.rolling_torque[1];
       t[2] += -rc * cz + cf.rolling_torque[2];
-      wall_force_per_sphere_[k][i] = cf.force[2];
-      wall_touching_[k][i] = 1;
+      wall_force_per_sphere[k][i] = cf.force[2];
+      wall_touching[k][i] = 1;
     }
-    const double m = s.mass[i];
-    s.force.x[i] = f[0] + m * g[0];
-    s.force.y[i] = f[1] + m * g[1];
-    s.force.z[i] = f[2] + m * g[2];
-    s.torque.x[i] = t[0];
-    s.torque.y[i] = t[1];
-    s.torque.z[i] = t[2];
+    const double m = motion[8 * i + 6];
+    f[0] += m * g[0], f[1] += m * g[1], f[2] += m * g[2];
+    fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
+    tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
     if (kick > 0.0) {
-      const double im = kick * s.inverse_mass[i], ii = kick * s.inverse_inertia[i];
-      s.velocity.x[i] += s.force.x[i] * im;
-      s.velocity.y[i] += s.force.y[i] * im;
-      s.velocity.z[i] += s.force.z[i] * im;
-      s.angular_velocity.x[i] += t[0] * ii;
-      s.angular_velocity.y[i] += t[1] * ii;
-      s.angular_velocity.z[i] += t[2] * ii;
+      const double im = kick * inverse_mass[i], ii = kick * motion[8 * i + 7];
+      vx[i] += f[0] * im, vy[i] += f[1] * im, vz[i] += f[2] * im;
+      wx[i] += t[0] * ii, wy[i] += t[1] * ii, wz[i] += t[2] * ii;
     }
   }
   // Wall totals summed in sphere order on one thread: the same bits for any thread count.
