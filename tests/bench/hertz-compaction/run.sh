@@ -10,18 +10,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
 repeats=${1:-3}
 steps=${2:-4000}
-shapepress=${SHAPEPRESS:-$root/build/pipelines/shapepress}
-for tool in liggghts mpirun python3 /usr/bin/time; do
-  command -v "$tool" >/dev/null || { echo "run.sh: $tool is missing: scripts/install-deps.sh --peers" >&2; exit 2; }
-done
-[[ -x "$shapepress" ]] || { echo "run.sh: $shapepress is not built: scripts/build.sh" >&2; exit 2; }
-
-work=$(mktemp -d /tmp/shapepress-bench.XXXXXX)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-python3 "$here/gen_packing.py" >/dev/null
-cp "$here/liggghts.in" "$here/punch.stl" .
-particles=20000
+script=run.sh
+source "$here/scene.sh" liggghts mpirun python3 /usr/bin/time
 
 # particle-steps per second from a loop time in seconds
 rate() { awk -v n=$particles -v s="$steps" -v t="$1" 'BEGIN { printf "%.4g", n * s / t }'; }
