@@ -17,6 +17,7 @@ struct ReportCli {
   std::vector<std::string> runs;
   std::string out;
   std::optional<double> poisson_ratio;
+  std::vector<std::string> plate_curves;  // LABEL=FILE.csv
   std::vector<double> heckel_window{0.3, 1.0};
   std::vector<double> kawakita_window{0.05, 1.0};
 };
@@ -31,6 +32,12 @@ int run(const ReportCli& cli, const RunContext& context) {
   if (cli.poisson_ratio && !(*cli.poisson_ratio >= 0.0 && *cli.poisson_ratio < 0.5))
     throw InputError(fmt::format("--poisson-ratio {}: expected 0 <= nu < 0.5", *cli.poisson_ratio));
   options.poisson_ratio = cli.poisson_ratio;
+  for (const std::string& curve : cli.plate_curves) {
+    const std::size_t equals = curve.find('=');
+    if (equals == std::string::npos || equals == 0 || equals + 1 == curve.size())
+      throw InputError(fmt::format("--plate-curve '{}': expected LABEL=FILE.csv", curve));
+    options.plate_curves.emplace_back(curve.substr(0, equals), curve.substr(equals + 1));
+  }
   options.command_line = context.command_line;
   const ReportResult result = write_report(options);
   if (result.plate_runs > 0 && !options.poisson_ratio)
@@ -53,6 +60,9 @@ StageRunner setup_report_cli(CLI::App& app) {
       ->required();
   app.add_option("--poisson-ratio", cli->poisson_ratio,
                  "plate runs: the sphere's Poisson ratio, to draw and compare Tatara's curve");
+  app.add_option("--plate-curve", cli->plate_curves,
+                 "LABEL=FILE.csv: one more curve on the plate chart (columns deformation and "
+                 "force_N or top_force_N), e.g. a BMS plate run; repeatable");
   app.add_option("--heckel-window", cli->heckel_window,
                  "Heckel fit on loading points with stress in [LO, HI] x peak stress")
       ->expected(2)

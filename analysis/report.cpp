@@ -13,6 +13,8 @@
 #include "analysis/report_html.hpp"
 #include "analysis/runs.hpp"
 #include "common/atomic_file.hpp"
+#include "common/csv.hpp"
+#include "common/error.hpp"
 #include "common/provenance.hpp"
 
 namespace shapepress::analysis {
@@ -146,7 +148,20 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs) {
   return {stress_strain, density, heckel, kawakita};
 }
 
-Chart plate_chart(const std::vector<LoadedRun>& runs, std::optional<double> poisson_ratio) {
+// An extra plate curve: deformation and force_N (or top_force_N, as force.csv has it).
+Series plate_curve_series(const std::string& label, const std::filesystem::path& path) {
+  const CsvTable table = read_csv(path);
+  const std::vector<std::string>& names = table.columns;
+  const bool force_n = std::find(names.begin(), names.end(), "force_N") != names.end();
+  Series series{label, table.column("deformation"),
+                table.column(force_n ? "force_N" : "top_force_N"), SeriesStyle::lines};
+  if (series.x.empty())
+    throw InputError(fmt::format("{}: the plate curve has no rows", path.string()));
+  return series;
+}
+
+Chart plate_chart(const std::vector<LoadedRun>& runs, std::optional<double> poisson_ratio,
+                  const std::vector<std::pair<std::string, std::filesystem::path>>& curves) {
   Chart chart{"Sphere between plates: force vs deformation",
               "deformation Delta/(2R)",
               "plate force [N]",
@@ -167,6 +182,8 @@ Chart plate_chart(const std::vector<LoadedRun>& runs, std::optional<double> pois
     chart.series.push_back({fmt::format("{} Tatara (nu = {})", run.label, *poisson_ratio), hertz.x,
                             tatara_plate_forces(sphere, approaches), SeriesStyle::dashed});
   }
+  for (const auto& [label, path] : curves)
+    chart.series.push_back(plate_curve_series(label, path));
   return chart;
 }
 
@@ -212,8 +229,8 @@ ReportResult write_report(const ReportOptions& options) {
     for (std::size_t i = 0; i < cs.size(); ++i)
       charts.emplace_back(cs[i].title, plot_chart(cs[i], options.out / stems[i]).svg);
   }
-  if (result.plate_runs > 0) {
-    const Chart chart = plate_chart(runs, options.poisson_ratio);
+  if (result.plate_runs > 0 || !options.plate_curves.empty()) {
+    const Chart chart = plate_chart(runs, options.poisson_ratio, options.plate_curves);
     charts.emplace_back(chart.title, plot_chart(chart, options.out / "plate_force").svg);
   }
   for (const auto& chart : charts)

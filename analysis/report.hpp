@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/compaction.hpp"
@@ -15,7 +16,10 @@ struct ReportOptions {
   std::filesystem::path out;
   FitWindows windows;
   std::optional<double> poisson_ratio;  // plate runs: ν of the sphere, for Tatara
-  std::string command_line;             // provenance of the report
+  // Extra curves on the plate chart (another method's force–deformation, e.g. a BMS run or a
+  // digitised experiment): label and a CSV with columns deformation and force_N or top_force_N.
+  std::vector<std::pair<std::string, std::filesystem::path>> plate_curves;
+  std::string command_line;  // provenance of the report
 };
 
 struct ReportResult {

@@ -54,8 +54,20 @@ int run(const CompactCli& cli, const RunContext& context) {
                 {"time_s", "step", "gap_m", "strain", "top_force_N", "bottom_force_N", "stress_Pa",
                  "solid_fraction", "phase", "kinetic_energy_J", "contacts", "wall_contacts",
                  "contacts_per_particle"});
+  const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
-                          prepared.setup.reference_gap, prepared.setup.die_area));
+                          setup.reference_gap, setup.die_area));
+  csv.comment(setup.strain_from_fill
+                  ? "H0 is the loose fill height (generate.height, punch.strain_reference = fill)"
+                  : "H0 is the gap when loading starts (punch.strain_reference = start)");
+  csv.comment(fmt::format("solid volume {:.10g} m^3; solid fraction ceiling {} at gap {:.10g} m",
+                          setup.solid_volume, setup.max_solid_fraction, *setup.program.min_gap));
+  if (setup.ceiling_limits_load)
+    csv.comment(fmt::format(
+        "loading stops at the solid fraction ceiling {} (gap {:.10g} m, strain {:.6g}) before "
+        "the target gap {:.10g} m",
+        setup.max_solid_fraction, *setup.program.min_gap,
+        1.0 - *setup.program.min_gap / setup.reference_gap, *setup.program.target_gap));
   csv.comment("phase: 0 load, 1 hold, 2 unload, 3 done");
   std::vector<SnapshotIndexEntry> index;
   CompactionHooks hooks;
@@ -68,8 +80,8 @@ int run(const CompactCli& cli, const RunContext& context) {
   hooks.snapshot = [&](const Engine& e, const PunchState& punch) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
     write_snapshot(out / "snapshots" / name, e, punch, provenance);
-    index.push_back(
-        {std::filesystem::path("snapshots") / name, e.time(), e.state().size(), e.walls().size()});
+    index.push_back({std::filesystem::path("snapshots") / name, e.time(), e.state().size(),
+                     e.walls().size(), e.computes_particle_stress()});
     write_xdmf(out / "snapshots.xdmf", index);
   };
   const double total = config.run.steps > 0 ? static_cast<double>(config.run.steps) : 0.0;
@@ -84,13 +96,13 @@ int run(const CompactCli& cli, const RunContext& context) {
   std::printf(
       "SUMMARY steps=%lld loop_s=%.6g particle_steps_per_s=%.6g punch_force_N=%.6g "
       "bottom_force_N=%.6g max_stress_Pa=%.6g contacts_per_particle=%.6g kinetic_energy_J=%.6g "
-      "list_builds=%lld\n",
+      "list_builds=%lld h0_m=%.10g\n",
       static_cast<long long>(summary.steps), summary.loop_seconds,
       summary.loop_seconds > 0 ? static_cast<double>(engine.state().size()) *
                                      static_cast<double>(summary.steps) / summary.loop_seconds
                                : 0.0,
       last.top_force, last.bottom_force, summary.max_stress, last.contacts_per_particle,
-      last.kinetic_energy, static_cast<long long>(engine.list_builds()));
+      last.kinetic_energy, static_cast<long long>(engine.list_builds()), setup.reference_gap);
   return 0;
 }
 

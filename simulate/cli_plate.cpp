@@ -1,3 +1,4 @@
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
@@ -17,13 +18,19 @@ namespace {
 struct PlateCli {
   std::string config;
   std::string out;
+  std::string model;  // empty: each interaction's normal_law
 };
 
 int run(const PlateCli& cli) {
   const ConfigTable root = ConfigTable::load_file(cli.config);
-  PlateConfig config = read_plate_config(root);
+  std::optional<NormalLaw> model;  // --model overrides normal_law of every interaction
+  if (!cli.model.empty())
+    model = cli.model == "multicontact" ? NormalLaw::multicontact : NormalLaw::hertz;
+  PlateConfig config = read_plate_config(root, model);
   root.check_unknown_keys();
   const MaterialTable table = config.materials.table();
+  const PairConstants& contact =
+      table.pair(config.setup.sphere_material, config.setup.plate_material);
   PlateSetup setup = config.setup;
   SphereState probe;
   probe.add_sphere(0, 0, 0, setup.radius, table.material(setup.sphere_material).density,
@@ -41,6 +48,16 @@ int run(const PlateCli& cli) {
                                     "bottom_force_N", "hertz_force_N"});
   csv.comment("shapepress plate: one sphere between two plates, top plate at constant speed");
   csv.comment("hertz_force_N = (sqrt(2)/3) E* sqrt(R) approach^1.5 (models.md), E* sphere-plate");
+  csv.comment(contact.normal_law == NormalLaw::multicontact
+                  ? fmt::format("normal law: multicontact (Eq. 6), lambda_p = {:.6g}, k1 = {}, "
+                                "kc = {:.6g}, F0 = {:.6g} N, beta nu pi = {:.6g}",
+                                1.0 / contact.unloading_factor,
+                                contact.loading_stiffness > 0.0
+                                    ? fmt::format("{:.6g} N/m^1.5", contact.loading_stiffness)
+                                    : std::string("4/3 E* sqrt(R*)"),
+                                contact.adhesion_stiffness, contact.pull_off_force,
+                                contact.multicontact_factor)
+                  : std::string("normal law: hertz"));
   for (const PlateRow& r : rows)
     csv.row({r.time, r.deformation, r.approach, r.top_force, r.bottom_force, r.hertz_force});
   csv.commit();
@@ -55,6 +72,10 @@ StageRunner setup_plate_cli(CLI::App& app) {
   app.add_option("--config", cli->config, "plate config TOML (materials, sphere, plate)")
       ->required();
   app.add_option("--out", cli->out, "output folder (force.csv)")->required();
+  app.add_option("--model", cli->model,
+                 "normal law of every interaction, overriding the config's normal_law "
+                 "(multicontact: paper Eq. 6 with the interaction's parameters)")
+      ->check(CLI::IsMember({"hertz", "multicontact"}));
   return [cli](const RunContext&) { return run(*cli); };
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "common/error.hpp"
 
@@ -30,10 +31,34 @@ EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double
   return settings;
 }
 
-CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap) {
+double solid_volume(const SphereState& s) {
+  double volume = 0.0;
+  for (double r : s.radius)
+    volume += r * r * r;
+  return 4.0 / 3.0 * std::numbers::pi * volume;
+}
+
+CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
+                                 const SphereState& state) {
   CompactionSetup setup;
   setup.program = c.program;
   if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
+  setup.strain_from_fill = c.strain_from_fill;
+  setup.solid_volume = solid_volume(state);
+  setup.max_solid_fraction = c.max_solid_fraction;
+  // Solid-fraction ceiling: D = V / (A H) reaches it at H = V / (A D_max).
+  const double min_gap = setup.solid_volume / (c.box_x * c.box_y * c.max_solid_fraction);
+  setup.program.min_gap = min_gap;
+  if (setup.program.target_gap && *setup.program.target_gap < min_gap) {
+    setup.ceiling_limits_load = true;
+    spdlog::warn(
+        "punch: the target gap {:.6g} m (strain {:.4g} from H0 = {:.6g} m) would need solid "
+        "fraction {:.3f}, above the ceiling punch.max_solid_fraction = {}: loading stops at gap "
+        "{:.6g} m (strain {:.4g})",
+        *setup.program.target_gap, 1.0 - *setup.program.target_gap / reference_gap, reference_gap,
+        setup.solid_volume / (c.box_x * c.box_y * *setup.program.target_gap), c.max_solid_fraction,
+        min_gap, 1.0 - min_gap / reference_gap);
+  }
   setup.die_area = c.box_x * c.box_y;
   setup.reference_gap = reference_gap;
   setup.max_steps = c.run.steps;
@@ -46,8 +71,14 @@ CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap) {
 }
 
 // Settles a generated bed under gravity with the punch parked, then lowers the punch onto it.
-SphereState settle(const CompactConfig& c, SphereState state, const MaterialTable& table,
+SphereState settle(const CompactConfig& c, SphereState state, MaterialTable table,
                    const std::vector<PlaneWall>& walls, double dt) {
+  if (c.settle_friction) {  // a denser fill: settle with other friction, press with the real one
+    MaterialConfig m = c.materials;
+    for (Interaction& in : m.interactions)
+      in.sliding_friction = in.rolling_friction = *c.settle_friction;
+    table = m.table();
+  }
   EngineSettings settings = settings_for(c, state, dt);
   if (settings.gravity == std::array<double, 3>{0.0, 0.0, 0.0}) settings.gravity = {0, 0, -9.81};
   Engine engine(std::move(state), Box{c.box_x, c.box_y}, table, walls, settings);
@@ -96,8 +127,12 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
                        " lies outside the space between box.bottom and box.punch");
   const EngineSettings settings = settings_for(c, state, dt);
   out.engine = std::make_unique<Engine>(std::move(state), box, table, walls, settings);
-  out.punch.reference_gap = walls[1].position - walls[0].position;
-  out.setup = compaction_setup(c, out.punch.reference_gap);
+  // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
+  // paper's "maximum initial height"), which strains like its 57 % need (README, H0).
+  out.punch.reference_gap = c.strain_from_fill && c.generate
+                                ? c.generate->z_high - c.generate->z_low
+                                : walls[1].position - walls[0].position;
+  out.setup = compaction_setup(c, out.punch.reference_gap, out.engine->state());
   return out;
 }
 
@@ -113,7 +148,7 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = snapshot.punch;
-  out.setup = compaction_setup(c, out.punch.reference_gap);
+  out.setup = compaction_setup(c, out.punch.reference_gap, out.engine->state());
   return out;
 }
 

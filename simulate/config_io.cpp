@@ -1,5 +1,7 @@
 #include "simulate/config_io.hpp"
 
+#include <cmath>
+
 #include "common/error.hpp"
 
 namespace shapepress::simulate {
@@ -21,8 +23,26 @@ MaterialConfig read_materials(const ConfigTable& root) {
     in.restitution = t.number("restitution", std::nullopt, Range::open_closed(0.0, 1.0));
     in.sliding_friction = t.number("sliding_friction", std::nullopt, Range::non_negative());
     in.rolling_friction = t.number("rolling_friction", 0.0, Range::non_negative());
-    t.choice("normal_law", {"hertz"}, "hertz");
-    in.normal_law = NormalLaw::hertz;
+    in.normal_law = t.choice("normal_law", {"hertz", "multicontact"}, "hertz") == "multicontact"
+                        ? NormalLaw::multicontact
+                        : NormalLaw::hertz;
+    // Paper Eq. 6 (models.md); given with normal_law = "hertz" they are an error (materials.cpp).
+    const char* keys[] = {"plasticity_ratio", "loading_stiffness", "adhesion_stiffness",
+                          "pull_off_force", "multicontact_prefactor"};
+    bool any = false;
+    for (const char* key : keys)
+      any = any || t.has(key);
+    if (any || in.normal_law == NormalLaw::multicontact) {
+      MulticontactParameters m;
+      m.plasticity_ratio = t.number("plasticity_ratio", 1.0, Range::open_closed(0.0, 1.0));
+      if (t.has("loading_stiffness"))  // N/m^1.5: no unit suffix (not an integer dimension)
+        m.loading_stiffness = t.number("loading_stiffness", std::nullopt, Range::positive());
+      m.adhesion_stiffness = t.number("adhesion_stiffness", 0.0, Range::non_negative());
+      m.pull_off_force =
+          t.quantity("pull_off_force", dim::force, 0.0, Range{-HUGE_VAL, 0.0, true, true});
+      m.prefactor = t.number("multicontact_prefactor", 0.0, Range::non_negative());
+      in.multicontact = m;
+    }
     out.interactions.push_back(in);
   }
   return out;
@@ -88,13 +108,33 @@ CompactConfig read_compact_config(const ConfigTable& root) {
     throw InputError(root.source_name() + ": box.punch must be above box.bottom");
   c.particle_material = root.table("particles").string("material");
   c.wall_material = root.table("walls").string("material");
-  c.program = read_punch(root.table("punch"), c.target_strain);
+  const ConfigTable punch = root.table("punch");
+  c.program = read_punch(punch, c.target_strain);
+  c.strain_from_fill = punch.choice("strain_reference", {"start", "fill"}, "start") == "fill";
+  c.max_solid_fraction = punch.number("max_solid_fraction", 0.95, Range{0.0, 1.0, false, false});
+  if (c.strain_from_fill && !root.has("generate"))
+    throw InputError(root.source_name() +
+                     ": punch.strain_reference = \"fill\" needs a [generate] table (the loose "
+                     "fill height is generate.height)");
   if (root.has("generate")) {
     const ConfigTable g = root.table("generate");
     InsertionRequest r;
     r.count = g.integer("count", std::nullopt, Range::at_least(1));
     r.diameter_min = g.quantity("diameter_min", dim::length, std::nullopt, Range::positive());
     r.diameter_max = g.quantity("diameter_max", dim::length, r.diameter_min, Range::positive());
+    if (g.has("size_quantiles")) {
+      SizeQuantiles q;
+      q.diameters = g.quantities("size_quantiles", dim::length, Range::positive());
+      q.levels = g.numbers("size_quantile_levels", Range{0.0, 1.0, false, false});
+      q.volume_weighted = g.choice("size_weighting", {"volume", "number"}, "volume") == "volume";
+      try {
+        q.check();
+        size_table(q, r.diameter_min, r.diameter_max);
+      } catch (const InputError& e) {
+        throw InputError(root.source_name() + ": [generate] " + e.what());
+      }
+      r.sizes = q;
+    }
     r.seed = static_cast<std::uint64_t>(g.integer("seed", 1, Range::non_negative()));
     r.z_low = c.bottom;
     const double height = g.quantity("height", dim::length, c.punch - c.bottom, Range::positive());
@@ -102,14 +142,19 @@ CompactConfig read_compact_config(const ConfigTable& root) {
       throw InputError(root.source_name() + ": generate.height is above box.punch");
     r.z_high = c.bottom + height;
     c.settle_time = g.quantity("settle_time", dim::time, 0.2, Range::non_negative());
+    if (g.has("settle_friction"))
+      c.settle_friction = g.number("settle_friction", std::nullopt, Range::non_negative());
     c.generate = r;
   }
   return c;
 }
 
-PlateConfig read_plate_config(const ConfigTable& root) {
+PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> normal_law) {
   PlateConfig c;
   c.materials = read_materials(root);
+  if (normal_law)
+    for (Interaction& in : c.materials.interactions)
+      in.normal_law = *normal_law;
   c.run = read_run(root);
   const MaterialTable table = c.materials.table();
   const ConfigTable sphere = root.table("sphere");

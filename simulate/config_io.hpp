@@ -3,7 +3,10 @@
 // accept units, "100 MPa", "0.1 mm"):
 //   [[material]]     name, youngs_modulus, poisson_ratio, density
 //   [[interaction]]  first, second (material names), restitution, sliding_friction,
-//                    rolling_friction = 0, normal_law = "hertz"
+//                    rolling_friction = 0, normal_law = "hertz" | "multicontact";
+//                    multicontact only (paper Eq. 6): plasticity_ratio = 1 (λp), loading_stiffness
+//                    (k1, N/m^1.5; default 4/3 E* √R*), adhesion_stiffness = 0 (kc, N/m^1.5),
+//                    pull_off_force = 0 (F0 ≤ 0, N), multicontact_prefactor = 0 (β)
 //   [run]            time_step (fixed) | time_step_fraction = 0.2 (of the Rayleigh time),
 //                    steps = 0 (0: until the punch program ends), record_every = 100,
 //                    snapshot_every = 0, skin = 0.1 × smallest diameter, gravity = [0,0,0] m/s²,
@@ -12,11 +15,16 @@
 //   [box]            x, y (periodic lengths), bottom = 0, punch (initial punch height)
 //   [particles]      material; [walls] material
 //   [punch]          mode = "displacement" | "servo", speed, target_gap | target_strain,
-//                    hold_time = 0, unload_speed = 0, target_stress, max_speed
+//                    hold_time = 0, unload_speed = 0, target_stress, max_speed,
+//                    strain_reference = "start" | "fill" (H0: the gap when loading starts, or
+//                    the loose fill height = [generate] height), max_solid_fraction = 0.95
 //   [generate]       (when no --packing) count, diameter_min, diameter_max, seed = 1,
+//                    size_quantiles + size_quantile_levels (+ size_weighting = "volume" |
+//                    "number"): a size distribution truncated to [diameter_min, diameter_max],
 //                    height = box height (of the insertion region), settle_time = 0.2 s (settling
 //                    under gravity, 9.81 m/s² down if [run] gravity is zero; then the punch is
-//                    lowered onto the bed)
+//                    lowered onto the bed), settle_friction (μs = μr of every interaction
+//                    while settling only)
 // plate only:
 //   [sphere]         radius, material; [plate] material, speed, max_deformation = 0.01,
 //                    records = 50
@@ -60,8 +68,13 @@ struct CompactConfig {
   std::string particle_material, wall_material;
   PunchProgram program;
   std::optional<double> target_strain;
+  bool strain_from_fill = false;             // H0 = [generate] height instead of the starting gap
+  double max_solid_fraction = 0.95;          // loading stops when the solid fraction passes it
   std::optional<InsertionRequest> generate;  // filled in from [generate] when present
   double settle_time = 0.2;
+  // Sliding and rolling friction of every interaction while settling (a denser fill, as DEM
+  // fills are usually made to reach a target density); absent: the interactions' own.
+  std::optional<double> settle_friction;
 };
 CompactConfig read_compact_config(const ConfigTable& root);
 
@@ -70,6 +83,8 @@ struct PlateConfig {
   RunConfig run;
   PlateSetup setup;  // time_step left 0: chosen from run
 };
-PlateConfig read_plate_config(const ConfigTable& root);
+// `normal_law` (plate --model) replaces the normal law of every interaction.
+PlateConfig read_plate_config(const ConfigTable& root,
+                              std::optional<NormalLaw> normal_law = std::nullopt);
 
 }  // namespace shapepress::simulate

@@ -2,8 +2,10 @@
 // The contact law as composable sub-models (STYLE.md, after LAMMPS gran_sub_mod_*):
 //   normal (Hertz) ∘ damping (restitution, LIGGGHTS `gran model hertz`) ∘ tangential (Mindlin
 //   spring with history, Coulomb-truncated) ∘ rolling (constant directional torque, CDT).
-// Each is a small inline function so the pair loop in forces.cpp inlines the whole law.
-// Equations: models.md "Hertz–Mindlin with restitution damping".
+// Each is a small inline function so the pair loop in forces.cpp inlines the whole law. The
+// multi-contact elastic–plastic law (paper Eq. 6) is a second normal sub-model
+// (multicontact_law.hpp) composed with the same damping, tangential and rolling sub-models.
+// Equations: models.md "Hertz–Mindlin with restitution damping" and "Multi-contact ...".
 //
 // Sign conventions: the normal n points from sphere i to sphere j (for a wall, j is the wall);
 // relative velocities are those of j's contact point minus i's; the force returned acts on j
@@ -16,14 +18,17 @@
 #include <cmath>
 
 #include "simulate/materials.hpp"
+#include "simulate/multicontact_law.hpp"
 
 namespace shapepress::simulate {
 
-// What a contact remembers between steps. Now the tangential spring (accumulated tangential
-// displacement, world frame); the elastic–plastic law adds its plastic overlap δp and the
-// maximum overlap here, and restarts save every field (snapshot.cpp).
+// What a contact remembers between steps: the tangential spring (accumulated tangential
+// displacement, world frame) and the multi-contact law's plastic overlap as the plastic force
+// k1 δp^{3/2} = (1 - λp) k1 δmax^{3/2} (N; it encodes δp and δmax; 0 for Hertz). The list merge
+// (carry_history), checkpoints and snapshots carry every field.
 struct ContactHistory {
   double tangential[3] = {0.0, 0.0, 0.0};
+  double plastic_force = 0.0;
 };
 
 struct ContactKinematics {
@@ -34,6 +39,7 @@ struct ContactKinematics {
   double effective_radius;      // R* = ri rj / (ri + rj); wall: ri
   double effective_mass;        // m* = mi mj / (mi + mj); wall: mi
   double inverse_inertia_sum;   // 1/I* = 1/Ii + 1/Ij; wall: 1/Ii (chatter guard)
+  double pair_pressure;         // P_ij = ½ (p_i + p_j), previous step (multi-contact law only)
 };
 
 struct ContactForce {
@@ -57,9 +63,11 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
 // displacement ξ. ξ is first rotated into the current tangent plane keeping its length, then
 // incremented by vt dt. If the spring force exceeds μs |Fn| it is truncated to the Coulomb limit
 // and ξ is shrunk to match (no damping while sliding), as in LIGGGHTS `tangential history`.
+// `friction_load` is Fn for Hertz; for the adhesive law it is Fn measured from the adhesive
+// floor, Fn - (F0 - kc δ^{3/2}), so an adhesive contact still holds friction (as EEPA does).
 [[gnu::always_inline]] inline void mindlin_tangential(const PairConstants& p, const double n[3],
                                                       const double vt[3], double kt, double gamma_t,
-                                                      double normal_force, double dt,
+                                                      double friction_load, double dt,
                                                       ContactHistory& history, double force[3]) {
   double* xi = history.tangential;
   const double length2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
@@ -75,7 +83,7 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
   for (int k = 0; k < 3; ++k)
     xi[k] += vt[k] * dt;
   const double spring = kt * std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
-  const double limit = p.sliding_friction * std::fabs(normal_force);
+  const double limit = p.sliding_friction * std::fabs(friction_load);
   if (spring > limit) {
     const double ratio = spring > 0.0 ? limit / spring : 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -124,18 +132,28 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
   // kt = 8G*√(R*δ)); the pair constants hold the rest, so one sqrt serves both.
   const double damping_root = std::sqrt(sqrt_r_overlap * c.effective_mass);
   double normal_force = 0.0;
+  double friction_load = 0.0;
   switch (p.normal_law) {
     case NormalLaw::hertz: {
       const double kn = hertz_normal_stiffness(p, sqrt_r_overlap);
       const double gamma_n = p.normal_damping_scale * damping_root;
       normal_force = kn * c.overlap - gamma_n * vn;
+      friction_load = normal_force;
+      break;
+    }
+    case NormalLaw::multicontact: {
+      const MulticontactNormal m =
+          multicontact_normal(p, c.overlap, c.effective_radius, c.effective_mass, sqrt_r_overlap,
+                              damping_root, vn, c.pair_pressure, history.plastic_force);
+      normal_force = m.force;
+      friction_load = m.force - m.adhesive_floor;
       break;
     }
   }
   const double kt = 8.0 * p.effective_shear_modulus * sqrt_r_overlap;
   const double gamma_t = p.tangential_damping_scale * damping_root;
   double tangential[3];
-  mindlin_tangential(p, n, vt, kt, gamma_t, normal_force, dt, history, tangential);
+  mindlin_tangential(p, n, vt, kt, gamma_t, friction_load, dt, history, tangential);
   for (int k = 0; k < 3; ++k)
     out.force[k] = normal_force * n[k] + tangential[k];
   cdt_rolling(p, c, normal_force, dt, out.rolling_torque);
@@ -148,6 +166,14 @@ inline double hertz_elastic_energy(const PairConstants& p, double effective_radi
                                    double overlap) {
   return 8.0 / 15.0 * p.effective_modulus * std::sqrt(effective_radius * overlap) * overlap *
          overlap;
+}
+
+// Elastic normal energy of a contact under its pair's law (energy checks).
+inline double normal_elastic_energy(const PairConstants& p, double effective_radius, double overlap,
+                                    const ContactHistory& history) {
+  return p.normal_law == NormalLaw::multicontact
+             ? multicontact_elastic_energy(p, effective_radius, overlap, history.plastic_force)
+             : hertz_elastic_energy(p, effective_radius, overlap);
 }
 
 }  // namespace shapepress::simulate

@@ -1,6 +1,7 @@
 // What the engine reports about itself: energies, contact counts, divergence checks, and the
 // checkpoint a restart continues from.
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include <fmt/format.h>
@@ -38,7 +39,7 @@ EnergySummary Engine::energy() const {
   }
   const auto add_contact = [&](const PairConstants& pc, double r_eff, double overlap,
                                const ContactHistory& h) {
-    e.elastic += hertz_elastic_energy(pc, r_eff, overlap);
+    e.elastic += normal_elastic_energy(pc, r_eff, overlap, h);
     const double kt = 8.0 * pc.effective_shear_modulus * std::sqrt(r_eff * overlap);
     const double* xi = h.tangential;
     e.elastic += 0.5 * kt * (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
@@ -132,6 +133,57 @@ std::vector<std::int32_t> Engine::contacts_per_sphere() const {
   return count;
 }
 
+std::vector<double> Engine::particle_stress() const {
+  if (!particle_stress_on_) return {};
+  const SphereState& s = state_;
+  std::vector<double> stress(stress_components * s.size(), 0.0);
+  // l ⊗ f = -rc n ⊗ F at either end of a contact (i first: l = rc n, f = -F; i second:
+  // l = -rc n, f = F), n from first to second, F on second; the symmetric part is kept.
+  const auto add = [](double* sigma, double rc, const double n[3], const double force[3]) {
+    sigma[0] -= rc * n[0] * force[0];
+    sigma[1] -= 0.5 * rc * (n[0] * force[1] + n[1] * force[0]);
+    sigma[2] -= 0.5 * rc * (n[0] * force[2] + n[2] * force[0]);
+    sigma[3] -= rc * n[1] * force[1];
+    sigma[4] -= 0.5 * rc * (n[1] * force[2] + n[2] * force[1]);
+    sigma[5] -= rc * n[2] * force[2];
+  };
+  const auto add_pair = [&](std::size_t i, std::size_t p, double* sigma) {
+    if (!pair_touching_[p]) return;
+    const int a = pairs_.first[p], b = pairs_.second[p];
+    const double d[3] = {s.position.x[b] - s.position.x[a] + pairs_.shift_x[p],
+                         s.position.y[b] - s.position.y[a] + pairs_.shift_y[p],
+                         s.position.z[b] - s.position.z[a]};
+    const double distance = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const double n[3] = {d[0] / distance, d[1] / distance, d[2] / distance};
+    const double overlap = s.radius[a] + s.radius[b] - distance;
+    add(sigma, s.radius[i] - 0.5 * overlap, n, pair_results_[p].force);
+  };
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    double* sigma = &stress[stress_components * i];
+    // The gather's order: partners below i (i second), then above (i first).
+    for (std::int32_t e = pairs_.second_offset[i]; e < pairs_.second_offset[i + 1]; ++e)
+      add_pair(i, static_cast<std::size_t>(pairs_.second_pairs[e]), sigma);
+    for (std::int32_t p = pairs_.first_offset[i]; p < pairs_.first_offset[i + 1]; ++p)
+      add_pair(i, static_cast<std::size_t>(p), sigma);
+    for (std::size_t k = 0; k < walls_.size(); ++k) {
+      // (a restarted engine has no wall forces until its first step)
+      if (wall_force_per_sphere_.size() <= k || wall_force_per_sphere_[k].size() != s.size() ||
+          !wall_touching_[k][i])
+        continue;
+      const double gap = walls_[k].facing * (s.position.z[i] - walls_[k].position);
+      const double n[3] = {0.0, 0.0, -static_cast<double>(walls_[k].facing)};
+      const double force[3] = {wall_tangential_[k][2 * i], wall_tangential_[k][2 * i + 1],
+                               wall_force_per_sphere_[k][i]};
+      add(sigma, gap, n, force);
+    }
+    const double r = s.radius[i];
+    const double inverse_volume = 3.0 / (4.0 * std::numbers::pi * r * r * r);
+    for (int c = 0; c < stress_components; ++c)
+      sigma[c] *= inverse_volume;
+  }
+  return stress;
+}
+
 EngineCheckpoint Engine::checkpoint() const {
   EngineCheckpoint c;
   c.step = step_;
@@ -140,7 +192,8 @@ EngineCheckpoint Engine::checkpoint() const {
   c.build_reference = build_reference_;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     const double* xi = history_[p].tangential;
-    if (pair_touching_[p] || xi[0] != 0.0 || xi[1] != 0.0 || xi[2] != 0.0) {
+    if (pair_touching_[p] || xi[0] != 0.0 || xi[1] != 0.0 || xi[2] != 0.0 ||
+        history_[p].plastic_force != 0.0) {
       c.first.push_back(pairs_.first[p]);
       c.second.push_back(pairs_.second[p]);
       c.history.push_back(history_[p]);
@@ -148,6 +201,7 @@ EngineCheckpoint Engine::checkpoint() const {
   }
   c.wall_history = wall_history_;
   c.wall_force = wall_force_;
+  c.particle_pressure = pressure_;
   c.energy_reference = energy_reference_;
   c.work_in = work_in_;
   return c;

@@ -36,6 +36,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<
   if (!(settings_.time_step > 0.0)) throw InputError("time step must be > 0");
   if (!(settings_.skin >= 0.0)) throw InputError("neighbour skin must be >= 0");
   require_material_pairs();
+  enable_particle_stress();
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
   build_list(true);
   pack_spheres();
@@ -53,6 +54,13 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
       step_(checkpoint.step),
       time_(checkpoint.time) {
   require_material_pairs();
+  enable_particle_stress();
+  if (particle_stress_on_ && !checkpoint.particle_pressure.empty()) {
+    // The next pair loop reads p of the step the checkpoint was taken at: restore it bit for bit.
+    if (checkpoint.particle_pressure.size() != pressure_.size())
+      throw InputError("checkpoint: particle pressure does not match the spheres");
+    pressure_ = std::move(checkpoint.particle_pressure);
+  }
   if (checkpoint.wall_history.size() != walls_.size())
     throw InputError("checkpoint: wall history does not match the walls");
   wall_history_ = std::move(checkpoint.wall_history);
@@ -70,6 +78,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   touching.second = std::move(checkpoint.second);
   history_ = carry_history(touching, checkpoint.history, pairs_);
   pair_results_.assign(pairs_.size(), PairResult{});
+  if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   pair_touching_ = touching_flags(pairs_, touching);
   energy_reference_ = checkpoint.energy_reference;
   work_in_ = checkpoint.work_in;
@@ -91,6 +100,18 @@ void Engine::require_material_pairs() const {
   }
 }
 
+void Engine::enable_particle_stress() {
+  bool needed = settings_.particle_stress;
+  for (int a = 0; a < materials_.count(); ++a)
+    for (int b = 0; b < materials_.count(); ++b)
+      needed = needed || (materials_.has_pair(a, b) &&
+                          materials_.pair(a, b).normal_law == NormalLaw::multicontact);
+  particle_stress_on_ = needed;
+  if (!needed) return;
+  pressure_.assign(state_.size(), 0.0);
+  wall_tangential_.assign(walls_.size(), std::vector<double>(2 * state_.size(), 0.0));
+}
+
 void Engine::build_list(bool wrap) {
   if (wrap) wrap_positions(state_, box_);
   PairList next = build_pair_list(state_, box_, settings_.skin);
@@ -107,6 +128,7 @@ void Engine::build_list(bool wrap) {
   pairs_ = std::move(next);
   // Zero for every pair: the force pass rewrites the touching ones before they are gathered.
   pair_results_.assign(pairs_.size(), PairResult{});
+  if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   build_reference_ = state_.position;
   ++list_builds_;
 }

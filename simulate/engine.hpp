@@ -7,11 +7,16 @@
 //
 // Where the next models plug in (issues for bonds, clumps and the multi-contact law):
 // - Normal law per material pair: PairConstants::normal_law selects a branch of
-//   contact_force(); the elastic–plastic law keeps δp and δmax in ContactHistory, which the
-//   list merge, the snapshots and the restart already carry field by field.
-// - Love–Weber particle stress σi = (1/Vi) Σc lic ⊗ fc (paper Eq. 6's P_ij): the gather visits
-//   each sphere's contacts in fixed order with the normal and force at hand; it fills a per-sphere
-//   stress array there, read by the next step's pair loop (the law uses the previous step's p).
+//   contact_force(); the multi-contact elastic–plastic law keeps its plastic overlap in
+//   ContactHistory, which the list merge, the snapshots and the restart carry field by field.
+// - Love–Weber particle stress σi = (1/Vi) Σc lic ⊗ fc (paper Eq. 6's P_ij), per sphere with
+//   Vi its solid volume: when a pair uses the multi-contact law (or settings.particle_stress),
+//   the pair loop also stores each touching pair's Fn and δ/2, and the gather, which visits each
+//   sphere's contacts in fixed order, sums p = -tr σ/3 = Σ rc Fn / (3V). The next step's pair
+//   loop reads that p (the law uses the previous step's p), so no sum depends on threads. The
+//   full tensor is summed on demand (particle_stress(), snapshots) from the same contacts.
+//   Agglomerates (BMS, SphereState::body) extend it by summing Vi σi over a body's sub-spheres
+//   for contacts with other bodies only, dividing by the body's volume and reading p[body[i]].
 // - Bodies: SphereState::body groups sub-spheres. Bonds become a second pair array (pair,
 //   bond state) evaluated like contacts and gathered through the same per-sphere lists; rigid
 //   clumps sum their sub-spheres' forces per body after the gather and integrate the body
@@ -48,7 +53,12 @@ struct EngineSettings {
   double skin = 0.0;                                // m, Verlet skin
   double max_overlap_fraction = 0.5;  // divergence: overlap beyond this fraction of a radius
   int check_every = 100;              // steps between divergence checks
+  // Love–Weber stress per sphere even when no pair uses the multi-contact law (snapshots).
+  bool particle_stress = false;
 };
+
+// Components of a symmetric stress tensor as given per sphere (Pa), in XDMF's Tensor6 order.
+inline constexpr int stress_components = 6;  // xx, xy, xz, yy, yz, zz
 
 // Everything a restart needs beyond the sphere state (snapshot.cpp writes and reads it).
 struct EngineCheckpoint {
@@ -61,6 +71,7 @@ struct EngineCheckpoint {
   std::vector<ContactHistory> history;
   std::vector<std::vector<ContactHistory>> wall_history;  // [wall][sphere]
   std::vector<double> wall_force;                         // [wall], z, on the wall
+  std::vector<double> particle_pressure;  // per sphere, the last gather's; empty: not computed
   double energy_reference = 0.0;
   double work_in = 0.0;
 };
@@ -112,6 +123,13 @@ class Engine {
   // Work done on the spheres by moving walls and by gravity since the start, J.
   double work_in() const { return work_in_; }
   std::int64_t list_builds() const { return list_builds_; }
+  // Love–Weber stress of each sphere from the contacts of the last force evaluation: the
+  // symmetric part of (1/V) Σ l ⊗ f, stress_components per sphere, summed now (empty when the
+  // engine does not compute particle stress: no multi-contact pair, settings.particle_stress
+  // false). particle_pressure(i) is the p = -tr σ/3 the law reads next step.
+  bool computes_particle_stress() const { return particle_stress_on_; }
+  std::vector<double> particle_stress() const;
+  double particle_pressure(std::size_t i) const { return pressure_[i]; }
 
   EngineCheckpoint checkpoint() const;
 
@@ -123,7 +141,12 @@ class Engine {
   void pack_spheres();  // geometry_ and motion_ from the state (step() fuses this into its drift)
   void pair_forces();
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
+  template <bool stress_on>
+  void pair_forces_with();
+  template <bool stress_on>
+  void gather_forces_with(double kick);
   void require_material_pairs() const;
+  void enable_particle_stress();
 
   SphereState state_;
   Box box_;
@@ -152,6 +175,12 @@ class Engine {
   std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
   std::vector<std::vector<std::uint8_t>> wall_touching_;
   std::vector<double> wall_force_;
+  // Love–Weber stress (header comment): per pair Fn and δ/2 of the last pair loop, per sphere
+  // p (read by the next pair loop), per wall and sphere the tangential wall force (x, y).
+  bool particle_stress_on_ = false;
+  std::vector<double> pair_virial_;
+  std::vector<double> pressure_;
+  std::vector<std::vector<double>> wall_tangential_;
   std::int64_t sphere_contacts_ = 0;
   std::int64_t wall_contacts_ = 0;
   std::int64_t list_builds_ = 0;

@@ -1,11 +1,13 @@
 // The force evaluation, the engine's hot path: one pass over the pair list computing each
 // contact once into pair_results_, then one pass over the spheres gathering their contacts in
 // list order plus their wall contacts and gravity. Both passes are written out long on purpose:
-// splitting them into helpers that pass arrays around costs measurable speed.
+// splitting them into helpers that pass arrays around costs measurable speed. The Love–Weber
+// pressure (engine.hpp) is a template switch: the Hertz path compiles without its branches.
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "simulate/engine.hpp"
 
@@ -45,6 +47,21 @@ void Engine::pack_spheres() {
 }
 
 void Engine::pair_forces() {
+  if (particle_stress_on_)
+    pair_forces_with<true>();
+  else
+    pair_forces_with<false>();
+}
+
+void Engine::gather_forces(double kick) {
+  if (particle_stress_on_)
+    gather_forces_with<true>(kick);
+  else
+    gather_forces_with<false>(kick);
+}
+
+template <bool stress_on>
+void Engine::pair_forces_with() {
   const SphereState& s = state_;
   const std::int64_t count = static_cast<std::int64_t>(pairs_.size());
   const double dt = settings_.time_step;
@@ -62,6 +79,9 @@ void Engine::pair_forces() {
   const std::int32_t* __restrict second = pairs_.second.data();
   const double* __restrict shift_x = pairs_.shift_x.data();
   const double* __restrict shift_y = pairs_.shift_y.data();
+  // Love–Weber: p of the last gather in; Fn and δ/2 of each touching pair out.
+  const double* __restrict pressure = stress_on ? pressure_.data() : nullptr;
+  double* __restrict virial = stress_on ? pair_virial_.data() : nullptr;
   std::int64_t touching = 0;
   const int threads = count >= parallel_min_pairs ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads) reduction(+ : touching)
@@ -80,6 +100,7 @@ void Engine::pair_forces() {
       if (was_touching[p] & (now ^ 1)) {  // the contact just opened: its spring is released
         history_[p] = ContactHistory{};
         pair_results_[p] = PairResult{};
+        if constexpr (stress_on) virial[2 * p] = virial[2 * p + 1] = 0.0;
       }
       was_touching[p] = now;
       selected[k] = static_cast<std::int32_t>(p);
@@ -131,8 +152,14 @@ void Engine::pair_forces() {
       c.effective_radius = ri * rj * mass_sum * inverse;
       c.effective_mass = mi * mj * reach * inverse;
       c.inverse_inertia_sum = mi_[7] + mj_[7];
+      c.pair_pressure = 0.0;  // P_ij of Eq. 6 from the last gather
+      if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
       const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
       const ContactForce f = contact_force(c, pc, history_[p], dt);
+      if constexpr (stress_on) {  // for this step's gather of p = Σ rc Fn / (3V)
+        virial[2 * p] = f.normal_force;
+        virial[2 * p + 1] = 0.5 * c.overlap;
+      }
       // Torques: τi = (rci n) × Fi = -rci (n × F), τj = (-rcj n) × F = -rcj (n × F).
       const double cx = nn[1] * f.force[2] - nn[2] * f.force[1];
       const double cy = nn[2] * f.force[0] - nn[0] * f.force[2];
@@ -151,7 +178,8 @@ void Engine::pair_forces() {
   sphere_contacts_ = touching;
 }
 
-void Engine::gather_forces(double kick) {
+template <bool stress_on>
+void Engine::gather_forces_with(double kick) {
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
   const std::size_t wall_count = walls_.size();
@@ -186,6 +214,16 @@ void Engine::gather_forces(double kick) {
   double* __restrict wy = s.angular_velocity.y.data();
   double* __restrict wz = s.angular_velocity.z.data();
   const PlaneWall* walls = walls_.data();
+  // Love–Weber pressure p = -tr σ / 3 = Σ rc Fn / (3V): l · f = -rc Fn at either end of a
+  // contact (rc the centre-to-contact distance, Fn > 0 repulsive), V the sphere's volume. The
+  // tensor itself is summed on demand (Engine::particle_stress, diagnostics.cpp): the law needs
+  // only the trace, and the trace needs two numbers per contact instead of five. Non-touching
+  // pairs hold Fn = 0.
+  const double* __restrict virial = stress_on ? pair_virial_.data() : nullptr;
+  double* __restrict pressure = stress_on ? pressure_.data() : nullptr;
+  if constexpr (stress_on)
+    for (std::size_t k = 0; k < wall_count; ++k)
+      wall_tangential_[k].resize(2 * static_cast<std::size_t>(n));
   std::vector<double*> wall_force_per_sphere(wall_count);
   std::vector<std::uint8_t*> wall_touching(wall_count);
   for (std::size_t k = 0; k < wall_count; ++k) {
@@ -195,20 +233,29 @@ void Engine::gather_forces(double kick) {
 #pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
     double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
+    double arm_force = 0.0;  // Σ rc Fn
+    const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
     // Partners below i (i is second), then above (i is first): increasing partner order.
     // Non-touching pairs hold a zero result, so every pair is summed without a test.
     for (std::int32_t e = second_offset[i]; e < second_offset[i + 1]; ++e) {
       const PairResult& r = results[second_pairs[e]];
+      if constexpr (stress_on) {
+        const double* v = virial + 2 * second_pairs[e];
+        arm_force += (ri - v[1]) * v[0];
+      }
       f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
       t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
     }
     for (std::int32_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
       const PairResult& r = results[p];
+      if constexpr (stress_on) {
+        const double* v = virial + 2 * p;
+        arm_force += (ri - v[1]) * v[0];
+      }
       f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
       t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
     }
     // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
-    const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
     for (std::size_t k = 0; k < wall_count; ++k) {
       const PlaneWall& w = walls[k];
       const double gap = w.facing * (zi - w.position);
@@ -236,6 +283,9 @@ void Engine::gather_forces(double kick) {
       c.effective_radius = ri;
       c.effective_mass = mi[6];
       c.inverse_inertia_sum = mi[7];
+      // A wall has p = 0 (models.md): P_ij = p_i / 2, p_i of the last step (overwritten below).
+      c.pair_pressure = 0.0;
+      if constexpr (stress_on) c.pair_pressure = 0.5 * pressure[i];
       const PairConstants& pc = materials_.pair(material[i], w.material);
       const ContactForce cf = contact_force(c, pc, wall_history_[k][i], dt);
       const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
@@ -247,7 +297,13 @@ void Engine::gather_forces(double kick) {
       t[2] += -rc * cz + cf.rolling_torque[2];
       wall_force_per_sphere[k][i] = cf.force[2];
       wall_touching[k][i] = 1;
+      if constexpr (stress_on) {
+        arm_force += rc * cf.normal_force;
+        wall_tangential_[k][2 * i] = cf.force[0];  // for the tensor on demand
+        wall_tangential_[k][2 * i + 1] = cf.force[1];
+      }
     }
+    if constexpr (stress_on) pressure[i] = arm_force / (4.0 * std::numbers::pi * ri * ri * ri);
     const double m = motion[8 * i + 6];
     f[0] += m * g[0], f[1] += m * g[1], f[2] += m * g[2];
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];

@@ -3,6 +3,7 @@
 // materials, particle–particle and particle–wall, has its own restitution and friction).
 // Everything the force kernel needs that does not depend on the contact's geometry is computed
 // here once, so the hot loop holds no pow and no logarithm (DESIGN.md "Pair constants").
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,10 +16,21 @@ struct Material {
   double density = 0.0;         // ρ, kg/m³ (unused for walls)
 };
 
-// The normal sub-model of a material pair. Only Hertz exists now; the multi-contact
-// elastic–plastic law (paper Eq. 6) becomes one more enumerator and one more branch of
-// normal_force() in contact_law.hpp, keeping its plastic overlap in ContactHistory.
-enum class NormalLaw { hertz };
+// The normal sub-model of a material pair: Hertz, or the multi-contact adhesive elastic–plastic
+// law of Giannis et al. 2023 Eq. 6 (multicontact_law.hpp), which keeps its largest overlap in
+// ContactHistory and reads the particles' Love–Weber pressure.
+enum class NormalLaw { hertz, multicontact };
+
+// What a user states for the multi-contact law (models.md "Multi-contact adhesive elastic–plastic
+// law"). The defaults make it Hertz–Mindlin: λp = 1, kc = 0, F0 = 0, β = 0.
+struct MulticontactParameters {
+  std::optional<double> loading_stiffness =
+      std::nullopt;                 // k1, N/m^1.5; absent: 4/3 E* √R* per contact
+  double plasticity_ratio = 1.0;    // λp = k1/k2 in (0, 1]; 1: elastic
+  double adhesion_stiffness = 0.0;  // kc ≥ 0, N/m^1.5
+  double pull_off_force = 0.0;      // F0 ≤ 0, N (constant attraction while touching)
+  double prefactor = 0.0;           // β ≥ 0 of the term β ν A_ij P_ij
+};
 
 // What a user states about a pair of materials.
 struct Interaction {
@@ -28,6 +40,8 @@ struct Interaction {
   double sliding_friction = 0.5;  // μs
   double rolling_friction = 0.0;  // μr (CDT, Ai et al. 2011 model A)
   NormalLaw normal_law = NormalLaw::hertz;
+  // Given only with normal_law = multicontact (an InputError otherwise: no silently unused key).
+  std::optional<MulticontactParameters> multicontact = std::nullopt;
 };
 
 // Precomputed for a pair of material indices (models.md "Hertz–Mindlin with restitution").
@@ -42,6 +56,13 @@ struct PairConstants {
   double sliding_friction = 0.0;
   double rolling_friction = 0.0;
   NormalLaw normal_law = NormalLaw::hertz;
+  // Multi-contact law (Eq. 6), unused by Hertz:
+  double loading_stiffness = 0.0;    // k1, N/m^1.5; 0: 4/3 E* √R* per contact (Hertz)
+  double unloading_factor = 1.0;     // k2/k1 = 1/λp
+  double plastic_fraction = 0.0;     // 1 - λp: δp^{3/2} = (1 - k1/k2) δmax^{3/2}
+  double adhesion_stiffness = 0.0;   // kc
+  double pull_off_force = 0.0;       // F0 ≤ 0
+  double multicontact_factor = 0.0;  // β ν π: β ν A_ij P_ij with A_ij = π R* δ
 };
 
 // β-damping factor of LIGGGHTS `gran model hertz`: -2√(5/6) ln e / √(ln² e + π²).

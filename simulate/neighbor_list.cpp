@@ -36,11 +36,14 @@ CellGrid make_grid(const SphereState& state, const Box& box, double cell) {
   for (int axis = 0; axis < 3; ++axis) {
     if (lengths[axis] > 0.0) {
       g.periodic[axis] = true;
-      g.n[axis] = static_cast<int>(std::floor(lengths[axis] / cell));
-      if (g.n[axis] < 3)
+      // A pair must meet through one image only: its reach (at most one cell) below L/2. Fewer
+      // than three cells are fine then (a 1 mm box of Avicel spheres up to 470 µm has two); the
+      // search visits each distinct neighbour cell once (last_offset below).
+      if (!(2.0 * cell < lengths[axis]))
         throw InputError("periodic box length " + std::to_string(lengths[axis]) +
-                         " m is shorter than three neighbour cells of " + std::to_string(cell) +
-                         " m (2 × largest radius + skin)");
+                         " m is not more than twice the neighbour reach " + std::to_string(cell) +
+                         " m (2 × largest radius + skin): a pair could meet through two images");
+      g.n[axis] = std::max(1, static_cast<int>(std::floor(lengths[axis] / cell)));
       g.size[axis] = lengths[axis] / g.n[axis];
     } else {
       const auto [lo, hi] = std::minmax_element(coords[axis]->begin(), coords[axis]->end());
@@ -93,6 +96,12 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
       members[fill[cell_of[i]]++] = i;
   }
 
+  // Offsets -1..last per axis: with fewer than three periodic cells, -1 and +1 (and 0) name the
+  // same cell, which must be searched once.
+  const auto last_offset = [&](int axis) {
+    return g.periodic[axis] ? std::min(1, g.n[axis] - 2) : 1;
+  };
+  const int last_x = last_offset(0), last_y = last_offset(1);
   const auto& x = state.position.x;
   const auto& y = state.position.y;
   const auto& z = state.position.z;
@@ -120,13 +129,13 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
       for (int dz = -1; dz <= 1; ++dz) {
         const int cz = ci[2] + dz;
         if (cz < 0 || cz >= g.n[2]) continue;
-        for (int dy = -1; dy <= 1; ++dy) {
+        for (int dy = -1; dy <= last_y; ++dy) {
           int cy = ci[1] + dy;  // wrapped with branches: a modulo per cell costs a division
           if (cy < 0 || cy >= g.n[1]) {
             if (!g.periodic[1]) continue;
             cy += cy < 0 ? g.n[1] : -g.n[1];
           }
-          for (int dx = -1; dx <= 1; ++dx) {
+          for (int dx = -1; dx <= last_x; ++dx) {
             int cx = ci[0] + dx;
             if (cx < 0 || cx >= g.n[0]) {
               if (!g.periodic[0]) continue;

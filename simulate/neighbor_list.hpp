@@ -30,8 +30,8 @@ struct PairList {
   std::size_t size() const { return first.size(); }
 };
 
-// Builds the half list. InputError when a periodic length is shorter than three cells
-// (3 × (2 r_max + skin)): below that a pair could meet through two images.
+// Builds the half list. InputError when a periodic length is not more than twice the reach
+// 2 r_max + skin: then a pair could meet through two images.
 PairList build_pair_list(const SphereState& state, const Box& box, double skin);
 
 // History of pairs present in both lists is moved to the new list's slots; new pairs start

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -63,6 +64,86 @@ SphereList read_spheres(const std::filesystem::path& path) {
   return (ext == ".h5" || ext == ".hdf5") ? read_sphere_hdf5(path) : read_sphere_text(path);
 }
 
+namespace {
+
+double normal_cdf(double z) {
+  return 0.5 * std::erfc(-z / std::sqrt(2.0));
+}
+
+// Inverse of the normal CDF by bisection (called a few times per distribution, not per sphere).
+double probit(double q) {
+  double lo = -40.0, hi = 40.0;
+  for (int k = 0; k < 200 && hi - lo > 1e-15; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (normal_cdf(mid) < q ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+void SizeQuantiles::check() const {
+  if (diameters.size() < 2 || diameters.size() != levels.size())
+    throw InputError("size distribution: give at least two quantiles, as many levels as sizes");
+  for (std::size_t k = 0; k < diameters.size(); ++k) {
+    if (!(diameters[k] > 0.0) || !(levels[k] > 0.0 && levels[k] < 1.0))
+      throw InputError("size distribution: sizes must be > 0 and levels in (0, 1)");
+    if (k > 0 && !(diameters[k] > diameters[k - 1] && levels[k] > levels[k - 1]))
+      throw InputError("size distribution: sizes and levels must both increase");
+  }
+}
+
+SizeTable size_table(const SizeQuantiles& q, double diameter_min, double diameter_max) {
+  q.check();
+  if (!(diameter_min > 0.0 && diameter_max > diameter_min))
+    throw InputError("size distribution: need 0 < diameter_min < diameter_max (the truncation)");
+  std::vector<double> log_x, z;
+  for (std::size_t k = 0; k < q.diameters.size(); ++k) {
+    log_x.push_back(std::log(q.diameters[k]));
+    z.push_back(probit(q.levels[k]));
+  }
+  const auto given_q = [&](double x) {  // Q of the stated weighting at diameter x
+    const double lx = std::log(x);
+    std::size_t k = 1;
+    while (k + 1 < log_x.size() && lx > log_x[k])
+      ++k;
+    const double t = (lx - log_x[k - 1]) / (log_x[k] - log_x[k - 1]);
+    return normal_cdf(z[k - 1] + t * (z[k] - z[k - 1]));
+  };
+  // Number density q0 ∝ q3 / x³ (a sphere's volume), accumulated on a fine log grid.
+  constexpr int points = 4001;
+  SizeTable table;
+  table.diameter.resize(points);
+  table.cumulative.assign(points, 0.0);
+  const double ratio = std::log(diameter_max / diameter_min);
+  for (int k = 0; k < points; ++k)
+    table.diameter[k] = diameter_min * std::exp(ratio * k / (points - 1));
+  double previous = given_q(table.diameter[0]);
+  for (int k = 1; k < points; ++k) {
+    const double current = given_q(table.diameter[k]);
+    const double mid = std::sqrt(table.diameter[k] * table.diameter[k - 1]);
+    const double weight = q.volume_weighted ? 1.0 / (mid * mid * mid) : 1.0;
+    table.cumulative[k] = table.cumulative[k - 1] + (current - previous) * weight;
+    previous = current;
+  }
+  const double total = table.cumulative.back();
+  if (!(total > 0.0))
+    throw InputError("size distribution: no particles between diameter_min and diameter_max");
+  for (double& c : table.cumulative)
+    c /= total;
+  return table;
+}
+
+double SizeTable::sample(double u) const {
+  const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), u);
+  if (it == cumulative.begin()) return diameter.front();
+  if (it == cumulative.end()) return diameter.back();
+  const std::size_t k = static_cast<std::size_t>(it - cumulative.begin());
+  const double span = cumulative[k] - cumulative[k - 1];
+  const double t = span > 0.0 ? (u - cumulative[k - 1]) / span : 0.0;
+  return diameter[k - 1] * std::pow(diameter[k] / diameter[k - 1], t);
+}
+
 SphereList insert_random_spheres(const Box& box, const InsertionRequest& request) {
   if (!box.periodic_x() || !box.periodic_y())
     throw InputError("sphere generation needs a periodic box (box.x and box.y)");
@@ -86,9 +167,20 @@ SphereList insert_random_spheres(const Box& box, const InsertionRequest& request
   std::mt19937_64 random(request.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   SphereList list;
+  // A size distribution is drawn first and placed largest first: random sequential insertion
+  // of a wide distribution fills a loose fill height far better that way.
+  std::vector<double> drawn;
+  if (request.sizes) {
+    const SizeTable table = size_table(*request.sizes, request.diameter_min, request.diameter_max);
+    for (std::int64_t k = 0; k < request.count; ++k)
+      drawn.push_back(0.5 * table.sample(unit(random)));
+    std::sort(drawn.begin(), drawn.end(), std::greater<>());
+  }
   for (std::int64_t k = 0; k < request.count; ++k) {
-    const double r =
-        0.5 * (request.diameter_min + (request.diameter_max - request.diameter_min) * unit(random));
+    const double r = request.sizes
+                         ? drawn[static_cast<std::size_t>(k)]
+                         : 0.5 * (request.diameter_min +
+                                  (request.diameter_max - request.diameter_min) * unit(random));
     bool placed = false;
     for (int attempt = 0; attempt < request.attempts_per_sphere && !placed; ++attempt) {
       const double x = box.length_x * unit(random), y = box.length_y * unit(random);

@@ -5,6 +5,7 @@
 // gravity by the compact scenario).
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "simulate/state.hpp"
@@ -23,14 +24,35 @@ SphereList read_sphere_hdf5(const std::filesystem::path& path);
 // By extension: .h5/.hdf5 → HDF5, anything else → text.
 SphereList read_spheres(const std::filesystem::path& path);
 
+// A particle size distribution given by quantiles, as a laser or image analyser reports it
+// (paper Table 2: x10, x50, x90 of Q3): Q(x) is interpolated linearly in (ln x, probit Q)
+// between the points and extrapolated with the end segments (a log-normal piece between each
+// pair of quantiles), truncated to [diameter_min, diameter_max] of the request.
+struct SizeQuantiles {
+  std::vector<double> diameters;  // m, increasing
+  std::vector<double> levels;     // Q at each diameter, increasing in (0, 1)
+  bool volume_weighted = true;    // Q3 (mass) or Q0 (number)
+  void check() const;             // InputError naming what is wrong
+};
+
+// Number-weighted cumulative distribution of the truncated distribution on a log grid of
+// diameters, for sampling by inversion (and for tests).
+struct SizeTable {
+  std::vector<double> diameter;    // m, increasing from diameter_min to diameter_max
+  std::vector<double> cumulative;  // Q0 in [0, 1]
+  double sample(double u) const;   // the diameter at Q0 = u
+};
+SizeTable size_table(const SizeQuantiles& quantiles, double diameter_min, double diameter_max);
+
 struct InsertionRequest {
   std::int64_t count = 0;
-  double diameter_min = 0.0;  // diameters uniform in [min, max]
+  double diameter_min = 0.0;  // diameters uniform in [min, max], or the truncation of `sizes`
   double diameter_max = 0.0;
   double z_low = 0.0;  // region where centres may go, with the radius kept inside it
   double z_high = 0.0;
   std::uint64_t seed = 1;
   int attempts_per_sphere = 1000;
+  std::optional<SizeQuantiles> sizes = std::nullopt;  // else uniform diameters
 };
 
 // Random sequential insertion, periodic in x/y over the box. InputError when a sphere cannot be

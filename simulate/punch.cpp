@@ -36,7 +36,9 @@ double punch_velocity(const PunchProgram& p, PunchState& state, double time, dou
                       double stress) {
   const bool servo = p.mode == PunchProgram::Mode::servo;
   if (state.phase == PunchPhase::load) {
-    if (servo) {
+    if (p.min_gap && gap <= *p.min_gap) {
+      enter(state, PunchPhase::hold, time);  // the solid-fraction ceiling
+    } else if (servo) {
       if (std::abs(p.target_stress - stress) <= p.servo_tolerance * p.target_stress)
         enter(state, PunchPhase::hold, time);
       else

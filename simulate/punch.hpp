@@ -24,6 +24,9 @@ struct PunchProgram {
   double max_speed = 0.0;            // m/s (servo)
   double servo_band = 0.05;          // full speed when the stress error exceeds this fraction
   double servo_tolerance = 0.01;     // "reached" within this fraction of the target
+  // The gap at which the solid fraction reaches the ceiling (compact's [punch]
+  // max_solid_fraction): loading stops there in either mode, whatever the target.
+  std::optional<double> min_gap;
 };
 
 // The controller's state, saved in snapshots so a restart continues the same program.

@@ -51,6 +51,26 @@ std::vector<ContactHistory> history_from(const std::vector<double>& values) {
   return out;
 }
 
+// The multi-contact law's plastic force k1 δp^{3/2}, one per contact (0 for Hertz contacts).
+std::vector<double> plastic_values(const std::vector<ContactHistory>& history) {
+  std::vector<double> out;
+  out.reserve(history.size());
+  for (const ContactHistory& h : history)
+    out.push_back(h.plastic_force);
+  return out;
+}
+
+// Snapshots written before the multi-contact law have no plastic history: it is zero.
+void read_plastic(const H5Reader& file, const std::string& name,
+                  std::vector<ContactHistory>& history, const std::filesystem::path& path) {
+  if (!file.has(name)) return;
+  const std::vector<double> values = file.doubles(name);
+  if (values.size() != history.size())
+    throw InputError("'" + path.string() + "': " + name + " does not match the contacts");
+  for (std::size_t k = 0; k < values.size(); ++k)
+    history[k].plastic_force = values[k];
+}
+
 void write_vec3(H5Writer& file, const std::string& name, const Vec3Array& v,
                 std::string_view unit) {
   file.write(name, interleave(v), {v.size(), 3});
@@ -79,6 +99,17 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   file.write("/particles/body", s.body);
   const std::vector<std::int32_t> contacts = engine.contacts_per_sphere();
   file.write("/particles/contacts", contacts);
+  if (engine.computes_particle_stress()) {
+    // Love–Weber stress (xx, yy, zz, xy, xz, yz) and p = -tr σ/3 of the last force evaluation.
+    const std::vector<double>& stress = engine.particle_stress();
+    file.write("/particles/stress", stress, {n, stress_components});
+    file.unit("/particles/stress", "Pa");
+    std::vector<double> pressure(n);
+    for (std::size_t i = 0; i < n; ++i)
+      pressure[i] = engine.particle_pressure(i);
+    file.write("/particles/pressure", pressure);
+    file.unit("/particles/pressure", "Pa");
+  }
 
   const EngineCheckpoint c = engine.checkpoint();
   file.group("/engine");
@@ -96,6 +127,10 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   for (const auto& w : c.wall_history)
     wall_history.insert(wall_history.end(), w.begin(), w.end());
   file.write("/engine/wall_tangential", history_values(wall_history), {wall_history.size(), 3});
+  file.write("/engine/contact_plastic_force", plastic_values(c.history));
+  file.unit("/engine/contact_plastic_force", "N");
+  file.write("/engine/wall_plastic_force", plastic_values(wall_history));
+  file.unit("/engine/wall_plastic_force", "N");
 
   // Walls: the state, and each wall as a quad over the box for ParaView.
   const auto& walls = c.walls;
@@ -161,12 +196,19 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
   c.first = file.int32s("/engine/contact_first");
   c.second = file.int32s("/engine/contact_second");
   c.history = history_from(file.doubles("/engine/contact_tangential"));
+  read_plastic(file, "/engine/contact_plastic_force", c.history, path);
+  if (file.has("/particles/pressure")) {  // the p the multi-contact law reads next step
+    c.particle_pressure = file.doubles("/particles/pressure");
+    if (c.particle_pressure.size() != n)
+      throw InputError("'" + path.string() + "': /particles/pressure must have N values");
+  }
   const auto position = file.doubles("/walls/position");
   const auto velocity = file.doubles("/walls/velocity");
   const auto facing = file.int32s("/walls/facing");
   const auto material = file.int32s("/walls/material");
   c.wall_force = file.doubles("/walls/force");
-  const auto wall_history = history_from(file.doubles("/engine/wall_tangential"));
+  auto wall_history = history_from(file.doubles("/engine/wall_tangential"));
+  read_plastic(file, "/engine/wall_plastic_force", wall_history, path);
   if (wall_history.size() != position.size() * n || c.history.size() != c.first.size())
     throw InputError("'" + path.string() + "': contact history does not match the spheres");
   for (std::size_t k = 0; k < position.size(); ++k) {
@@ -217,6 +259,10 @@ void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotInd
     xml += attribute("velocity", "Vector", "/particles/velocity", 3, false);
     xml += attribute("force", "Vector", "/particles/force", 3, false);
     xml += attribute("contacts", "Scalar", "/particles/contacts", 1, true);
+    if (e.stress) {
+      xml += attribute("pressure", "Scalar", "/particles/pressure", 1, false);
+      xml += attribute("stress", "Tensor6", "/particles/stress", 6, false);
+    }
     xml += "    </Grid>\n";
     xml += fmt::format(
         "    <Grid Name=\"walls\"><Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"{}\">"

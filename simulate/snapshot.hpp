@@ -29,6 +29,7 @@ struct SnapshotIndexEntry {
   double time = 0.0;
   std::size_t spheres = 0;
   std::size_t walls = 0;
+  bool stress = false;  // /particles/stress and /particles/pressure are present
 };
 // Writes the XDMF 3 sidecar atomically (rewritten after each snapshot).
 void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotIndexEntry>& entries);

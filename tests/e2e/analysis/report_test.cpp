@@ -185,6 +185,23 @@ TEST(ReportE2e, BadInputIsExitTwoNamingTheFileOrColumn) {
   EXPECT_FALSE(std::filesystem::exists(out / "r" / "report.html"));
 }
 
+TEST(ReportE2e, PlateChartTakesAnExtraCurve) {
+  // Another method's curve (a BMS plate run when it lands) on the plate chart by label.
+  const auto out = fresh_dir("plate_curve");
+  std::ofstream(out / "bms.csv") << "# a made-up curve\ndeformation,force_N\n0.1,1.5\n0.2,4.0\n";
+  auto r = run_shapepress("report " + quote(data / "plate_run") + " --poisson-ratio 0.46" +
+                          " --plate-curve 'BMS 545=" + (out / "bms.csv").string() + "' --out " +
+                          quote(out / "r"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string chart = read_text(out / "r" / "plate_force.csv");
+  EXPECT_THAT(chart, HasSubstr("BMS 545"));
+  EXPECT_THAT(chart, HasSubstr("Tatara"));
+  r = run_shapepress("report " + quote(data / "plate_run") + " --plate-curve " +
+                     quote(out / "bms.csv") + " --out " + quote(out / "r2"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;  // no LABEL=
+  EXPECT_THAT(r.output, HasSubstr("LABEL=FILE.csv"));
+}
+
 TEST(ReportE2e, WithoutGnuplotTheRunFailsNamingIt) {
   const auto out = fresh_dir("no_gnuplot");
   const auto r = run_command("PATH=" + quote(out) + " " + std::string(SHAPEPRESS_BINARY) +

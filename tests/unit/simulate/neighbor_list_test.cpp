@@ -12,9 +12,10 @@
 namespace shapepress::simulate {
 namespace {
 
-SphereState random_spheres(int count, double length, std::uint32_t seed) {
+SphereState random_spheres(int count, double length, std::uint32_t seed, double r_min = 0.4e-3,
+                           double r_max = 0.6e-3) {
   std::mt19937 random(seed);
-  std::uniform_real_distribution<double> coordinate(0.0, length), radius(0.4e-3, 0.6e-3);
+  std::uniform_real_distribution<double> coordinate(0.0, length), radius(r_min, r_max);
   SphereState s;
   for (int i = 0; i < count; ++i)
     s.add_sphere(coordinate(random), coordinate(random), coordinate(random), radius(random), 1000.0,
@@ -85,9 +86,32 @@ TEST(NeighborList, HistoryFollowsPairsAcrossRebuilds) {
   EXPECT_EQ(carried[3].tangential[0], 3.0);
 }
 
-TEST(NeighborList, PeriodicBoxShorterThanThreeCellsIsAnInputError) {
+TEST(NeighborList, PeriodicBoxNotTwiceTheReachIsAnInputError) {
+  // Reach 2 × 0.6 + 0.1 mm = 1.3 mm: a 2 mm period could let a pair meet through two images.
   const SphereState s = random_spheres(10, 2e-3, 1);
   EXPECT_THROW(build_pair_list(s, Box{2e-3, 2e-3}, 0.1e-3), InputError);
+}
+
+TEST(NeighborList, TwoCellsPerPeriodFindEachPairOnce) {
+  // Reach ≤ 0.7 mm in a 1.5 mm period: two cells, whose -1 and +1 neighbours are one cell.
+  const double length = 1.5e-3, skin = 0.1e-3;
+  const SphereState s = random_spheres(40, length, 3, 0.1e-3, 0.3e-3);
+  const PairList list = build_pair_list(s, Box{length, length}, skin);
+  std::set<std::pair<int, int>> expected, found;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    for (std::size_t j = i + 1; j < s.size(); ++j) {
+      double dx = s.position.x[j] - s.position.x[i], dy = s.position.y[j] - s.position.y[i];
+      dx -= length * std::nearbyint(dx / length);
+      dy -= length * std::nearbyint(dy / length);
+      const double dz = s.position.z[j] - s.position.z[i];
+      const double reach = s.radius[i] + s.radius[j] + skin;
+      if (dx * dx + dy * dy + dz * dz < reach * reach) expected.emplace(i, j);
+    }
+  for (std::size_t p = 0; p < list.size(); ++p)
+    found.emplace(list.first[p], list.second[p]);
+  EXPECT_EQ(found, expected);
+  EXPECT_EQ(found.size(), list.size());  // no pair twice
+  EXPECT_GT(list.size(), 20u);
 }
 
 TEST(NeighborList, WrapBringsPositionsIntoTheBox) {
