@@ -68,8 +68,8 @@ int run(const CompactCli& cli, const RunContext& context) {
   hooks.snapshot = [&](const Engine& e, const PunchState& punch) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
     write_snapshot(out / "snapshots" / name, e, punch, provenance);
-    index.push_back(
-        {std::filesystem::path("snapshots") / name, e.time(), e.state().size(), e.walls().size()});
+    index.push_back({std::filesystem::path("snapshots") / name, e.time(), e.state().size(),
+                     e.walls().size(), e.bonds().size()});
     write_xdmf(out / "snapshots.xdmf", index);
   };
   const double total = config.run.steps > 0 ? static_cast<double>(config.run.steps) : 0.0;

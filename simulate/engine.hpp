@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "simulate/bonds.hpp"
 #include "simulate/contact_law.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/neighbor_list.hpp"
@@ -63,6 +64,7 @@ struct EngineCheckpoint {
   std::vector<double> wall_force;                         // [wall], z, on the wall
   double energy_reference = 0.0;
   double work_in = 0.0;
+  BondSet bonds;  // with their accumulated forces and moments (empty without BMS particles)
 };
 
 struct EnergySummary {
@@ -75,8 +77,9 @@ class Engine {
  public:
   // Computes the initial forces (the first half-kick needs them). Checks that every material
   // pair that can meet has an interaction.
+  // `bonds` (create_bonds) join the sub-spheres of BMS particles.
   Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
-         EngineSettings settings);
+         EngineSettings settings, BondSet bonds = {});
   // Continues from a checkpoint: the forces in `state` are those of the step it was taken at.
   Engine(SphereState state, Box box, MaterialTable materials, EngineSettings settings,
          EngineCheckpoint checkpoint);
@@ -112,6 +115,7 @@ class Engine {
   // Work done on the spheres by moving walls and by gravity since the start, J.
   double work_in() const { return work_in_; }
   std::int64_t list_builds() const { return list_builds_; }
+  const BondSet& bonds() const { return bonds_; }
 
   EngineCheckpoint checkpoint() const;
 
@@ -122,6 +126,7 @@ class Engine {
   void compute_forces(double kick);
   void pack_spheres();  // geometry_ and motion_ from the state (step() fuses this into its drift)
   void pair_forces();
+  void index_bonded_pairs();        // pair_bond_ for the current list
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
   void require_material_pairs() const;
 
@@ -156,6 +161,11 @@ class Engine {
   std::int64_t wall_contacts_ = 0;
   std::int64_t list_builds_ = 0;
   double energy_reference_ = 0.0;  // total energy at the start
+  BondSet bonds_;
+  // Per list pair: the index of its bond, or -1 (only filled when bonded pairs skip the contact
+  // law, BondSet::contact_when_bonded false).
+  std::vector<std::int32_t> pair_bond_;
+  bool bond_increments_ = false;  // false for the forces at t = 0: no step has moved anything
   double work_in_ = 0.0;
 };
 
