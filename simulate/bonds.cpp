@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
-#include "simulate/engine.hpp"
+#include "simulate/engine.hpp"  // parallel_min_pairs
 
 namespace shapepress::simulate {
 
@@ -44,7 +44,8 @@ std::int64_t BondSet::intact_count() const {
   return n;
 }
 
-void BondSet::index(std::size_t sphere_count) {
+void BondSet::index(const SphereState& state) {
+  const std::size_t sphere_count = state.size();
   gather_offset.assign(sphere_count + 1, 0);
   for (std::size_t b = 0; b < size(); ++b) {
     ++gather_offset[static_cast<std::size_t>(first[b]) + 1];
@@ -60,6 +61,20 @@ void BondSet::index(std::size_t sphere_count) {
     gather[static_cast<std::size_t>(fill[static_cast<std::size_t>(second[b])]++)] = entry + 1;
   }
   result.assign(size(), Result{});
+  damping.assign(size(), {0.0, 0.0, 0.0, 0.0});
+  breakable = false;
+  for (std::size_t b = 0; b < size(); ++b) {
+    breakable = breakable || std::isfinite(tensile_strength[b]) || std::isfinite(shear_strength[b]);
+    const double zeta = damping_ratio[b];
+    if (zeta <= 0.0) continue;
+    const auto i = static_cast<std::size_t>(first[b]), j = static_cast<std::size_t>(second[b]);
+    const double m_eff = 1.0 / (state.inverse_mass[i] + state.inverse_mass[j]);
+    const double i_eff = 1.0 / (state.inverse_inertia[i] + state.inverse_inertia[j]);
+    damping[b] = {2.0 * zeta * std::sqrt(normal_spring[b] * m_eff),
+                  2.0 * zeta * std::sqrt(shear_spring[b] * m_eff),
+                  2.0 * zeta * std::sqrt(twist_spring[b] * i_eff),
+                  2.0 * zeta * std::sqrt(bend_spring[b] * i_eff)};
+  }
 }
 
 namespace {
@@ -152,7 +167,7 @@ BondSet create_bonds(const SphereState& state, double bond_multiplier,
   bonds.contact_when_bonded = parameters.contact_when_bonded;
   for (const auto& p : pairs)
     add_bond(bonds, state, p[0], p[1], parameters);
-  bonds.index(n);
+  bonds.index(state);
   return bonds;
 }
 
@@ -231,37 +246,36 @@ void compute_bond_forces(BondSet& bonds, const SphereState& s, const double* mot
       }
       mt -= kt * wt * increment_dt;
     }
-    // Strength (P&C 2004 Eq. 11): the elastic forces only.
-    const double r = bonds.radius[b];
-    const double area = std::numbers::pi * r * r;
-    const double bend_inertia = 0.25 * std::numbers::pi * r * r * r * r;
-    const double fs_norm = std::sqrt(*fs[0] * *fs[0] + *fs[1] * *fs[1] + *fs[2] * *fs[2]);
-    const double mb_norm = std::sqrt(*mb[0] * *mb[0] + *mb[1] * *mb[1] + *mb[2] * *mb[2]);
-    const double sigma = -fn / area + mb_norm * r / bend_inertia;
-    const double tau = fs_norm / area + std::fabs(mt) * r / (2.0 * bend_inertia);
-    if (sigma >= bonds.tensile_strength[b] || tau >= bonds.shear_strength[b]) {
-      bonds.intact[b] = 0;  // for good: the gather skips it, the pair becomes a plain contact
-      fn = mt = 0.0;
-      for (int k = 0; k < 3; ++k)
-        *fs[k] = *mb[k] = 0.0;
-      continue;
+    if (bonds.breakable) {
+      // Strength (P&C 2004 Eq. 11): the elastic forces only.
+      const double r = bonds.radius[b];
+      const double area = std::numbers::pi * r * r;
+      const double bend_inertia = 0.25 * std::numbers::pi * r * r * r * r;
+      const double fs_norm = std::sqrt(*fs[0] * *fs[0] + *fs[1] * *fs[1] + *fs[2] * *fs[2]);
+      const double mb_norm = std::sqrt(*mb[0] * *mb[0] + *mb[1] * *mb[1] + *mb[2] * *mb[2]);
+      const double sigma = -fn / area + mb_norm * r / bend_inertia;
+      const double tau = fs_norm / area + std::fabs(mt) * r / (2.0 * bend_inertia);
+      if (sigma >= bonds.tensile_strength[b] || tau >= bonds.shear_strength[b]) {
+        bonds.intact[b] = 0;  // for good: the gather skips it, the pair becomes a plain contact
+        fn = mt = 0.0;
+        for (int k = 0; k < 3; ++k)
+          *fs[k] = *mb[k] = 0.0;
+        continue;
+      }
     }
     double force[3], moment[3];
     for (int k = 0; k < 3; ++k) {
       force[k] = fn * n[k] + *fs[k];
       moment[k] = mt * n[k] + *mb[k];
     }
-    const double zeta = bonds.damping_ratio[b];
-    if (zeta > 0.0) {
+    const std::array<double, 4>& c = bonds.damping[b];
+    if (c[0] > 0.0) {
       // Dampers on the predicted end-of-step motion, as the contact law's (forces.cpp).
       const double* mi = motion + 8 * i;
       const double* mj = motion + 8 * j;
       double v[3], w[3];
       relative(mi, mi + 3, mj, mj + 3, v, w);
-      const double m_eff = mi[6] * mj[6] / (mi[6] + mj[6]);
-      const double i_eff = 1.0 / (mi[7] + mj[7]);
-      const double cn = 2.0 * zeta * std::sqrt(kn * m_eff), cs = 2.0 * zeta * std::sqrt(ks * m_eff);
-      const double ct = 2.0 * zeta * std::sqrt(kt * i_eff), cb = 2.0 * zeta * std::sqrt(kb * i_eff);
+      const double cn = c[0], cs = c[1], ct = c[2], cb = c[3];
       const double vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
       const double wt = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
       for (int k = 0; k < 3; ++k) {

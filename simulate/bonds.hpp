@@ -14,6 +14,7 @@
 // per-bond result, then each sphere gathers its bonds in a fixed order (after its contacts), so
 // results do not depend on the thread count. The whole state lives in BondSet and goes into
 // snapshots (snapshot.cpp) so a restart continues bit-identically.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -74,6 +75,10 @@ struct BondSet {
     double torque_second[3];
   };
   std::vector<Result> result;
+  // Derived per bond by index() (not saved): damper coefficients 2ζ√(k m*) of the normal, shear,
+  // twist and bending modes, and whether any bond can break (skips the strength test).
+  std::vector<std::array<double, 4>> damping;
+  bool breakable = false;
   // Per-sphere gather lists (CSR), as PairList: entries 2·bond + (0 first, 1 second) in
   // increasing bond index.
   std::vector<std::int32_t> gather_offset;
@@ -82,8 +87,9 @@ struct BondSet {
   std::size_t size() const { return first.size(); }
   bool empty() const { return first.empty(); }
   std::int64_t intact_count() const;
-  // Fills gather_offset/gather for `sphere_count` spheres and sizes `result`.
-  void index(std::size_t sphere_count);
+  // Fills gather_offset/gather for the spheres of `state`, the dampers from their masses and
+  // inertias, and sizes `result`.
+  void index(const SphereState& state);
 };
 
 // Bonds by paper Eq. 10, |xi - xj| < (ri + rj) m_b, between sub-spheres of the same body only,

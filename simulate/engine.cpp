@@ -38,7 +38,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<
   if (!(settings_.skin >= 0.0)) throw InputError("neighbour skin must be >= 0");
   require_material_pairs();
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
-  if (!bonds_.empty()) bonds_.index(state_.size());
+  if (!bonds_.empty()) bonds_.index(state_);
   build_list(true);
   pack_spheres();
   compute_forces(0.0);
@@ -58,7 +58,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
       bonds_(std::move(checkpoint.bonds)),
       bond_increments_(true) {
   require_material_pairs();
-  if (!bonds_.empty()) bonds_.index(state_.size());
+  if (!bonds_.empty()) bonds_.index(state_);
   if (checkpoint.wall_history.size() != walls_.size())
     throw InputError("checkpoint: wall history does not match the walls");
   wall_history_ = std::move(checkpoint.wall_history);

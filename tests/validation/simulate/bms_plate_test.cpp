@@ -66,11 +66,11 @@ Engine bms_engine(const PlateConfig& config, int count) {
 }
 
 PlateConfig stiff_bonds(PlateConfig c) {
-  // Bonds and contacts near the calibrated ones (pipelines/rubber-sphere), so that bond and
-  // contact forces both matter in the bit comparisons.
-  set_parameter(c, "contact_modulus", 1.6e9);
-  c.bms->bond.modulus = 2e6;
-  c.bms->bond.shear_ratio = 0.2;
+  // Bonds and contacts of the N = 545 calibration (pipelines/rubber-sphere, rounded), so that
+  // bond and contact forces both matter.
+  set_parameter(c, "contact_modulus", 4.5e9);
+  c.bms->bond.modulus = 2.2e6;
+  c.bms->bond.shear_ratio = 0.08;
   return c;
 }
 
@@ -150,7 +150,7 @@ TEST(RubberSphere, ClassicalHertzSphereLeavesTataraBeyondTwentyPercent) {
 TEST(RubberSphere, BmsCompressionIsQuasiStaticAndBalanced) {
   // The shipped speed and bond damping keep the kinetic energy below 1 % of the plates' work,
   // and the two plates carry the same force within 2 %, from 5 % deformation to 40 %.
-  PlateConfig config = shipped_config();
+  PlateConfig config = stiff_bonds(shipped_config());
   config.bms->count = full_validation() ? 545 : 250;
   const PlateRunOutcome run = run_plate_config(config, true);
   ASSERT_EQ(run.rows.size(), static_cast<std::size_t>(config.setup.records));
@@ -161,6 +161,41 @@ TEST(RubberSphere, BmsCompressionIsQuasiStaticAndBalanced) {
     EXPECT_LT(row.kinetic_energy, 0.01 * row.work) << "at deformation " << row.deformation;
     EXPECT_NEAR(row.bottom_force, row.top_force, 0.02 * row.top_force)
         << "at deformation " << row.deformation;
+  }
+}
+
+// The acceptance on the full study (SHAPEPRESS_FULL_VALIDATION=1; about an hour on a
+// shared 2-core machine): calibrate at N = 545 against Tatara, then with the same parameters
+// N = 545 within 5 % RMS of Tatara over 5–40 %, and N = 819 and 1322 within 2 % of each other
+// at every 1 % step from 5 % to 40 %. Reduced sizes would not test these numbers (a coarse
+// agglomerate is not expected to meet them), so CI skips it.
+TEST(RubberSphere, CalibratedBmsMatchesTataraAndConverges) {
+  if (!full_validation()) GTEST_SKIP() << "full study only (SHAPEPRESS_FULL_VALIDATION=1)";
+  PlateConfig config = shipped_config();
+  config.bms->count = 545;
+  const Reference ref = tatara_reference();
+  CalibrationOptions options;
+  options.parameters = {"modulus", "contact_modulus", "shear_ratio"};
+  options.start = {{"modulus", 1.9e6}, {"contact_modulus", 1.6e9}, {"shear_ratio", 0.16}};
+  options.reference_deformation = ref.deformation;
+  options.reference_force = ref.tatara;
+  options.max_evaluations = 50;
+  const CalibrationResult calibrated = calibrate_plate(config, options);
+  EXPECT_LT(calibrated.rms_relative, 0.05) << "N = 545 against Tatara over 5-40 %";
+  std::vector<std::vector<PlateRow>> runs;
+  for (int n : {819, 1322}) {
+    PlateConfig c = calibrated.config;
+    c.bms->count = n;
+    runs.push_back(run_plate_config(c, true).rows);
+  }
+  std::vector<double> d, f;
+  for (const PlateRow& row : runs[1])
+    d.push_back(row.deformation), f.push_back(row.top_force);
+  d.insert(d.begin(), 0.0), f.insert(f.begin(), 0.0);
+  for (int step = 5; step <= 40; ++step) {
+    const double x = step / 100.0;
+    const CurveError e = plate_curve_error(runs[0], d, f, x - 1e-3, x);
+    EXPECT_LT(e.max_relative, 0.02) << "N = 819 vs 1322 at deformation " << x;
   }
 }
 
