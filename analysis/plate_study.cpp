@@ -106,24 +106,28 @@ std::vector<Chart> plate_study_charts(const PlateStudy& study) {
                  "cpu_s",
                  "rms_percent",
                  {}};
-  int colour = 0;
+  // One line per comparison through the BMS runs in order of cost (labelled by N in the CSV),
+  // and the single Hertz sphere as its own points.
+  Series finest{"BMS vs the finest N", {}, {}, SeriesStyle::lines, 1};
+  Series tatara{"BMS vs Tatara", {}, {}, SeriesStyle::dashed, 2};
+  Series hertz{"Hertz sphere vs the finest N and vs Tatara", {}, {}, SeriesStyle::points, 3};
   for (const PlateStudyRow& row : study.rows) {
-    ++colour;
-    const std::string name =
-        row.sub_spheres > 1 ? fmt::format("N = {}", row.sub_spheres) : "Hertz sphere";
+    if (row.sub_spheres <= 1) {
+      hertz.x.push_back(row.cpu_seconds), hertz.y.push_back(100 * row.versus_finest.rms_relative);
+      if (row.versus_tatara)
+        hertz.x.push_back(row.cpu_seconds),
+            hertz.y.push_back(100 * row.versus_tatara->rms_relative);
+      continue;
+    }
     if (row.label != study.finest)
-      accuracy.series.push_back({name + " vs finest",
-                                 {row.cpu_seconds},
-                                 {100 * row.versus_finest.rms_relative},
-                                 SeriesStyle::points,
-                                 colour});
+      finest.x.push_back(row.cpu_seconds), finest.y.push_back(100 * row.versus_finest.rms_relative);
     if (row.versus_tatara)
-      accuracy.series.push_back({name + " vs Tatara",
-                                 {row.cpu_seconds},
-                                 {100 * row.versus_tatara->rms_relative},
-                                 SeriesStyle::points,
-                                 colour});
+      tatara.x.push_back(row.cpu_seconds),
+          tatara.y.push_back(100 * row.versus_tatara->rms_relative);
   }
+  by_x(finest), by_x(tatara);
+  accuracy.series = {finest, tatara};
+  if (!hertz.x.empty()) accuracy.series.push_back(hertz);
   return {cost, accuracy};
 }
 

@@ -55,8 +55,9 @@ int run(const PlateCli& cli, const RunContext& context) {
                  outcome.final_snapshot->walls().size(), outcome.final_snapshot->bonds().size()}});
   }
   const PlateRow& last = outcome.rows.back();
-  spdlog::info("plate: {} rows in {}; {:.3g} s wall, {:.3g} s CPU", outcome.rows.size(),
-               (out / "force.csv").string(), last.wall_seconds, last.cpu_seconds);
+  spdlog::info("plate: {} rows in {}; {} of {} bonds intact; {:.3g} s wall, {:.3g} s CPU",
+               outcome.rows.size(), (out / "force.csv").string(), last.intact_bonds, outcome.bonds,
+               last.wall_seconds, last.cpu_seconds);
   return 0;
 }
 
