@@ -12,10 +12,10 @@
 // - Love–Weber particle stress σi = (1/Vi) Σc lic ⊗ fc (paper Eq. 6's P_ij): the gather visits
 //   each sphere's contacts in fixed order with the normal and force at hand; it fills a per-sphere
 //   stress array there, read by the next step's pair loop (the law uses the previous step's p).
-// - Bodies: SphereState::body groups sub-spheres. Bonds become a second pair array (pair,
-//   bond state) evaluated like contacts and gathered through the same per-sphere lists; rigid
-//   clumps sum their sub-spheres' forces per body after the gather and integrate the body
-//   (quaternion, principal inertia) instead of the sub-spheres.
+// - Bodies: SphereState::body groups sub-spheres. Bonds (bonds.hpp, BMS particles) are a second
+//   pair array evaluated once per bond after the contacts and gathered per sphere after its
+//   contacts in fixed order; rigid clumps sum their sub-spheres' forces per body after the
+//   gather and integrate the body (quaternion, principal inertia) instead of the sub-spheres.
 #include <array>
 #include <cstdint>
 #include <optional>
