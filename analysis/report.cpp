@@ -9,6 +9,7 @@
 
 #include "analysis/curves.hpp"
 #include "analysis/plate_analysis.hpp"
+#include "analysis/plate_study.hpp"
 #include "analysis/plot.hpp"
 #include "analysis/report_html.hpp"
 #include "analysis/runs.hpp"
@@ -168,10 +169,29 @@ Chart plate_chart(const std::vector<LoadedRun>& runs, std::optional<double> pois
               "deformation",
               "force_N",
               {}};
-  for (const LoadedRun& run : runs) {
-    if (!run.plate) continue;
+  // Runs of one sphere (a study of sub-sphere counts) share their theory curves: draw Hertz and
+  // Tatara once per distinct sphere, over the longest of its runs.
+  std::vector<std::pair<double, double>> drawn;  // (R, E*) already drawn
+  std::vector<const LoadedRun*> order;
+  for (const LoadedRun& run : runs)
+    if (run.plate) order.push_back(&run);
+  std::stable_sort(order.begin(), order.end(), [](const LoadedRun* a, const LoadedRun* b) {
+    return a->plate->deformation.back() > b->plate->deformation.back();
+  });
+  for (const LoadedRun& run : runs)
+    if (run.plate)
+      chart.series.push_back(
+          {run.label + " simulated", run.plate->deformation, run.plate->top_force});
+  for (const LoadedRun* run_ptr : order) {
+    const LoadedRun& run = *run_ptr;
     const PlateCurve& c = *run.plate;
-    chart.series.push_back({run.label + " simulated", c.deformation, c.top_force});
+    const PlateMetrics& m = *run.plate_metrics;
+    const bool seen = std::any_of(drawn.begin(), drawn.end(), [&](const auto& d) {
+      return std::fabs(d.first - m.radius) <= 1e-6 * m.radius &&
+             std::fabs(d.second - m.effective_modulus) <= 1e-6 * m.effective_modulus;
+    });
+    if (seen) continue;
+    drawn.emplace_back(m.radius, m.effective_modulus);
     const Curve hertz = monotone_prefix({c.deformation, c.hertz_force, "Hertz"});
     chart.series.push_back({run.label + " Hertz", hertz.x, hertz.y, SeriesStyle::dashed});
     if (!poisson_ratio) continue;
@@ -232,6 +252,13 @@ ReportResult write_report(const ReportOptions& options) {
   if (result.plate_runs > 0 || !options.plate_curves.empty()) {
     const Chart chart = plate_chart(runs, options.poisson_ratio, options.plate_curves);
     charts.emplace_back(chart.title, plot_chart(chart, options.out / "plate_force").svg);
+  }
+  if (const std::optional<PlateStudy> study = plate_study(runs, options.poisson_ratio)) {
+    // Several plate runs with sub-sphere counts: cost against N and speed against accuracy.
+    const std::vector<Chart> cs = plate_study_charts(*study);
+    charts.emplace_back(cs[0].title, plot_chart(cs[0], options.out / "plate_cost").svg);
+    charts.emplace_back(cs[1].title, plot_chart(cs[1], options.out / "plate_speed_accuracy").svg);
+    write_plate_study_csv(options.out / "plate_study.csv", *study);
   }
   for (const auto& chart : charts)
     result.charts.push_back(chart.second);

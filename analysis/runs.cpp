@@ -1,5 +1,6 @@
 #include "analysis/runs.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 
@@ -96,6 +97,16 @@ PlateCurve read_plate_curve(const std::filesystem::path& path) {
   if (curve.approach.size() < 3)
     throw InputError(
         fmt::format("{}: {} rows, at least 3 needed", path.string(), curve.approach.size()));
+  const auto has = [&](std::string_view name) {
+    return std::find(table.columns.begin(), table.columns.end(), name) != table.columns.end();
+  };
+  if (has("cpu_s")) curve.cpu_seconds = table.column("cpu_s").back();
+  if (has("wall_s")) curve.wall_seconds = table.column("wall_s").back();
+  const std::regex count(R"(sub_spheres\s*=\s*([0-9]+))");
+  for (const std::string& line : csv_comments(path)) {
+    std::smatch match;
+    if (std::regex_search(line, match, count)) curve.sub_spheres = std::stoi(match[1]);
+  }
   return curve;
 }
 

@@ -16,6 +16,12 @@ struct PlateCurve {
   std::vector<double> approach;     // Δ, total plate approach [m]
   std::vector<double> top_force;    // N
   std::vector<double> hertz_force;  // N, as the run computed it
+  // From runs that carry them (shapepress plate since the BMS issue): the sub-sphere count
+  // ("# particle = …; sub_spheres = N" comment; 1 for a single sphere, 0 unknown) and the CPU
+  // and wall seconds of the whole run (last row of cpu_s, wall_s; < 0 unknown).
+  int sub_spheres = 0;
+  double cpu_seconds = -1.0;
+  double wall_seconds = -1.0;
 };
 
 struct RunFiles {

@@ -156,6 +156,16 @@ SphereTemplate fill_bonded(const SignedDistance& shape, const BondedFillOptions&
       sites = largest_cluster(kept, r, options.bond_multiplier);
     }
   }
+  // Fewer than three sub-spheres across its thinnest side, a template neither follows the shape
+  // nor deforms like a body (paper §3.2: coarse fills leave the converged curve first).
+  const double thinnest = shape.bounds.size().minCoeff();
+  if (6.0 * r > thinnest)
+    throw InputError(fmt::format(
+        "{} sub-spheres are too few for {}: their diameter {:.4g} m is more than a third of its "
+        "thinnest extent {:.4g} m (ask for more sub-spheres or a smaller --radius)",
+        options.sub_sphere_radius > 0.0 ? fmt::format("{:.4g} m", r)
+                                        : fmt::format("{}", options.target_count),
+        shape.description, 2.0 * r, thinnest));
   if (sites.empty())
     throw ComputationError(
         fmt::format("no sub-sphere of radius {:.4g} m fits in {}", r, shape.description));

@@ -19,7 +19,8 @@ std::span<const Stage> registered_stages() {
       Stage{"generate", "make 3D particles from shape statistics", geometry::setup_generate_cli},
       Stage{"describe", "3D descriptors of meshes (L, I, S, sphericity, projected ASR)", geometry::setup_describe_cli},
       Stage{"fill", "fill particle meshes with sub-spheres (BMS, CMS)", geometry::setup_fill_cli},
-      Stage{"plate", "one sphere between two plates (validation rig)", simulate::setup_plate_cli},
+      Stage{"plate", "one sphere or BMS particle between two plates (validation rig)", simulate::setup_plate_cli},
+      Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve", simulate::setup_calibrate_cli},
       Stage{"compact", "compact a sphere packing with a punch program", simulate::setup_compact_cli},
       Stage{"report", "charts, metrics.json and report.html of compaction and plate runs", analysis::setup_report_cli},
   };

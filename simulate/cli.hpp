@@ -7,5 +7,7 @@ namespace shapepress::simulate {
 StageRunner setup_plate_cli(CLI::App& app);
 // shapepress compact --config compact.toml [--packing FILE | --restart SNAPSHOT] --out DIR
 StageRunner setup_compact_cli(CLI::App& app);
+// shapepress calibrate --config plate.toml --reference curve.csv [--fit ...] --out DIR
+StageRunner setup_calibrate_cli(CLI::App& app);
 
 }  // namespace shapepress::simulate

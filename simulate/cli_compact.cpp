@@ -53,7 +53,7 @@ int run(const CompactCli& cli, const RunContext& context) {
   CsvWriter csv(out / "punch.csv",
                 {"time_s", "step", "gap_m", "strain", "top_force_N", "bottom_force_N", "stress_Pa",
                  "solid_fraction", "phase", "kinetic_energy_J", "contacts", "wall_contacts",
-                 "contacts_per_particle"});
+                 "contacts_per_particle", "intact_bonds"});
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
                           setup.reference_gap, setup.die_area));
@@ -75,13 +75,13 @@ int run(const CompactCli& cli, const RunContext& context) {
     csv.row({r.time, static_cast<double>(r.step), r.gap, r.strain, r.top_force, r.bottom_force,
              r.stress, r.solid_fraction, static_cast<double>(r.phase), r.kinetic_energy,
              static_cast<double>(r.sphere_contacts), static_cast<double>(r.wall_contacts),
-             r.contacts_per_particle});
+             r.contacts_per_particle, static_cast<double>(r.intact_bonds)});
   };
   hooks.snapshot = [&](const Engine& e, const PunchState& punch) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
     write_snapshot(out / "snapshots" / name, e, punch, provenance);
     index.push_back({std::filesystem::path("snapshots") / name, e.time(), e.state().size(),
-                     e.walls().size(), e.computes_particle_stress()});
+                     e.walls().size(), e.computes_particle_stress(), e.bonds().size()});
     write_xdmf(out / "snapshots.xdmf", index);
   };
   const double total = config.run.steps > 0 ? static_cast<double>(config.run.steps) : 0.0;

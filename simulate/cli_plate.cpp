@@ -6,10 +6,14 @@
 #include <memory>
 
 #include "common/config.hpp"
-#include "common/csv.hpp"
+#include "common/error.hpp"
+#include "common/provenance.hpp"
+#include "simulate/bms_particle.hpp"
 #include "simulate/cli.hpp"
 #include "simulate/config_io.hpp"
 #include "simulate/engine.hpp"
+#include "simulate/plate_run.hpp"
+#include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
 
 namespace shapepress::simulate {
@@ -19,49 +23,47 @@ struct PlateCli {
   std::string config;
   std::string out;
   std::string model;  // empty: each interaction's normal_law
+  std::string particle = "sphere";
+  int count = 0;
+  bool snapshot = false;
 };
 
-int run(const PlateCli& cli) {
+int run(const PlateCli& cli, const RunContext& context) {
   const ConfigTable root = ConfigTable::load_file(cli.config);
   std::optional<NormalLaw> model;  // --model overrides normal_law of every interaction
   if (!cli.model.empty())
     model = cli.model == "multicontact" ? NormalLaw::multicontact : NormalLaw::hertz;
   PlateConfig config = read_plate_config(root, model);
   root.check_unknown_keys();
-  const MaterialTable table = config.materials.table();
-  const PairConstants& contact =
-      table.pair(config.setup.sphere_material, config.setup.plate_material);
-  PlateSetup setup = config.setup;
-  SphereState probe;
-  probe.add_sphere(0, 0, 0, setup.radius, table.material(setup.sphere_material).density,
-                   setup.sphere_material);
-  const TimeStepChoice dt =
-      select_time_step(probe, table, {setup.plate_material}, config.run.time_step,
-                       config.run.time_step_fraction, setup.speed);
-  setup.time_step = dt.time_step;
-  spdlog::info("plate: time step {:.3g} s ({:.3g} of the Rayleigh time)", dt.time_step,
-               dt.time_step / dt.rayleigh_time);
-  const std::vector<PlateRow> rows = run_plate(table, setup);
+  const bool bonded = cli.particle == "bms";
+  if (bonded && !config.bms)
+    throw InputError(cli.config + ": --particle bms needs a [bms] table (and [bond])");
+  if (!bonded && config.bms)
+    spdlog::info("plate: --particle sphere: the [bms] and [bond] tables are not used");
+  if (cli.count > 0) {
+    if (!bonded) throw InputError("--count is the number of sub-spheres of --particle bms");
+    config.bms->count = cli.count;
+  }
   const std::filesystem::path out(cli.out);
   std::filesystem::create_directories(out);
-  CsvWriter csv(out / "force.csv", {"time_s", "deformation", "approach_m", "top_force_N",
-                                    "bottom_force_N", "hertz_force_N"});
-  csv.comment("shapepress plate: one sphere between two plates, top plate at constant speed");
-  csv.comment("hertz_force_N = (sqrt(2)/3) E* sqrt(R) approach^1.5 (models.md), E* sphere-plate");
-  csv.comment(contact.normal_law == NormalLaw::multicontact
-                  ? fmt::format("normal law: multicontact (Eq. 6), lambda_p = {:.6g}, k1 = {}, "
-                                "kc = {:.6g}, F0 = {:.6g} N, beta nu pi = {:.6g}",
-                                1.0 / contact.unloading_factor,
-                                contact.loading_stiffness > 0.0
-                                    ? fmt::format("{:.6g} N/m^1.5", contact.loading_stiffness)
-                                    : std::string("4/3 E* sqrt(R*)"),
-                                contact.adhesion_stiffness, contact.pull_off_force,
-                                contact.multicontact_factor)
-                  : std::string("normal law: hertz"));
-  for (const PlateRow& r : rows)
-    csv.row({r.time, r.deformation, r.approach, r.top_force, r.bottom_force, r.hertz_force});
-  csv.commit();
-  spdlog::info("plate: {} rows in {}", rows.size(), (out / "force.csv").string());
+  const PlateRunOutcome outcome =
+      run_plate_config(config, bonded, [](const std::string& line) { spdlog::info("{}", line); });
+  write_force_csv(out / "force.csv", outcome, config, bonded);
+  if (cli.snapshot && outcome.final_snapshot) {
+    // The last state, for ParaView (sub-spheres as points, bonds as lines, plates as quads).
+    const Provenance provenance{context.command_line, root.text(),
+                                config.bms ? std::optional(config.bms->seed) : std::nullopt};
+    write_snapshot(out / "final.h5", *outcome.final_snapshot, PunchState{}, provenance);
+    write_xdmf(out / "final.xdmf",
+               {{"final.h5", outcome.final_snapshot->time(), outcome.final_snapshot->state().size(),
+                 outcome.final_snapshot->walls().size(),
+                 outcome.final_snapshot->computes_particle_stress(),
+                 outcome.final_snapshot->bonds().size()}});
+  }
+  const PlateRow& last = outcome.rows.back();
+  spdlog::info("plate: {} rows in {}; {} of {} bonds intact; {:.3g} s wall, {:.3g} s CPU",
+               outcome.rows.size(), (out / "force.csv").string(), last.intact_bonds, outcome.bonds,
+               last.wall_seconds, last.cpu_seconds);
   return 0;
 }
 
@@ -69,14 +71,22 @@ int run(const PlateCli& cli) {
 
 StageRunner setup_plate_cli(CLI::App& app) {
   auto cli = std::make_shared<PlateCli>();
-  app.add_option("--config", cli->config, "plate config TOML (materials, sphere, plate)")
+  app.add_option("--config", cli->config, "plate config TOML (materials, sphere, plate, bms, bond)")
       ->required();
   app.add_option("--out", cli->out, "output folder (force.csv)")->required();
   app.add_option("--model", cli->model,
                  "normal law of every interaction, overriding the config's normal_law "
                  "(multicontact: paper Eq. 6 with the interaction's parameters)")
       ->check(CLI::IsMember({"hertz", "multicontact"}));
-  return [cli](const RunContext&) { return run(*cli); };
+  app.add_option("--particle", cli->particle,
+                 "sphere (one Hertz sphere) or bms (bonded sub-spheres filling it, [bms] + [bond])")
+      ->check(CLI::IsMember({"sphere", "bms"}))
+      ->capture_default_str();
+  app.add_option("--count", cli->count, "bms: number of sub-spheres (overrides bms.count)")
+      ->check(CLI::Range(1, 1000000));
+  app.add_flag("--snapshot", cli->snapshot,
+               "also write final.h5 + final.xdmf (ParaView: sub-spheres, bonds as lines, plates)");
+  return [cli](const RunContext& context) { return run(*cli, context); };
 }
 
 }  // namespace shapepress::simulate

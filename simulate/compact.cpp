@@ -27,6 +27,7 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   r.wall_contacts = engine.wall_contacts();
   const double n = static_cast<double>(engine.state().size());
   r.contacts_per_particle = n > 0 ? 2.0 * static_cast<double>(r.sphere_contacts) / n : 0.0;
+  r.intact_bonds = engine.bonds().intact_count();
   return r;
 }
 

@@ -42,6 +42,7 @@ struct PunchRecord {
   std::int64_t sphere_contacts = 0;
   std::int64_t wall_contacts = 0;
   double contacts_per_particle = 0.0;  // 2 × sphere–sphere contacts / N (LIGGGHTS contact/atom)
+  std::int64_t intact_bonds = 0;       // BMS bonds not broken
 };
 
 struct CompactionHooks {

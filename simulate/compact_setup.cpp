@@ -143,7 +143,8 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   for (const PlaneWall& w : snapshot.checkpoint.walls)
     wall_materials.push_back(w.material);
   out.time_step = select_time_step(snapshot.state, table, wall_materials, c.run.time_step,
-                                   c.run.time_step_fraction, expected_speed(c, snapshot.state));
+                                   c.run.time_step_fraction, expected_speed(c, snapshot.state),
+                                   snapshot.checkpoint.bonds);
   const EngineSettings settings = settings_for(c, snapshot.state, out.time_step.time_step);
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));

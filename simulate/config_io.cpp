@@ -1,6 +1,9 @@
 #include "simulate/config_io.hpp"
 
 #include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
 
 #include "common/error.hpp"
 
@@ -165,7 +168,95 @@ PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> 
   c.setup.speed = plate.quantity("speed", dim::velocity, std::nullopt, Range::positive());
   c.setup.max_deformation = plate.number("max_deformation", 0.01, Range{0.0, 0.5, false, false});
   c.setup.records = static_cast<int>(plate.integer("records", 50, Range::closed(1, 100000)));
+  c.setup.max_overlap_fraction = c.run.max_overlap_fraction;
+  if (root.has("bms")) {
+    const ConfigTable t = root.table("bms");
+    BmsConfig b;
+    b.count = static_cast<int>(t.integer("count", 545, Range::closed(1, 1000000)));
+    b.lattice = t.choice("lattice", {"fcc", "hcp"}, "fcc");
+    b.placement = t.choice("placement", {"inside", "centre"}, "inside");
+    b.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
+    // m_b <= 1 is refused by create_bonds with the reason; read it unchecked here.
+    b.bond_multiplier = t.number("bond_multiplier", 1.15);
+    b.material = t.has("material") ? t.string("material") : sphere.string("material");
+    table.index_of(b.material);
+    const ConfigTable k = root.table("bond");
+    BondParameters& p = b.bond;
+    // Signs are checked by BondParameters::check() so that every cause reads the same way.
+    if (k.has("modulus")) {
+      if (k.has("normal_stiffness") || k.has("shear_stiffness"))
+        throw InputError(root.source_name() +
+                         ": bond: give modulus (with shear_ratio) or normal_stiffness and "
+                         "shear_stiffness, not both");
+      p.modulus = k.quantity("modulus", dim::pressure);
+      p.shear_ratio = k.number("shear_ratio", 1.0);
+    } else {
+      p.normal_stiffness = k.quantity("normal_stiffness", dim::stiffness_per_area);
+      p.shear_stiffness = k.quantity("shear_stiffness", dim::stiffness_per_area);
+    }
+    p.radius_multiplier = k.number("radius_multiplier", 1.0);
+    p.tensile_strength =
+        k.quantity("tensile_strength", dim::pressure, std::numeric_limits<double>::infinity());
+    p.shear_strength =
+        k.quantity("shear_strength", dim::pressure, std::numeric_limits<double>::infinity());
+    p.damping_ratio = k.number("damping_ratio", 0.0);
+    p.contact_when_bonded = k.boolean("contact_when_bonded", true);
+    try {
+      p.check();
+    } catch (const InputError& e) {
+      throw InputError(root.source_name() + ": [bond] " + e.what());
+    }
+    c.bms = b;
+  }
   return c;
+}
+
+std::string plate_config_toml(const PlateConfig& c) {
+  std::string out;
+  const auto number = [](double v) { return fmt::format("{:.17g}", v); };
+  for (const Material& m : c.materials.materials)
+    out += fmt::format(
+        "[[material]]\nname = \"{}\"\nyoungs_modulus = {}\npoisson_ratio = {}\ndensity = "
+        "{}\n\n",
+        m.name, number(m.youngs_modulus), number(m.poisson_ratio), number(m.density));
+  for (const Interaction& in : c.materials.interactions)
+    out += fmt::format(
+        "[[interaction]]\nfirst = \"{}\"\nsecond = \"{}\"\nrestitution = {}\n"
+        "sliding_friction = {}\nrolling_friction = {}\n\n",
+        in.first, in.second, number(in.restitution), number(in.sliding_friction),
+        number(in.rolling_friction));
+  const RunConfig& r = c.run;
+  out += "[run]\n";
+  if (r.time_step) out += fmt::format("time_step = {}\n", number(*r.time_step));
+  out += fmt::format("time_step_fraction = {}\nmax_overlap_fraction = {}\n\n",
+                     number(r.time_step_fraction), number(r.max_overlap_fraction));
+  const auto& names = c.materials.materials;
+  out += fmt::format("[sphere]\nradius = {}\nmaterial = \"{}\"\n\n", number(c.setup.radius),
+                     names[static_cast<std::size_t>(c.setup.sphere_material)].name);
+  out += fmt::format("[plate]\nmaterial = \"{}\"\nspeed = {}\nmax_deformation = {}\nrecords = {}\n",
+                     names[static_cast<std::size_t>(c.setup.plate_material)].name,
+                     number(c.setup.speed), number(c.setup.max_deformation), c.setup.records);
+  if (!c.bms) return out;
+  const BmsConfig& b = *c.bms;
+  out += fmt::format(
+      "\n[bms]\ncount = {}\nlattice = \"{}\"\nplacement = \"{}\"\nseed = {}\n"
+      "bond_multiplier = {}\nmaterial = \"{}\"\n\n[bond]\n",
+      b.count, b.lattice, b.placement, b.seed, number(b.bond_multiplier), b.material);
+  const BondParameters& p = b.bond;
+  if (p.modulus > 0.0)
+    out +=
+        fmt::format("modulus = {}\nshear_ratio = {}\n", number(p.modulus), number(p.shear_ratio));
+  else
+    out += fmt::format("normal_stiffness = {}\nshear_stiffness = {}\n", number(p.normal_stiffness),
+                       number(p.shear_stiffness));
+  out += fmt::format("radius_multiplier = {}\n", number(p.radius_multiplier));
+  if (std::isfinite(p.tensile_strength))
+    out += fmt::format("tensile_strength = {}\n", number(p.tensile_strength));
+  if (std::isfinite(p.shear_strength))
+    out += fmt::format("shear_strength = {}\n", number(p.shear_strength));
+  out += fmt::format("damping_ratio = {}\ncontact_when_bonded = {}\n", number(p.damping_ratio),
+                     p.contact_when_bonded ? "true" : "false");
+  return out;
 }
 
 }  // namespace shapepress::simulate

@@ -28,6 +28,13 @@
 // plate only:
 //   [sphere]         radius, material; [plate] material, speed, max_deformation = 0.01,
 //                    records = 50
+//   [bms]            (plate --particle bms) count = 545, lattice = "fcc" | "hcp",
+//                    placement = "inside" | "centre", seed = 1, bond_multiplier = 1.15 (m_b,
+//                    Eq. 10), material = the sphere's (the sub-spheres' contact material)
+//   [bond]           normal_stiffness, shear_stiffness (k̄n, k̄s, N/m^3) | modulus (Ē, Pa) with
+//                    shear_ratio = 1 (k̄s/k̄n); radius_multiplier = 1 (λ̄),
+//                    tensile_strength, shear_strength (Pa, default unbreakable),
+//                    damping_ratio = 0, contact_when_bonded = true
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -35,6 +42,7 @@
 #include <vector>
 
 #include "common/config.hpp"
+#include "simulate/bonds.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/packing.hpp"
 #include "simulate/plate.hpp"
@@ -78,13 +86,28 @@ struct CompactConfig {
 };
 CompactConfig read_compact_config(const ConfigTable& root);
 
+// A bonded multi-sphere particle filling the plate rig's sphere (plate --particle bms).
+struct BmsConfig {
+  int count = 545;
+  std::string lattice = "fcc";
+  std::string placement = "inside";
+  std::uint64_t seed = 1;
+  double bond_multiplier = 1.15;
+  std::string material;  // of the sub-spheres; empty: the sphere's
+  BondParameters bond;
+};
+
 struct PlateConfig {
   MaterialConfig materials;
   RunConfig run;
-  PlateSetup setup;  // time_step left 0: chosen from run
+  PlateSetup setup;              // time_step left 0: chosen from run
+  std::optional<BmsConfig> bms;  // when the config has [bms]
 };
 // `normal_law` (plate --model) replaces the normal law of every interaction.
 PlateConfig read_plate_config(const ConfigTable& root,
                               std::optional<NormalLaw> normal_law = std::nullopt);
+// The config as TOML that read_plate_config reads back to the same values (calibrate writes
+// the fitted parameters this way, so a calibrated run is one config file).
+std::string plate_config_toml(const PlateConfig& config);
 
 }  // namespace shapepress::simulate

@@ -48,9 +48,11 @@ EnergySummary Engine::energy() const {
     const int i = pairs_.first[p], j = pairs_.second[p];
     const double overlap = pair_overlap(s, pairs_, p);
     if (overlap <= 0.0) continue;
+    if (!pair_bond_.empty() && pair_bond_[p] >= 0 && bonds_.intact[pair_bond_[p]]) continue;
     add_contact(materials_.pair(s.material[i], s.material[j]),
                 s.radius[i] * s.radius[j] / (s.radius[i] + s.radius[j]), overlap, history_[p]);
   }
+  e.elastic += bond_elastic_energy(bonds_);
   for (std::size_t k = 0; k < walls_.size(); ++k) {
     const PlaneWall& w = walls_[k];
     for (std::size_t i = 0; i < s.size(); ++i) {
@@ -204,6 +206,7 @@ EngineCheckpoint Engine::checkpoint() const {
   c.particle_pressure = pressure_;
   c.energy_reference = energy_reference_;
   c.work_in = work_in_;
+  c.bonds = bonds_;
   return c;
 }
 

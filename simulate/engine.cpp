@@ -27,20 +27,23 @@ std::vector<std::uint8_t> touching_flags(const PairList& list, const PairList& t
 }  // namespace
 
 Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
-               EngineSettings settings)
+               EngineSettings settings, BondSet bonds)
     : state_(std::move(state)),
       box_(box),
       materials_(std::move(materials)),
       walls_(std::move(walls)),
-      settings_(settings) {
+      settings_(settings),
+      bonds_(std::move(bonds)) {
   if (!(settings_.time_step > 0.0)) throw InputError("time step must be > 0");
   if (!(settings_.skin >= 0.0)) throw InputError("neighbour skin must be >= 0");
   require_material_pairs();
   enable_particle_stress();
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
+  if (!bonds_.empty()) bonds_.index(state_);
   build_list(true);
   pack_spheres();
   compute_forces(0.0);
+  bond_increments_ = true;
   energy_reference_ = energy().kinetic + energy().elastic;
 }
 
@@ -52,7 +55,9 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
       walls_(std::move(checkpoint.walls)),
       settings_(settings),
       step_(checkpoint.step),
-      time_(checkpoint.time) {
+      time_(checkpoint.time),
+      bonds_(std::move(checkpoint.bonds)),
+      bond_increments_(true) {
   require_material_pairs();
   enable_particle_stress();
   if (particle_stress_on_ && !checkpoint.particle_pressure.empty()) {
@@ -61,6 +66,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
       throw InputError("checkpoint: particle pressure does not match the spheres");
     pressure_ = std::move(checkpoint.particle_pressure);
   }
+  if (!bonds_.empty()) bonds_.index(state_);
   if (checkpoint.wall_history.size() != walls_.size())
     throw InputError("checkpoint: wall history does not match the walls");
   wall_history_ = std::move(checkpoint.wall_history);
@@ -129,6 +135,7 @@ void Engine::build_list(bool wrap) {
   // Zero for every pair: the force pass rewrites the touching ones before they are gathered.
   pair_results_.assign(pairs_.size(), PairResult{});
   if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
+  index_bonded_pairs();
   build_reference_ = state_.position;
   ++list_builds_;
 }
@@ -217,7 +224,28 @@ void Engine::step() {
 
 void Engine::compute_forces(double kick) {
   pair_forces();
+  if (!bonds_.empty())
+    compute_bond_forces(bonds_, state_, motion_.data(), box_, settings_.time_step,
+                        !bond_increments_);
   gather_forces(kick);
+}
+
+void Engine::index_bonded_pairs() {
+  pair_bond_.clear();
+  if (bonds_.empty() || bonds_.contact_when_bonded) return;
+  // Both lists are sorted by (first, second): one merge.
+  pair_bond_.assign(pairs_.size(), -1);
+  std::size_t b = 0;
+  const auto key = [](std::int32_t a, std::int32_t c) {
+    return (static_cast<std::int64_t>(a) << 32) | c;
+  };
+  for (std::size_t p = 0; p < pairs_.size() && b < bonds_.size(); ++p) {
+    const std::int64_t k = key(pairs_.first[p], pairs_.second[p]);
+    while (b < bonds_.size() && key(bonds_.first[b], bonds_.second[b]) < k)
+      ++b;
+    if (b < bonds_.size() && key(bonds_.first[b], bonds_.second[b]) == k)
+      pair_bond_[p] = static_cast<std::int32_t>(b);
+  }
 }
 
 }  // namespace shapepress::simulate

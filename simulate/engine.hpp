@@ -17,16 +17,18 @@
 //   full tensor is summed on demand (particle_stress(), snapshots) from the same contacts.
 //   Agglomerates (BMS, SphereState::body) extend it by summing Vi σi over a body's sub-spheres
 //   for contacts with other bodies only, dividing by the body's volume and reading p[body[i]].
-// - Bodies: SphereState::body groups sub-spheres. Bonds become a second pair array (pair,
-//   bond state) evaluated like contacts and gathered through the same per-sphere lists; rigid
-//   clumps sum their sub-spheres' forces per body after the gather and integrate the body
-//   (quaternion, principal inertia) instead of the sub-spheres.
+// - Bodies: SphereState::body groups sub-spheres. Bonds (bonds.hpp, BMS particles) are a second
+//   pair array evaluated once per bond after the contacts and gathered per sphere after its
+//   contacts in fixed order; rigid clumps sum their sub-spheres' forces per body after the
+//   gather and integrate the body (rigid_body.hpp: principal-axis splitting) instead of the
+//   sub-spheres.
 #include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "simulate/bonds.hpp"
 #include "simulate/contact_law.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/neighbor_list.hpp"
@@ -74,6 +76,7 @@ struct EngineCheckpoint {
   std::vector<double> particle_pressure;  // per sphere, the last gather's; empty: not computed
   double energy_reference = 0.0;
   double work_in = 0.0;
+  BondSet bonds;  // with their accumulated forces and moments (empty without BMS particles)
 };
 
 struct EnergySummary {
@@ -86,8 +89,9 @@ class Engine {
  public:
   // Computes the initial forces (the first half-kick needs them). Checks that every material
   // pair that can meet has an interaction.
+  // `bonds` (create_bonds) join the sub-spheres of BMS particles.
   Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
-         EngineSettings settings);
+         EngineSettings settings, BondSet bonds = {});
   // Continues from a checkpoint: the forces in `state` are those of the step it was taken at.
   Engine(SphereState state, Box box, MaterialTable materials, EngineSettings settings,
          EngineCheckpoint checkpoint);
@@ -130,6 +134,7 @@ class Engine {
   bool computes_particle_stress() const { return particle_stress_on_; }
   std::vector<double> particle_stress() const;
   double particle_pressure(std::size_t i) const { return pressure_[i]; }
+  const BondSet& bonds() const { return bonds_; }
 
   EngineCheckpoint checkpoint() const;
 
@@ -140,6 +145,7 @@ class Engine {
   void compute_forces(double kick);
   void pack_spheres();  // geometry_ and motion_ from the state (step() fuses this into its drift)
   void pair_forces();
+  void index_bonded_pairs();        // pair_bond_ for the current list
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
   template <bool stress_on>
   void pair_forces_with();
@@ -185,6 +191,11 @@ class Engine {
   std::int64_t wall_contacts_ = 0;
   std::int64_t list_builds_ = 0;
   double energy_reference_ = 0.0;  // total energy at the start
+  BondSet bonds_;
+  // Per list pair: the index of its bond, or -1 (only filled when bonded pairs skip the contact
+  // law, BondSet::contact_when_bonded false).
+  std::vector<std::int32_t> pair_bond_;
+  bool bond_increments_ = false;  // false for the forces at t = 0: no step has moved anything
   double work_in_ = 0.0;
 };
 

@@ -83,6 +83,10 @@ void Engine::pair_forces_with() {
   const double* __restrict pressure = stress_on ? pressure_.data() : nullptr;
   double* __restrict virial = stress_on ? pair_virial_.data() : nullptr;
   std::int64_t touching = 0;
+  // Bonded sub-spheres skip the contact law while their bond holds when the bond model says so
+  // (BondSet::contact_when_bonded); pair_bond_ is empty otherwise.
+  const std::int32_t* bond_of_pair = pair_bond_.empty() ? nullptr : pair_bond_.data();
+  const std::uint8_t* bond_intact = bonds_.intact.data();
   const int threads = count >= parallel_min_pairs ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads) reduction(+ : touching)
   {
@@ -96,7 +100,9 @@ void Engine::pair_forces_with() {
       const double dy = gj[1] - gi[1] + shift_y[p];
       const double dz = gj[2] - gi[2];
       const double reach = gi[3] + gj[3];
-      const std::uint8_t now = dx * dx + dy * dy + dz * dz < reach * reach;
+      const std::uint8_t held =
+          bond_of_pair != nullptr && bond_of_pair[p] >= 0 && bond_intact[bond_of_pair[p]];
+      const std::uint8_t now = (dx * dx + dy * dy + dz * dz < reach * reach) & (held ^ 1);
       if (was_touching[p] & (now ^ 1)) {  // the contact just opened: its spring is released
         history_[p] = ContactHistory{};
         pair_results_[p] = PairResult{};
@@ -230,6 +236,7 @@ void Engine::gather_forces_with(double kick) {
     wall_force_per_sphere[k] = wall_force_per_sphere_[k].data();
     wall_touching[k] = wall_touching_[k].data();
   }
+  const bool has_bonds = !bonds_.empty();
 #pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
     double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
@@ -255,6 +262,7 @@ void Engine::gather_forces_with(double kick) {
       f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
       t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
     }
+    if (has_bonds) gather_bond_forces(bonds_, i, f, t);
     // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
     for (std::size_t k = 0; k < wall_count; ++k) {
       const PlaneWall& w = walls[k];

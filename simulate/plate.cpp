@@ -1,6 +1,9 @@
 #include "simulate/plate.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include "common/error.hpp"
 #include "simulate/engine.hpp"
@@ -14,36 +17,74 @@ double hertz_plate_force(double effective_modulus, double radius, double approac
 
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup) {
   if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
+  PlateParticle particle;
+  particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
+                              materials.material(setup.sphere_material).density,
+                              setup.sphere_material);
+  return run_plate(materials, setup, std::move(particle));
+}
+
+std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
+                                PlateParticle particle,
+                                const std::function<void(const PlateRow&, const Engine&)>& row) {
+  if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
   if (!(setup.speed > 0.0)) throw InputError("plate: speed must be > 0");
   if (!(setup.max_deformation > 0.0 && setup.max_deformation < 0.5))
     throw InputError("plate: max_deformation must be in (0, 0.5)");
   if (setup.records < 1) throw InputError("plate: records must be >= 1");
-  const double r = setup.radius;
-  SphereState state;
-  state.add_sphere(0.0, 0.0, r, r, materials.material(setup.sphere_material).density,
-                   setup.sphere_material);
-  std::vector<PlaneWall> walls = {PlaneWall{0.0, 1, 0.0, setup.plate_material},
-                                  PlaneWall{2.0 * r, -1, -setup.speed, setup.plate_material}};
-  EngineSettings settings{setup.time_step, {0.0, 0.0, 0.0}, 0.1 * r};
+  SphereState& s = particle.spheres;
+  if (s.size() == 0) throw InputError("plate: no sphere to press");
+  // Plates touch the particle's lowest and highest points: a BMS agglomerate is a little
+  // shorter than the sphere it fills. The approach counts from that first touch; the deformation
+  // is the approach over the diameter 2R of the sphere the particle stands for (paper §3.1,
+  // δ/2R), so every particle's curve lies on the axis of the Hertz and Tatara curves.
+  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
+  double r_min = s.radius[0];
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    low = std::min(low, s.position.z[i] - s.radius[i]);
+    high = std::max(high, s.position.z[i] + s.radius[i]);
+    r_min = std::min(r_min, s.radius[i]);
+  }
+  const double gap0 = high - low;
+  std::vector<PlaneWall> walls = {PlaneWall{low, 1, 0.0, setup.plate_material},
+                                  PlaneWall{high, -1, -setup.speed, setup.plate_material}};
+  EngineSettings settings{setup.time_step, {0.0, 0.0, 0.0}, 0.1 * r_min};
   settings.check_every = 1000;
-  Engine engine(std::move(state), Box{}, materials, std::move(walls), settings);
+  settings.max_overlap_fraction = setup.max_overlap_fraction;
+  Engine engine(std::move(s), Box{}, materials, std::move(walls), settings,
+                std::move(particle.bonds));
   const double e_star =
       materials.pair(setup.sphere_material, setup.plate_material).effective_modulus;
-  const double final_approach = setup.max_deformation * 2.0 * r;
+  const double diameter = 2.0 * setup.radius;
+  const double final_approach = setup.max_deformation * diameter;
+  if (final_approach >= 0.9 * gap0)
+    throw InputError(
+        "plate: max_deformation leaves the plates less than 10 % of the particle's "
+        "height apart");
   std::vector<PlateRow> rows;
+  const std::clock_t cpu_start = std::clock();
+  const auto wall_start = std::chrono::steady_clock::now();
   int next = 1;
   while (next <= setup.records) {
     engine.step();
-    const double approach = 2.0 * r - (engine.walls()[1].position - engine.walls()[0].position);
+    const double approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
     if (approach >= final_approach * next / setup.records) {
-      PlateRow row;
-      row.time = engine.time();
-      row.approach = approach;
-      row.deformation = approach / (2.0 * r);
-      row.top_force = engine.wall_load(1);
-      row.bottom_force = engine.wall_load(0);
-      row.hertz_force = hertz_plate_force(e_star, r, approach);
-      rows.push_back(row);
+      PlateRow r;
+      r.time = engine.time();
+      r.approach = approach;
+      r.deformation = approach / diameter;
+      r.top_force = engine.wall_load(1);
+      r.bottom_force = engine.wall_load(0);
+      r.hertz_force = hertz_plate_force(e_star, setup.radius, approach);
+      r.contacts = engine.sphere_contacts() + engine.wall_contacts();
+      r.intact_bonds = engine.bonds().intact_count();
+      r.kinetic_energy = engine.energy().kinetic;
+      r.work = engine.work_in();
+      r.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+      r.wall_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      if (row) row(r, engine);
+      rows.push_back(r);
       ++next;
     }
   }

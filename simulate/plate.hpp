@@ -1,35 +1,62 @@
 #pragma once
-// The single-particle rig: one sphere between two plates, the top plate approaching at a
-// prescribed speed (DESIGN.md `shapepress plate`; the BMS and multi-contact issues extend it to
-// one agglomerate). Quasi-static when the speed is small against the sphere's wave speed.
+// The single-particle rig: one particle between two plates, the top plate approaching at a
+// prescribed speed (DESIGN.md `shapepress plate`). The particle is one Hertz sphere (classical
+// DEM) or a bonded multi-sphere agglomerate (BMS, paper §3.1). Quasi-static when the speed is
+// small against the particle's wave speed: every row carries the kinetic energy and the work
+// the plates did, so a run shows that it was.
+#include <cstdint>
+#include <functional>
 #include <vector>
 
+#include "simulate/bonds.hpp"
 #include "simulate/materials.hpp"
+#include "simulate/state.hpp"
 
 namespace shapepress::simulate {
 
+class Engine;
+
 struct PlateSetup {
-  double radius = 0.0;  // m
+  double radius = 0.0;  // m, of the sphere (of the shape a BMS particle fills)
   int sphere_material = 0;
   int plate_material = 0;
-  double speed = 0.0;             // m/s, top plate approach speed
-  double max_deformation = 0.01;  // total approach / diameter at the end
-  int records = 50;               // rows, evenly spaced in approach
-  double time_step = 0.0;         // s
+  double speed = 0.0;                 // m/s, top plate approach speed
+  double max_deformation = 0.01;      // total approach / 2R at the end
+  int records = 50;                   // rows, evenly spaced in approach
+  double time_step = 0.0;             // s
+  double max_overlap_fraction = 0.5;  // divergence check (EngineSettings)
 };
 
 struct PlateRow {
   double time = 0.0;          // s
-  double deformation = 0.0;   // approach / diameter
-  double approach = 0.0;      // Δ, m: decrease of the plate gap from 2R
+  double deformation = 0.0;   // Δ/(2R), R of the sphere the particle stands for
+  double approach = 0.0;      // Δ, m: decrease of the plate gap from the first touch
   double top_force = 0.0;     // N, compressive
   double bottom_force = 0.0;  // N
   double hertz_force = 0.0;   // N, (√2/3) E* √R Δ^{3/2}, E* of the sphere–plate pair
+  std::int64_t contacts = 0;  // sphere–sphere plus sphere–wall contacts
+  std::int64_t intact_bonds = 0;
+  double kinetic_energy = 0.0;  // J
+  double work = 0.0;            // J, done by the plates since the start
+  double cpu_seconds = 0.0;     // process CPU time since the run started (all threads)
+  double wall_seconds = 0.0;    // elapsed time since the run started
+};
+
+// What is pressed: sub-spheres (one for classical DEM) and their bonds, in any frame; run_plate
+// puts the plates on its lowest and highest points.
+struct PlateParticle {
+  SphereState spheres;
+  BondSet bonds;
 };
 
 // Hertz between a sphere and two identical plates: each contact carries Δ/2 (models.md).
 double hertz_plate_force(double effective_modulus, double radius, double approach);
 
+// A single sphere of setup.radius and setup.sphere_material.
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup);
+// Any particle. `row` (optional) sees every row as it is recorded, with the engine.
+std::vector<PlateRow> run_plate(
+    const MaterialTable& materials, const PlateSetup& setup, PlateParticle particle,
+    const std::function<void(const PlateRow&, const Engine&)>& row = {});
 
 }  // namespace shapepress::simulate

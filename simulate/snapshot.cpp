@@ -77,6 +77,73 @@ void write_vec3(H5Writer& file, const std::string& name, const Vec3Array& v,
   file.unit(name, unit);
 }
 
+// The bonds and their history (/bonds): everything BondSet holds but the per-step results and
+// the gather index, which are rebuilt. Pairs as (B, 2) so the XDMF sidecar draws them as lines.
+void write_bonds(H5Writer& file, const BondSet& b) {
+  if (b.empty()) return;
+  std::vector<std::int32_t> pairs;
+  pairs.reserve(2 * b.size());
+  for (std::size_t k = 0; k < b.size(); ++k)
+    pairs.insert(pairs.end(), {b.first[k], b.second[k]});
+  file.write("/bonds/pairs", pairs, {b.size(), 2});
+  file.write("/bonds/radius", b.radius);
+  file.unit("/bonds/radius", "m");
+  file.write("/bonds/normal_spring", b.normal_spring);
+  file.unit("/bonds/normal_spring", "N/m");
+  file.write("/bonds/shear_spring", b.shear_spring);
+  file.unit("/bonds/shear_spring", "N/m");
+  file.write("/bonds/twist_spring", b.twist_spring);
+  file.unit("/bonds/twist_spring", "N m");
+  file.write("/bonds/bend_spring", b.bend_spring);
+  file.unit("/bonds/bend_spring", "N m");
+  file.write("/bonds/tensile_strength", b.tensile_strength);
+  file.unit("/bonds/tensile_strength", "Pa");
+  file.write("/bonds/shear_strength", b.shear_strength);
+  file.unit("/bonds/shear_strength", "Pa");
+  file.write("/bonds/damping_ratio", b.damping_ratio);
+  file.write("/bonds/length", b.length);
+  file.unit("/bonds/length", "m");
+  file.write("/bonds/normal_force", b.normal_force);
+  file.unit("/bonds/normal_force", "N");
+  write_vec3(file, "/bonds/shear_force", b.shear_force, "N");
+  file.write("/bonds/twist_moment", b.twist_moment);
+  file.unit("/bonds/twist_moment", "N m");
+  write_vec3(file, "/bonds/bend_moment", b.bend_moment, "N m");
+  file.write("/bonds/intact", b.intact);
+  file.attribute("/bonds", "contact_when_bonded", std::int64_t{b.contact_when_bonded ? 1 : 0});
+}
+
+BondSet read_bonds(const H5Reader& file) {
+  BondSet b;
+  if (!file.has("/bonds/pairs")) return b;
+  const std::vector<std::int32_t> pairs = file.int32s("/bonds/pairs");
+  for (std::size_t k = 0; k + 1 < pairs.size(); k += 2) {
+    b.first.push_back(pairs[k]);
+    b.second.push_back(pairs[k + 1]);
+  }
+  b.radius = file.doubles("/bonds/radius");
+  b.normal_spring = file.doubles("/bonds/normal_spring");
+  b.shear_spring = file.doubles("/bonds/shear_spring");
+  b.twist_spring = file.doubles("/bonds/twist_spring");
+  b.bend_spring = file.doubles("/bonds/bend_spring");
+  b.tensile_strength = file.doubles("/bonds/tensile_strength");
+  b.shear_strength = file.doubles("/bonds/shear_strength");
+  b.damping_ratio = file.doubles("/bonds/damping_ratio");
+  b.length = file.doubles("/bonds/length");
+  b.normal_force = file.doubles("/bonds/normal_force");
+  b.shear_force = split(file.doubles("/bonds/shear_force"));
+  b.twist_moment = file.doubles("/bonds/twist_moment");
+  b.bend_moment = split(file.doubles("/bonds/bend_moment"));
+  b.intact = file.uint8s("/bonds/intact");
+  b.contact_when_bonded = file.attribute_int64("/bonds", "contact_when_bonded") != 0;
+  const std::size_t n = b.size();
+  for (std::size_t size : {b.radius.size(), b.normal_spring.size(), b.length.size(),
+                           b.shear_force.size(), b.bend_moment.size(), b.intact.size()})
+    if (size != n)
+      throw InputError("'" + file.path().string() + "': /bonds datasets differ in length");
+  return b;
+}
+
 }  // namespace
 
 void write_snapshot(const std::filesystem::path& path, const Engine& engine,
@@ -131,6 +198,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   file.unit("/engine/contact_plastic_force", "N");
   file.write("/engine/wall_plastic_force", plastic_values(wall_history));
   file.unit("/engine/wall_plastic_force", "N");
+  write_bonds(file, c.bonds);
 
   // Walls: the state, and each wall as a quad over the box for ParaView.
   const auto& walls = c.walls;
@@ -163,6 +231,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   file.attribute("/punch", "phase_start", punch.phase_start);
   file.attribute("/punch", "reference_gap", punch.reference_gap);
   file.attribute("/", "spheres", static_cast<std::int64_t>(n));
+  file.attribute("/", "bonds", static_cast<std::int64_t>(c.bonds.size()));
   file.commit();
 }
 
@@ -216,6 +285,12 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
     c.wall_history.emplace_back(wall_history.begin() + static_cast<std::ptrdiff_t>(k * n),
                                 wall_history.begin() + static_cast<std::ptrdiff_t>((k + 1) * n));
   }
+  c.bonds = read_bonds(file);
+  for (std::size_t k = 0; k < c.bonds.size(); ++k)
+    if (c.bonds.first[k] < 0 || c.bonds.second[k] < 0 ||
+        static_cast<std::size_t>(c.bonds.second[k]) >= n)
+      throw InputError("'" + path.string() + "': bond " + std::to_string(k) +
+                       " joins a sphere that is not in the snapshot");
   out.punch.phase = static_cast<PunchPhase>(file.attribute_int64("/punch", "phase"));
   out.punch.phase_start = file.attribute_double("/punch", "phase_start");
   out.punch.reference_gap = file.attribute_double("/punch", "reference_gap");
@@ -264,6 +339,25 @@ void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotInd
       xml += attribute("stress", "Tensor6", "/particles/stress", 6, false);
     }
     xml += "    </Grid>\n";
+    if (e.bonds > 0) {
+      // Bonds as two-node line cells on the sphere centres; threshold on "intact" to hide the
+      // broken ones.
+      xml += fmt::format(
+          "    <Grid Name=\"bonds\"><Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+          "NumberOfElements=\"{}\"><DataItem Dimensions=\"{} 2\" NumberType=\"Int\" "
+          "Precision=\"4\" Format=\"HDF\">{}:/bonds/pairs</DataItem></Topology>\n"
+          "     <Geometry GeometryType=\"XYZ\">{}</Geometry>\n",
+          e.bonds, e.bonds, f, item("/particles/position", e.spheres, 3));
+      xml += fmt::format(
+          "     <Attribute Name=\"intact\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem "
+          "Dimensions=\"{}\" NumberType=\"UChar\" Precision=\"1\" Format=\"HDF\">{}:"
+          "/bonds/intact</DataItem></Attribute>\n",
+          e.bonds, f);
+      xml += fmt::format(
+          "     <Attribute Name=\"bond_normal_force\" AttributeType=\"Scalar\" "
+          "Center=\"Cell\">{}</Attribute>\n    </Grid>\n",
+          item("/bonds/normal_force", e.bonds, 1));
+    }
     xml += fmt::format(
         "    <Grid Name=\"walls\"><Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"{}\">"
         "<DataItem Dimensions=\"{} 4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">{}:"

@@ -67,4 +67,23 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
   return choice;
 }
 
+TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
+                                const std::vector<int>& wall_materials, std::optional<double> fixed,
+                                double fraction, double speed, const BondSet& bonds) {
+  TimeStepChoice choice =
+      select_time_step(state, materials, wall_materials, fixed, fraction, speed);
+  choice.bond_period = bond_oscillation_period(bonds, state);
+  if (!std::isfinite(choice.bond_period)) return choice;
+  if (fixed) {
+    if (*fixed > choice.bond_period / std::numbers::pi)
+      throw InputError(fmt::format(
+          "time_step {:.3g} s is above the stability limit {:.3g} s of the stiffest bonds "
+          "(period bound {:.3g} s): lower time_step or the bond stiffness",
+          *fixed, choice.bond_period / std::numbers::pi, choice.bond_period));
+    return choice;
+  }
+  choice.time_step = std::min(choice.time_step, fraction * choice.bond_period);
+  return choice;
+}
+
 }  // namespace shapepress::simulate

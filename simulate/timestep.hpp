@@ -1,7 +1,9 @@
 #pragma once
+#include <limits>
 #include <optional>
 #include <vector>
 
+#include "simulate/bonds.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/state.hpp"
 
@@ -33,6 +35,7 @@ struct TimeStepChoice {
   double time_step = 0.0;       // s
   double rayleigh_time = 0.0;   // of the smallest sphere
   double collision_time = 0.0;  // shortest Hertz impact at `speed`, sphere–sphere or –wall
+  double bond_period = std::numeric_limits<double>::infinity();  // bond_oscillation_period
 };
 
 // `fixed` if given, else fraction × the Rayleigh time of the smallest sphere. InputError when
@@ -41,5 +44,12 @@ struct TimeStepChoice {
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed);
+
+// With bonds: fraction × min(Rayleigh time, the bonded network's shortest period bound
+// T_b = 2π/ω_max). A fixed step above T_b/π (velocity Verlet's stability limit 2/ω_max) is an
+// InputError.
+TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
+                                const std::vector<int>& wall_materials, std::optional<double> fixed,
+                                double fraction, double speed, const BondSet& bonds);
 
 }  // namespace shapepress::simulate

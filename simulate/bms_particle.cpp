@@ -1,0 +1,40 @@
+#include "simulate/bms_particle.hpp"
+
+#include "geometry/signed_distance.hpp"
+#include "geometry/sphere_fill.hpp"
+
+namespace shapepress::simulate {
+
+PlateParticle bms_sphere(const MaterialTable& materials, double radius, const BmsConfig& config,
+                         const std::string& name, BmsParticleInfo* info) {
+  config.bond.check();
+  geometry::BondedFillOptions options;
+  options.target_count = config.count;
+  options.lattice = config.lattice == "hcp" ? geometry::Lattice::hcp : geometry::Lattice::fcc;
+  options.placement =
+      config.placement == "centre" ? geometry::Placement::centre : geometry::Placement::inside;
+  // The filler bonds by Eq. 10 too, only to keep one connected cluster; m_b is checked by
+  // create_bonds below with the engine's message, so the filler gets a valid one.
+  options.bond_multiplier =
+      config.bond_multiplier > 1.0 && config.bond_multiplier < 1.4 ? config.bond_multiplier : 1.15;
+  options.seed = config.seed;
+  const geometry::SphereTemplate filled =
+      geometry::fill_bonded(geometry::sphere_distance(radius), options);
+  const int material = materials.index_of(config.material);
+  const double density = materials.material(material).density;
+  PlateParticle particle;
+  for (std::size_t i = 0; i < filled.centres.size(); ++i) {
+    const geometry::Vec3& c = filled.centres[i];
+    particle.spheres.add_sphere(c.x(), c.y(), c.z() + radius, filled.radii[i], density, material);
+    particle.spheres.body.back() = 0;
+  }
+  particle.bonds = create_bonds(particle.spheres, config.bond_multiplier, config.bond, {name});
+  if (info) {
+    info->sub_sphere_radius = filled.radii.empty() ? 0.0 : filled.radii.front();
+    info->spheres = particle.spheres.size();
+    info->bonds = particle.bonds.size();
+  }
+  return particle;
+}
+
+}  // namespace shapepress::simulate

@@ -1,0 +1,136 @@
+#pragma once
+// Potyondy–Cundall parallel bonds between the sub-spheres of one bonded multi-sphere (BMS)
+// particle (Potyondy & Cundall 2004, Int. J. Rock Mech. Min. Sci. 41; paper §2.3; models.md
+// "Bonded multi-sphere"). A bond is a short elastic beam of radius R̄ = λ̄ min(ri, rj) between
+// two sphere centres that carries a normal force, a shear force, a twisting and a bending moment:
+//   A = π R̄²,  I = π R̄⁴/4,  J = π R̄⁴/2
+//   ΔFn = k̄n A Δun,   ΔFs = -k̄s A Δus,   ΔMt = -k̄s J Δθt,   ΔMb = -k̄n I Δθb
+// Forces and moments are accumulated incrementally and rotated with the bond every step (the
+// shear force and bending moment are turned into the current plane normal to the bond keeping
+// their length, as LIGGGHTS turns its tangential history). Optional strengths break a bond for
+// good when σmax = -Fn/A + |Mb| R̄/I ≥ σc or τmax = |Fs|/A + |Mt| R̄/J ≥ τc.
+//
+// The engine evaluates bonds like contacts: one pass computes each bond's force once into a
+// per-bond result, then each sphere gathers its bonds in a fixed order (after its contacts), so
+// results do not depend on the thread count. The whole state lives in BondSet and goes into
+// snapshots (snapshot.cpp) so a restart continues bit-identically.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "simulate/state.hpp"
+
+namespace shapepress::simulate {
+
+// What a user states about the bonds of a particle kind (paper Table 1; P&C 2004 Table 1).
+struct BondParameters {
+  // Stiffness per unit bond area, k̄n and k̄s [N/m³]. With `modulus` > 0 the normal stiffness is
+  // instead k̄n = Ē/(ri + rj) per bond (P&C 2004 §2.2.2: the bond's Young's modulus Ē stays the
+  // same whatever the sub-sphere size) and k̄s = k̄n · shear_ratio.
+  double normal_stiffness = 1.15e6;
+  double shear_stiffness = 1.25e6;
+  double modulus = 0.0;            // Ē [Pa], 0: use normal_stiffness/shear_stiffness as given
+  double shear_ratio = 1.0;        // k̄s/k̄n when `modulus` is used
+  double radius_multiplier = 1.0;  // λ̄
+  double tensile_strength = std::numeric_limits<double>::infinity();  // σc [Pa]
+  double shear_strength = std::numeric_limits<double>::infinity();    // τc [Pa]
+  // Viscous damping of every bond mode as a fraction of the critical damping of the pair,
+  // c = 2 ζ √(k m*) (rotational: √(k I*)). P&C 2004 use local damping instead; a bond damper
+  // acts on relative motion only, so it does not slow a rigid-body motion of the particle.
+  double damping_ratio = 0.0;
+  // Whether bonded sub-spheres that overlap also interact through the contact law (P&C 2004:
+  // the parallel bond acts in parallel with the contact; the paper's §2.3 reads "bonded model for
+  // non-contacting particles, Hertz–Mindlin for contacting ones": both, so true).
+  bool contact_when_bonded = true;
+  void check() const;  // InputError naming the bad field
+};
+
+// The bonds of a run, structure of arrays, sorted by (first, second), first < second.
+struct BondSet {
+  std::vector<std::int32_t> first, second;
+  // Constants per bond.
+  std::vector<double> radius;            // R̄ [m]
+  std::vector<double> normal_spring;     // k̄n A [N/m]
+  std::vector<double> shear_spring;      // k̄s A [N/m]
+  std::vector<double> twist_spring;      // k̄s J [N m/rad]
+  std::vector<double> bend_spring;       // k̄n I [N m/rad]
+  std::vector<double> tensile_strength;  // σc [Pa], +inf: unbreakable
+  std::vector<double> shear_strength;    // τc [Pa]
+  std::vector<double> damping_ratio;     // ζ
+  // History per bond (saved in snapshots).
+  std::vector<double> length;        // centre distance at the last evaluation [m]
+  std::vector<double> normal_force;  // Fn on `second` along n (i→j), > 0 compressive [N]
+  Vec3Array shear_force;             // Fs on `second` [N], world frame
+  std::vector<double> twist_moment;  // Mt on `second` along n [N m]
+  Vec3Array bend_moment;             // Mb on `second` [N m], world frame
+  std::vector<std::uint8_t> intact;
+  bool contact_when_bonded = true;
+
+  // Results of the last evaluation (not saved: recomputed from the state on restart).
+  struct Result {
+    double force[3];  // on second (first gets the negative)
+    double torque_first[3];
+    double torque_second[3];
+  };
+  std::vector<Result> result;
+  // Derived per bond by index() (not saved): damper coefficients 2ζ√(k m*) of the normal, shear,
+  // twist and bending modes, and whether any bond can break (skips the strength test).
+  std::vector<std::array<double, 4>> damping;
+  bool breakable = false;
+  // Per-sphere gather lists (CSR), as PairList: entries 2·bond + (0 first, 1 second) in
+  // increasing bond index.
+  std::vector<std::int32_t> gather_offset;
+  std::vector<std::int32_t> gather;
+
+  std::size_t size() const { return first.size(); }
+  bool empty() const { return first.empty(); }
+  std::int64_t intact_count() const;
+  // Fills gather_offset/gather for the spheres of `state`, the dampers from their masses and
+  // inertias, and sizes `result`.
+  void index(const SphereState& state);
+};
+
+// Bonds by paper Eq. 10, |xi - xj| < (ri + rj) m_b, between sub-spheres of the same body only,
+// with every sub-sphere of a body of more than one sphere bonded to at least one other:
+// InputError naming the particle (`body_names[body]` when given, else "particle <body id>") and
+// the sub-sphere otherwise, and when m_b ≤ 1 (touching spheres would not bond).
+BondSet create_bonds(const SphereState& state, double bond_multiplier,
+                     const BondParameters& parameters,
+                     const std::vector<std::string>& body_names = {});
+
+// One evaluation of every intact bond (parallel over bonds, each written once). `motion` holds
+// per sphere the predicted end-of-step v, ω (8 doubles per sphere, as Engine::pair_forces packs
+// it) for the dampers; the spring increments use the half-step velocities in `state`, which are
+// what moved the spheres over the step. Bonds that reach a strength break here.
+void compute_bond_forces(BondSet& bonds, const SphereState& state, const double* motion,
+                         const Box& box, double dt, bool first_evaluation);
+
+// Adds the bond forces and torques of sphere i (its bonds in fixed order).
+inline void gather_bond_forces(const BondSet& bonds, std::int64_t i, double f[3], double t[3]) {
+  for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
+    const std::int32_t entry = bonds.gather[e];
+    if (!bonds.intact[entry >> 1]) continue;
+    const BondSet::Result& r = bonds.result[entry >> 1];
+    if ((entry & 1) == 0) {
+      f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
+      t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
+    } else {
+      f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
+      t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
+    }
+  }
+}
+
+// Elastic energy held by the intact bonds, Σ Fn²/2kn + |Fs|²/2ks + Mt²/2kt + |Mb|²/2kb [J].
+double bond_elastic_energy(const BondSet& bonds);
+
+// Bound on the shortest oscillation period of the bonded network (translation and rotation of
+// the sub-spheres): Gershgorin's bound on the largest eigenvalue ω² of the mass-normalised bond
+// stiffness matrix, shortened by √(1+ζ²) − ζ for the bond dampers. Returns 2π/ω_max [s], +inf
+// without bonds. The time step takes a fraction of
+// it (timestep.hpp), as it takes a fraction of the Rayleigh time for contacts.
+double bond_oscillation_period(const BondSet& bonds, const SphereState& state);
+
+}  // namespace shapepress::simulate

@@ -1,0 +1,125 @@
+// `shapepress plate --particle bms` and `shapepress calibrate` as a user runs them: force.csv
+// with the columns, ParaView output with bonds as lines, a real calibration run, and
+// exit 2 naming the cause for bad input (m_b <= 1, negative stiffness, too few sub-spheres,
+// unbonded sub-spheres are refused by the engine: unit tests).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "common/csv.hpp"
+#include "tests/support/command.hpp"
+
+namespace shapepress {
+namespace {
+
+using shapepress::testing::run_shapepress;
+using ::testing::HasSubstr;
+
+const std::filesystem::path repo =
+    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+const std::filesystem::path shipped = repo / "pipelines/configs/rubber-sphere.toml";
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_bms_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string shipped_text() {
+  std::ifstream in(shipped);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The shipped config with one line replaced (the key must be there).
+std::filesystem::path variant(const std::filesystem::path& dir, const std::string& pattern,
+                              const std::string& replacement) {
+  const std::string text = shipped_text();
+  const std::string changed = std::regex_replace(text, std::regex(pattern), replacement);
+  EXPECT_NE(text, changed) << pattern;
+  const auto path = dir / "config.toml";
+  std::ofstream(path) << changed;
+  return path;
+}
+
+std::string q(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
+
+TEST(BmsPlateCli, WritesForceCsvWithBondsAndParaViewLines) {
+  const auto dir = fresh_dir("plate");
+  // 40 % with 100 sub-spheres: a second of work.
+  const auto r = run_shapepress("--quiet plate --config " + q(shipped) +
+                                " --particle bms --count 100 --snapshot --out " + q(dir / "run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const CsvTable t = read_csv(dir / "run" / "force.csv");
+  for (const char* column : {"deformation", "approach_m", "top_force_N", "bottom_force_N",
+                             "contacts", "intact_bonds", "cpu_s", "kinetic_energy_J", "work_J"})
+    EXPECT_NO_THROW(t.column(column)) << column;
+  const auto bonds = t.column("intact_bonds");
+  EXPECT_GT(bonds.front(), 100);  // a connected lattice of 100 spheres has more bonds than spheres
+  EXPECT_EQ(bonds.front(), bonds.back());
+  EXPECT_NEAR(t.column("deformation").back(), 0.40, 0.005);
+  const auto cpu = t.column("cpu_s");
+  EXPECT_GE(cpu.back(), cpu.front());
+  std::ifstream xdmf(dir / "run" / "final.xdmf");
+  std::stringstream text;
+  text << xdmf.rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("TopologyType=\"Polyline\" NodesPerElement=\"2\""));
+  EXPECT_THAT(text.str(), HasSubstr("/bonds/pairs"));
+}
+
+TEST(BmsPlateCli, BadInputExitsTwoNamingTheCause) {
+  const auto dir = fresh_dir("bad");
+  auto r = run_shapepress("--quiet plate --particle bms --count 100 --out " + q(dir / "a") +
+                          " --config " +
+                          q(variant(dir, "bond_multiplier = 1.15", "bond_multiplier = 1.0")));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("m_b = 1 must be > 1"));
+  r = run_shapepress("--quiet plate --particle bms --count 100 --out " + q(dir / "b") +
+                     " --config " +
+                     q(variant(dir, "normal_stiffness = \"1.15e6 N/m\\^3\"",
+                               "normal_stiffness = \"-1.15e6 N/m^3\"")));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("normal stiffness"));
+  r = run_shapepress("--quiet plate --config " + q(shipped) + " --particle bms --count 4 --out " +
+                     q(dir / "c"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("too few"));
+  r = run_shapepress("--quiet plate --config " + q(shipped) + " --count 100 --out " + q(dir / "d"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;  // --count without --particle bms
+}
+
+TEST(CalibrateCli, FitsTheBondModulusAndWritesAConfigThatRuns) {
+  const auto dir = fresh_dir("calibrate");
+  const auto reference = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis" /
+                         "tatara_hertz_R10mm_E18.5MPa_nu0.46.csv";
+  // Few sub-spheres and runs: the mechanics of calibrate, not the study (validation does that).
+  auto r =
+      run_shapepress("--quiet calibrate --config " + q(shipped) + " --reference " + q(reference) +
+                     " --count 60 --fit modulus --max-evaluations 12 --out " + q(dir / "cal"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("paper: 1.15e+06"));
+  const CsvTable evaluations = read_csv(dir / "cal" / "evaluations.csv");
+  const auto rms = evaluations.column("rms_relative");
+  EXPECT_GE(rms.size(), 5u);
+  const double best = *std::min_element(rms.begin(), rms.end());
+  EXPECT_LT(best, rms.front());  // the optimiser improved on the start
+  r = run_shapepress("--quiet plate --config " + q(dir / "cal" / "calibrated.toml") +
+                     " --particle bms --out " + q(dir / "run"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run_shapepress("--quiet calibrate --config " + q(shipped) + " --reference " + q(reference) +
+                     " --fit stiffness --out " + q(dir / "bad"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("unknown parameter 'stiffness'"));
+}
+
+}  // namespace
+}  // namespace shapepress

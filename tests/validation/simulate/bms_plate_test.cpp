@@ -1,0 +1,203 @@
+// Bonded multi-sphere (BMS) particles in the engine and the paper's rubber-sphere study
+// (Giannis et al. 2023 §3.1–3.2; issue "BMS and the rubber-sphere study"): determinism with
+// bonds (1 vs 2 threads, restart), a quasi-static balanced plate test, the classical Hertz
+// sphere leaving Tatara's curve, and the calibrated agglomerate's accuracy and convergence.
+// CI runs reduced sub-sphere counts; SHAPEPRESS_FULL_VALIDATION=1 runs the issue's (calibrate at
+// N = 545, evaluate 545, 819 and 1322).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "common/config.hpp"
+#include "common/csv.hpp"
+#include "simulate/bms_particle.hpp"
+#include "simulate/calibrate.hpp"
+#include "simulate/engine.hpp"
+#include "simulate/plate_run.hpp"
+#include "simulate/snapshot.hpp"
+#include "simulate/timestep.hpp"
+#include "tests/validation/simulate/scenes.hpp"
+
+namespace shapepress::simulate {
+namespace {
+
+using testing::full_validation;
+
+const std::filesystem::path repo =
+    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+
+PlateConfig shipped_config() {
+  const ConfigTable root = ConfigTable::load_file(repo / "pipelines/configs/rubber-sphere.toml");
+  PlateConfig c = read_plate_config(root);
+  root.check_unknown_keys();
+  return c;
+}
+
+struct Reference {
+  std::vector<double> deformation, tatara, hertz;
+};
+Reference tatara_reference() {
+  const CsvTable t = read_csv(std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis" /
+                              "tatara_hertz_R10mm_E18.5MPa_nu0.46.csv");
+  return {t.column("deformation"), t.column("F_tatara_N"), t.column("F_hertz_N")};
+}
+
+// An engine pressing a BMS sphere between plates, as run_plate sets it up.
+Engine bms_engine(const PlateConfig& config, int count) {
+  BmsConfig bms = *config.bms;
+  bms.count = count;
+  const MaterialTable table = config.materials.table();
+  PlateParticle p = bms_sphere(table, config.setup.radius, bms, "rubber");
+  double low = 1e9, high = -1e9;
+  for (std::size_t i = 0; i < p.spheres.size(); ++i) {
+    low = std::min(low, p.spheres.position.z[i] - p.spheres.radius[i]);
+    high = std::max(high, p.spheres.position.z[i] + p.spheres.radius[i]);
+  }
+  const int wall = table.index_of("wall");
+  const TimeStepChoice dt =
+      select_time_step(p.spheres, table, {wall}, std::nullopt, 0.2, config.setup.speed, p.bonds);
+  EngineSettings settings{dt.time_step, {0, 0, 0}, 0.1 * p.spheres.radius[0]};
+  return Engine(std::move(p.spheres), Box{}, table,
+                {PlaneWall{low, 1, 0.0, wall}, PlaneWall{high, -1, -config.setup.speed, wall}},
+                settings, std::move(p.bonds));
+}
+
+PlateConfig stiff_bonds(PlateConfig c) {
+  // Bonds and contacts of the N = 545 calibration (pipelines/rubber-sphere, rounded), so that
+  // bond and contact forces both matter.
+  set_parameter(c, "contact_modulus", 4.5e9);
+  c.bms->bond.modulus = 2.2e6;
+  c.bms->bond.shear_ratio = 0.08;
+  return c;
+}
+
+TEST(BmsDeterminism, OneAndTwoThreadsGiveTheSameBits) {
+  // 1000 sub-spheres: more than parallel_min_pairs bonds and list pairs, so both loops split.
+  const PlateConfig config = stiff_bonds(shipped_config());
+  const auto run = [&](int threads) {
+    omp_set_num_threads(threads);
+    Engine engine = bms_engine(config, 1000);
+    EXPECT_GT(engine.bonds().size(), static_cast<std::size_t>(parallel_min_pairs));
+    for (int k = 0; k < 800; ++k)
+      engine.step();
+    return engine;
+  };
+  const Engine one = run(1), two = run(2);
+  omp_set_num_threads(2);
+  EXPECT_EQ(one.state().position, two.state().position);
+  EXPECT_EQ(one.state().force, two.state().force);
+  EXPECT_EQ(one.bonds().normal_force, two.bonds().normal_force);
+  EXPECT_EQ(one.bonds().shear_force, two.bonds().shear_force);
+  EXPECT_EQ(one.wall_force(1), two.wall_force(1));
+  EXPECT_GT(one.wall_load(1), 0.0);  // the plate did press
+}
+
+TEST(BmsDeterminism, RestartFromASnapshotContinuesBitIdentically) {
+  const PlateConfig config = stiff_bonds(shipped_config());
+  omp_set_num_threads(1);
+  Engine continuous = bms_engine(config, 200);
+  Engine first = bms_engine(config, 200);
+  for (int k = 0; k < 1200; ++k)
+    first.step();
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "shapepress_bms_restart_test.h5";
+  write_snapshot(file, first, PunchState{}, Provenance{"test", "", std::nullopt});
+  LoadedSnapshot loaded = read_snapshot(file);
+  std::filesystem::remove(file);
+  ASSERT_EQ(loaded.checkpoint.bonds.size(), first.bonds().size());
+  Engine resumed(std::move(loaded.state), loaded.box, config.materials.table(), first.settings(),
+                 std::move(loaded.checkpoint));
+  for (int k = 0; k < 2400; ++k)
+    continuous.step();
+  for (int k = 0; k < 1200; ++k)
+    resumed.step();
+  omp_set_num_threads(2);
+  EXPECT_EQ(continuous.state().position, resumed.state().position);
+  EXPECT_EQ(continuous.state().velocity, resumed.state().velocity);
+  EXPECT_EQ(continuous.bonds().normal_force, resumed.bonds().normal_force);
+  EXPECT_EQ(continuous.bonds().bend_moment, resumed.bonds().bend_moment);
+  EXPECT_EQ(continuous.wall_force(1), resumed.wall_force(1));
+}
+
+TEST(RubberSphere, ClassicalHertzSphereLeavesTataraBeyondTwentyPercent) {
+  // The paper's point (§3.1): one Hertz sphere cannot follow a rubber sphere at large
+  // deformation. The engine's sphere follows Hertz, which is > 10 % below Tatara's curve from
+  // 20 % deformation on (27 % at 20 %, 37 % at 40 % in the reference table).
+  const PlateConfig config = shipped_config();
+  const PlateRunOutcome run = run_plate_config(config, false);
+  const Reference ref = tatara_reference();
+  int checked = 0;
+  for (const PlateRow& row : run.rows) {
+    if (row.deformation < 0.2) continue;
+    const double x = std::min(row.deformation, ref.deformation.back());
+    double tatara = 0.0;  // linear interpolation in the 1 % table
+    for (std::size_t k = 1; k < ref.deformation.size(); ++k)
+      if (ref.deformation[k] >= x) {
+        const double t =
+            (x - ref.deformation[k - 1]) / (ref.deformation[k] - ref.deformation[k - 1]);
+        tatara = ref.tatara[k - 1] + t * (ref.tatara[k] - ref.tatara[k - 1]);
+        break;
+      }
+    EXPECT_GT((tatara - row.top_force) / tatara, 0.10) << "at deformation " << row.deformation;
+    ++checked;
+  }
+  EXPECT_GE(checked, 15);
+}
+
+TEST(RubberSphere, BmsCompressionIsQuasiStaticAndBalanced) {
+  // The shipped speed and bond damping keep the kinetic energy below 1 % of the plates' work,
+  // and the two plates carry the same force within 2 %, from 5 % deformation to 40 %.
+  PlateConfig config = stiff_bonds(shipped_config());
+  config.bms->count = full_validation() ? 545 : 250;
+  const PlateRunOutcome run = run_plate_config(config, true);
+  ASSERT_EQ(run.rows.size(), static_cast<std::size_t>(config.setup.records));
+  EXPECT_NEAR(run.rows.back().deformation, 0.40, 0.005);
+  for (const PlateRow& row : run.rows) {
+    EXPECT_EQ(row.intact_bonds, static_cast<std::int64_t>(run.bonds));  // unbreakable bonds
+    if (row.deformation < 0.05) continue;
+    EXPECT_LT(row.kinetic_energy, 0.01 * row.work) << "at deformation " << row.deformation;
+    EXPECT_NEAR(row.bottom_force, row.top_force, 0.02 * row.top_force)
+        << "at deformation " << row.deformation;
+  }
+}
+
+// The issue's acceptance on the full study (SHAPEPRESS_FULL_VALIDATION=1; about an hour on a
+// shared 2-core machine): calibrate at N = 545 against Tatara, then with the same parameters
+// N = 545 within 5 % RMS of Tatara over 5–40 %, and N = 819 and 1322 within 2 % of each other
+// at every 1 % step from 5 % to 40 %. Reduced sizes would not test these numbers (a coarse
+// agglomerate is not expected to meet them), so CI skips it.
+TEST(RubberSphere, CalibratedBmsMatchesTataraAndConverges) {
+  if (!full_validation()) GTEST_SKIP() << "full study only (SHAPEPRESS_FULL_VALIDATION=1)";
+  PlateConfig config = shipped_config();
+  config.bms->count = 545;
+  const Reference ref = tatara_reference();
+  CalibrationOptions options;
+  options.parameters = {"modulus", "contact_modulus", "shear_ratio"};
+  options.start = {{"modulus", 1.9e6}, {"contact_modulus", 1.6e9}, {"shear_ratio", 0.16}};
+  options.reference_deformation = ref.deformation;
+  options.reference_force = ref.tatara;
+  options.max_evaluations = 50;
+  const CalibrationResult calibrated = calibrate_plate(config, options);
+  EXPECT_LT(calibrated.rms_relative, 0.05) << "N = 545 against Tatara over 5-40 %";
+  std::vector<std::vector<PlateRow>> runs;
+  for (int n : {819, 1322}) {
+    PlateConfig c = calibrated.config;
+    c.bms->count = n;
+    runs.push_back(run_plate_config(c, true).rows);
+  }
+  std::vector<double> d, f;
+  for (const PlateRow& row : runs[1])
+    d.push_back(row.deformation), f.push_back(row.top_force);
+  d.insert(d.begin(), 0.0), f.insert(f.begin(), 0.0);
+  for (int step = 5; step <= 40; ++step) {
+    const double x = step / 100.0;
+    const CurveError e = plate_curve_error(runs[0], d, f, x - 1e-3, x);
+    EXPECT_LT(e.max_relative, 0.02) << "N = 819 vs 1322 at deformation " << x;
+  }
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
