@@ -28,7 +28,11 @@ std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
   std::vector<const LoadedRun*> members;
   for (const LoadedRun& run : runs)
     if (run.plate && run.plate->sub_spheres > 0) members.push_back(&run);
-  if (members.size() < 2) return std::nullopt;
+  // A study compares sub-sphere counts: it needs two agglomerates (N > 1), not only single
+  // spheres (the demo's Hertz and multi-contact spheres are N = 1 each).
+  const auto agglomerates = std::count_if(
+      members.begin(), members.end(), [](const LoadedRun* r) { return r->plate->sub_spheres > 1; });
+  if (agglomerates < 2) return std::nullopt;
   PlateStudy study;
   const LoadedRun* finest =
       *std::max_element(members.begin(), members.end(), [](const LoadedRun* a, const LoadedRun* b) {

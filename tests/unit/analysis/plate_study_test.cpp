@@ -54,6 +54,13 @@ TEST(PlateStudy, ComparesEveryRunWithTheFinestAndCharts) {
 TEST(PlateStudy, NeedsTwoRunsWithSubSphereCounts) {
   const std::vector<LoadedRun> runs = {run("a", 0, 1.0, -1), run("b", 545, 1.0, 1.0)};
   EXPECT_FALSE(plate_study(runs, std::nullopt));
+  // Two single spheres (a Hertz and a multi-contact plate run, N = 1 each) are no study either:
+  // the demo's report has exactly those.
+  const std::vector<LoadedRun> singles = {run("hertz", 1, 1.0, 0.1), run("mc", 1, 1.0, 0.1)};
+  EXPECT_FALSE(plate_study(singles, std::nullopt));
+  const std::vector<LoadedRun> ladder = {run("hertz", 1, 1.0, 0.1), run("n100", 100, 1.0, 1.0),
+                                         run("n250", 250, 1.0, 2.0)};
+  EXPECT_TRUE(plate_study(ladder, std::nullopt));
 }
 
 }  // namespace
