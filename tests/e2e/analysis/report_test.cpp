@@ -10,25 +10,21 @@
 #include <string>
 
 #include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress {
 namespace {
 
+using shapepress::testing::fresh_directory;
 using shapepress::testing::run_command;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
 const std::filesystem::path data = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis";
 const std::filesystem::path repo =
     std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
-
-std::filesystem::path fresh_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_analysis_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream in(path);
@@ -56,7 +52,7 @@ std::string quote(const std::filesystem::path& path) {
 }
 
 TEST(ReportE2e, SyntheticRunsGiveTheirKnownNumbers) {
-  const auto out = fresh_dir("synthetic");
+  const auto out = fresh_directory("analysis_synthetic");
   const auto r =
       run_shapepress("report " + quote(data / "compaction_run") + " " + quote(data / "plate_run") +
                      " --poisson-ratio 0.46 --out " + quote(out));
@@ -87,7 +83,7 @@ TEST(ReportE2e, SyntheticRunsGiveTheirKnownNumbers) {
 }
 
 TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
-  const auto dir = fresh_dir("real");
+  const auto dir = fresh_directory("analysis_real");
   // The shipped plate rig (rubber sphere, 1 % deformation) and a 500-sphere compaction.
   auto r = run_shapepress("plate --config " +
                           quote(repo / "pipelines/configs/plate-rubber-sphere.toml") + " --out " +
@@ -130,7 +126,7 @@ TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
 }
 
 TEST(ReportE2e, SameNamedFoldersGetDistinctLabelsAndPlateWithoutNuIsHertzOnly) {
-  const auto dir = fresh_dir("labels");
+  const auto dir = fresh_directory("analysis_labels");
   for (const char* parent : {"a", "b"}) {
     std::filesystem::create_directories(dir / parent / "run");
     std::filesystem::copy_file(data / "plate_run" / "force.csv",
@@ -149,7 +145,7 @@ TEST(ReportE2e, SameNamedFoldersGetDistinctLabelsAndPlateWithoutNuIsHertzOnly) {
 
 // The spread of a family of identical runs is zero; the synthetic curve reaches strain 0.5713.
 TEST(ReportE2e, IdenticalCompactionRunsHaveNoSpread) {
-  const auto dir = fresh_dir("spread");
+  const auto dir = fresh_directory("analysis_spread");
   const auto r = run_shapepress("report " + quote(data / "compaction_run") + " " +
                                 quote(data / "compaction_run") + " --out " + quote(dir));
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -165,7 +161,7 @@ TEST(ReportE2e, IdenticalCompactionRunsHaveNoSpread) {
 }
 
 TEST(ReportE2e, BadInputIsExitTwoNamingTheFileOrColumn) {
-  const auto out = fresh_dir("bad");
+  const auto out = fresh_directory("analysis_bad");
   auto r = run_shapepress("report " + quote(out / "missing_run") + " --out " + quote(out / "r"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("missing_run"));
@@ -187,7 +183,7 @@ TEST(ReportE2e, BadInputIsExitTwoNamingTheFileOrColumn) {
 
 TEST(ReportE2e, PlateChartTakesAnExtraCurve) {
   // Another method's curve (a BMS plate run when it lands) on the plate chart by label.
-  const auto out = fresh_dir("plate_curve");
+  const auto out = fresh_directory("analysis_plate_curve");
   std::ofstream(out / "bms.csv") << "# a made-up curve\ndeformation,force_N\n0.1,1.5\n0.2,4.0\n";
   auto r = run_shapepress("report " + quote(data / "plate_run") + " --poisson-ratio 0.46" +
                           " --plate-curve 'BMS 545=" + (out / "bms.csv").string() + "' --out " +
@@ -203,7 +199,7 @@ TEST(ReportE2e, PlateChartTakesAnExtraCurve) {
 }
 
 TEST(ReportE2e, WithoutGnuplotTheRunFailsNamingIt) {
-  const auto out = fresh_dir("no_gnuplot");
+  const auto out = fresh_directory("analysis_no_gnuplot");
   const auto r = run_command("PATH=" + quote(out) + " " + std::string(SHAPEPRESS_BINARY) +
                              " report " + quote(data / "plate_run") + " --out " + quote(out / "r"));
   EXPECT_EQ(r.exit_code, 1) << r.output;

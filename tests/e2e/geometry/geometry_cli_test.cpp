@@ -9,11 +9,14 @@
 #include "geometry/icosphere.hpp"
 #include "geometry/templates_file.hpp"
 #include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::geometry {
 namespace {
 
+using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::write_text;
 namespace fs = std::filesystem;
 
 const std::string data = std::string(SHAPEPRESS_TEST_DATA) + "/geometry/";
@@ -38,15 +41,8 @@ std::vector<std::string> csv_column(const fs::path& path, const std::string& col
   return cells;
 }
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("shapepress_e2e_geometry_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 TEST(GeometryCli, GenerateDescribeFillChain) {
-  const fs::path dir = fresh_dir("chain");
+  const fs::path dir = fresh_directory("geometry_chain");
   auto r = run_shapepress("--quiet generate --targets " + data + "paper_box_targets.toml " +
                           "--count 3 --seed 4 --out " + (dir / "shapes").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -74,7 +70,7 @@ TEST(GeometryCli, GenerateDescribeFillChain) {
 }
 
 TEST(GeometryCli, SameSeedSameTemplatesAndMeshes) {
-  const fs::path dir = fresh_dir("determinism");
+  const fs::path dir = fresh_directory("geometry_determinism");
   for (const char* run : {"a", "b"}) {
     auto r = run_shapepress("--quiet generate --targets " + data + "paper_box_targets.toml " +
                             "--count 2 --seed 9 --out " + (dir / run).string());
@@ -100,7 +96,7 @@ TEST(GeometryCli, SameSeedSameTemplatesAndMeshes) {
 }
 
 TEST(GeometryCli, AnalyticShapesForTheBmsStudies) {
-  const fs::path dir = fresh_dir("analytic");
+  const fs::path dir = fresh_directory("geometry_analytic");
   const auto r = run_shapepress(
       "--quiet fill --sphere 1cm --ellipsoid 1cm,8.4mm,8mm --count 545 "
       "--out " +
@@ -113,7 +109,7 @@ TEST(GeometryCli, AnalyticShapesForTheBmsStudies) {
 }
 
 TEST(GeometryCli, BadInputsExitTwoAndNameTheCause) {
-  const fs::path dir = fresh_dir("bad");
+  const fs::path dir = fresh_directory("geometry_bad");
   // Inside-out mesh.
   TriangleMesh m = icosphere(2);
   for (auto& t : m.triangles)
@@ -147,7 +143,7 @@ TEST(GeometryCli, BadInputsExitTwoAndNameTheCause) {
 }
 
 TEST(GeometryCli, OpenMeshIsRepairedAndReported) {
-  const fs::path dir = fresh_dir("open");
+  const fs::path dir = fresh_directory("geometry_open");
   TriangleMesh m = icosphere(3);
   m.triangles.erase(m.triangles.begin() + 3);  // a triangular hole
   scale_mesh(m, 1e-4);

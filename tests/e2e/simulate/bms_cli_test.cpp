@@ -13,23 +13,19 @@
 
 #include "common/csv.hpp"
 #include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress {
 namespace {
 
+using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
 const std::filesystem::path repo =
     std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
 const std::filesystem::path shipped = repo / "pipelines/configs/rubber-sphere.toml";
-
-std::filesystem::path fresh_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_bms_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 std::string shipped_text() {
   std::ifstream in(shipped);
@@ -54,7 +50,7 @@ std::string q(const std::filesystem::path& p) {
 }
 
 TEST(BmsPlateCli, WritesForceCsvWithBondsAndParaViewLines) {
-  const auto dir = fresh_dir("plate");
+  const auto dir = fresh_directory("bms_plate");
   // 40 % with 100 sub-spheres: a second of work.
   const auto r = run_shapepress("--quiet plate --config " + q(shipped) +
                                 " --particle bms --count 100 --snapshot --out " + q(dir / "run"));
@@ -77,7 +73,7 @@ TEST(BmsPlateCli, WritesForceCsvWithBondsAndParaViewLines) {
 }
 
 TEST(BmsPlateCli, BadInputExitsTwoNamingTheCause) {
-  const auto dir = fresh_dir("bad");
+  const auto dir = fresh_directory("bms_bad");
   auto r = run_shapepress("--quiet plate --particle bms --count 100 --out " + q(dir / "a") +
                           " --config " +
                           q(variant(dir, "bond_multiplier = 1.15", "bond_multiplier = 1.0")));
@@ -98,7 +94,7 @@ TEST(BmsPlateCli, BadInputExitsTwoNamingTheCause) {
 }
 
 TEST(CalibrateCli, FitsTheBondModulusAndWritesAConfigThatRuns) {
-  const auto dir = fresh_dir("calibrate");
+  const auto dir = fresh_directory("bms_calibrate");
   const auto reference = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis" /
                          "tatara_hertz_R10mm_E18.5MPa_nu0.46.csv";
   // Few sub-spheres and runs: the mechanics of calibrate, not the study (validation does that).

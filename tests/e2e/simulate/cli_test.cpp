@@ -10,23 +10,15 @@
 
 #include "common/csv.hpp"
 #include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress {
 namespace {
 
+using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::write_text;
 using ::testing::HasSubstr;
-
-std::filesystem::path fresh_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_simulate_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-void write(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
 
 const std::string materials = R"(
 [[material]]
@@ -77,8 +69,8 @@ unload_speed = "0.5 m/s"
 }
 
 TEST(Plate, WritesForceCsvFollowingHertz) {
-  const auto dir = fresh_dir("plate");
-  write(dir / "plate.toml", materials + R"(
+  const auto dir = fresh_directory("simulate_plate");
+  write_text(dir / "plate.toml", materials + R"(
 [sphere]
 radius = "0.5 mm"
 material = "powder"
@@ -101,7 +93,7 @@ records = 10
 }
 
 TEST(Plate, ShippedRubberSphereConfigRuns) {
-  const auto dir = fresh_dir("plate_shipped");
+  const auto dir = fresh_directory("simulate_plate_shipped");
   const std::filesystem::path config = std::filesystem::path(SHAPEPRESS_TEST_DATA) / ".." / ".." /
                                        "pipelines" / "configs" / "plate-rubber-sphere.toml";
   const auto result =
@@ -114,8 +106,8 @@ TEST(Plate, ShippedRubberSphereConfigRuns) {
 }
 
 TEST(Compact, LoadHoldUnloadWithSnapshotsAndRestart) {
-  const auto dir = fresh_dir("compact");
-  write(dir / "compact.toml", compact_config());
+  const auto dir = fresh_directory("simulate_compact");
+  write_text(dir / "compact.toml", compact_config());
   const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
                                      " --out " + (dir / "run").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -147,9 +139,10 @@ TEST(Compact, LoadHoldUnloadWithSnapshotsAndRestart) {
 }
 
 TEST(Compact, ReadsAPlainTextPacking) {
-  const auto dir = fresh_dir("packing");
-  write(dir / "packing.txt", "# x y z r\n0.001 0.001 0.0006 0.0005\n0.003 0.003 0.0006 0.0005\n");
-  write(dir / "compact.toml", compact_config());
+  const auto dir = fresh_directory("simulate_packing");
+  write_text(dir / "packing.txt",
+             "# x y z r\n0.001 0.001 0.0006 0.0005\n0.003 0.003 0.0006 0.0005\n");
+  write_text(dir / "compact.toml", compact_config());
   const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
                                      " --packing " + (dir / "packing.txt").string() +
                                      " --steps 200 --out " + (dir / "run").string());
@@ -158,8 +151,8 @@ TEST(Compact, ReadsAPlainTextPacking) {
 }
 
 TEST(Compact, UnknownKeyIsExitTwoNamingIt) {
-  const auto dir = fresh_dir("badkey");
-  write(dir / "compact.toml", compact_config("skinn = \"0.1 mm\"\n"));
+  const auto dir = fresh_directory("simulate_badkey");
+  write_text(dir / "compact.toml", compact_config("skinn = \"0.1 mm\"\n"));
   const auto result = run_shapepress("compact --config " + (dir / "compact.toml").string() +
                                      " --out " + (dir / "run").string());
   EXPECT_EQ(result.exit_code, 2) << result.output;
@@ -167,9 +160,9 @@ TEST(Compact, UnknownKeyIsExitTwoNamingIt) {
 }
 
 TEST(Compact, DivergenceIsExitOneNamingSphereAndStep) {
-  const auto dir = fresh_dir("diverge");
+  const auto dir = fresh_directory("simulate_diverge");
   // An overlap limit no real contact stays under: the run must stop, not write a NaN curve.
-  write(dir / "compact.toml", compact_config("max_overlap_fraction = 1e-9\n"));
+  write_text(dir / "compact.toml", compact_config("max_overlap_fraction = 1e-9\n"));
   const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
                                      " --out " + (dir / "run").string());
   EXPECT_EQ(result.exit_code, 1) << result.output;

@@ -11,23 +11,15 @@
 
 #include "common/csv.hpp"
 #include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress {
 namespace {
 
+using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::write_text;
 using ::testing::HasSubstr;
-
-std::filesystem::path fresh_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_mc_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-void write(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
 
 std::string plate_config(const std::string& interaction_extra) {
   return R"(
@@ -57,8 +49,8 @@ records = 10
 }
 
 TEST(MulticontactPlate, ModelFlagAddsTheMultiContactTermAboveHertz) {
-  const auto dir = fresh_dir("plate");
-  write(dir / "plate.toml", plate_config("multicontact_prefactor = 1.71\n"));
+  const auto dir = fresh_directory("mc_plate");
+  write_text(dir / "plate.toml", plate_config("multicontact_prefactor = 1.71\n"));
   // The config's law is Hertz with multi-contact keys: an error unless --model multicontact.
   const auto refused = run_shapepress("plate --config " + (dir / "plate.toml").string() +
                                       " --out " + (dir / "hertz").string());
@@ -80,20 +72,20 @@ TEST(MulticontactPlate, ModelFlagAddsTheMultiContactTermAboveHertz) {
 }
 
 TEST(MulticontactPlate, BadMultiContactInputExitsWithTwoNamingTheKey) {
-  const auto dir = fresh_dir("bad");
-  write(dir / "lambda.toml",
-        plate_config("normal_law = \"multicontact\"\nplasticity_ratio = 0.0\n"));
+  const auto dir = fresh_directory("mc_bad");
+  write_text(dir / "lambda.toml",
+             plate_config("normal_law = \"multicontact\"\nplasticity_ratio = 0.0\n"));
   auto r = run_shapepress("plate --config " + (dir / "lambda.toml").string() + " --out " +
                           (dir / "o1").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("plasticity_ratio"));
-  write(dir / "f0.toml",
-        plate_config("normal_law = \"multicontact\"\npull_off_force = \"1 mN\"\n"));
+  write_text(dir / "f0.toml",
+             plate_config("normal_law = \"multicontact\"\npull_off_force = \"1 mN\"\n"));
   r = run_shapepress("plate --config " + (dir / "f0.toml").string() + " --out " +
                      (dir / "o2").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("pull_off_force"));
-  write(dir / "law.toml", plate_config("normal_law = \"eepa\"\n"));
+  write_text(dir / "law.toml", plate_config("normal_law = \"eepa\"\n"));
   r = run_shapepress("plate --config " + (dir / "law.toml").string() + " --out " +
                      (dir / "o3").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -153,8 +145,8 @@ strain_reference = "fill"
 }
 
 TEST(MulticontactCompact, StrainFromFillHeightStopsAtTheSolidFractionCeiling) {
-  const auto dir = fresh_dir("compact");
-  write(dir / "compact.toml", compact_config("max_solid_fraction = 0.6\n"));
+  const auto dir = fresh_directory("mc_compact");
+  write_text(dir / "compact.toml", compact_config("max_solid_fraction = 0.6\n"));
   const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
                                      " --out " + (dir / "run").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -175,15 +167,15 @@ TEST(MulticontactCompact, StrainFromFillHeightStopsAtTheSolidFractionCeiling) {
 }
 
 TEST(MulticontactCompact, BadCeilingOrReferenceExitsWithTwo) {
-  const auto dir = fresh_dir("compact_bad");
-  write(dir / "c1.toml", compact_config("max_solid_fraction = 1.2\n"));
+  const auto dir = fresh_directory("mc_compact_bad");
+  write_text(dir / "c1.toml", compact_config("max_solid_fraction = 1.2\n"));
   auto r = run_shapepress("--quiet compact --config " + (dir / "c1.toml").string() + " --out " +
                           (dir / "o1").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("max_solid_fraction"));
   std::string bad_sizes = compact_config("");
   bad_sizes.replace(bad_sizes.find("[0.1, 0.5, 0.9]"), 15, "[0.5, 0.1, 0.9]");
-  write(dir / "c2.toml", bad_sizes);
+  write_text(dir / "c2.toml", bad_sizes);
   r = run_shapepress("--quiet compact --config " + (dir / "c2.toml").string() + " --out " +
                      (dir / "o2").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;

@@ -17,24 +17,12 @@ namespace shapepress::simulate {
 namespace {
 
 using testing::default_time_step;
+using testing::expect_same_bits;
 using testing::full_validation;
 using testing::one_material;
+using testing::random_gas;
 
 // Spheres of 0.8–1.2 mm at random in a periodic box between two plates, moving at random.
-SphereState random_gas(int count, double length, double height, double speed, std::uint64_t seed) {
-  const Box box{length, length};
-  SphereState s =
-      make_state(insert_random_spheres(box, {count, 0.8e-3, 1.2e-3, 0.0, height, seed}), 1541.0, 0);
-  std::mt19937_64 random(seed);
-  std::normal_distribution<double> v(0.0, speed);
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    s.velocity.x[i] = v(random);
-    s.velocity.y[i] = v(random);
-    s.velocity.z[i] = v(random);
-  }
-  return s;
-}
-
 TEST(Energy, ElasticFrictionlessBoxConservesTotalEnergy) {
   // Issue size: 1000 spheres, 1e5 steps; CI: 1000 spheres, 1e4 steps. Step 0.05 Rayleigh
   // times: the energy error comes from where in a step each Hertz contact starts and ends and
@@ -63,44 +51,9 @@ TEST(Energy, ElasticFrictionlessBoxConservesTotalEnergy) {
   EXPECT_LT(worst, 1e-4);             // issue tolerance
 }
 
-// A small compaction: punch at 2 m/s into a loose bed, 2500 spheres, enough pairs that both
-// the pair loop and the gather run multi-threaded.
-struct Scene {
-  std::unique_ptr<Engine> engine;
-  CompactionSetup setup;
-  PunchState punch;
-};
-
+using Scene = testing::CompactionScene;
 Scene compaction_scene() {
-  const MaterialTable table = one_material(0.5, 0.5, 0.02);
-  const double length = 14e-3, height = 30e-3;
-  Scene scene;
-  scene.engine = std::make_unique<Engine>(
-      random_gas(2500, length, height, 0.2, 5), Box{length, length}, table,
-      std::vector<PlaneWall>{PlaneWall{0.0, 1, 0.0, 0}, PlaneWall{height, -1, 0.0, 0}},
-      EngineSettings{default_time_step(table, 0.4e-3), {0, 0, -9.81}, 0.1e-3});
-  scene.setup.program.speed = 2.0;
-  scene.setup.die_area = length * length;
-  scene.setup.reference_gap = height;
-  scene.setup.record_every = 0;
-  scene.punch.reference_gap = height;
-  return scene;
-}
-
-void expect_same_bits(const Engine& a, const Engine& b) {
-  EXPECT_EQ(a.step_index(), b.step_index());
-  EXPECT_TRUE(a.state().position == b.state().position);
-  EXPECT_TRUE(a.state().velocity == b.state().velocity);
-  EXPECT_TRUE(a.state().angular_velocity == b.state().angular_velocity);
-  EXPECT_TRUE(a.state().force == b.state().force);
-  EXPECT_TRUE(a.state().torque == b.state().torque);
-  EXPECT_EQ(a.wall_force(1), b.wall_force(1));
-  const EngineCheckpoint ca = a.checkpoint(), cb = b.checkpoint();
-  EXPECT_EQ(ca.first, cb.first);
-  ASSERT_EQ(ca.history.size(), cb.history.size());
-  for (std::size_t k = 0; k < ca.history.size(); ++k)
-    for (int c = 0; c < 3; ++c)
-      ASSERT_EQ(ca.history[k].tangential[c], cb.history[k].tangential[c]);
+  return testing::compaction_scene(one_material(0.5, 0.5, 0.02));
 }
 
 const int compaction_steps = 2000;

@@ -16,12 +16,7 @@ namespace shapepress::simulate {
 namespace {
 
 using testing::default_time_step;
-
-struct Scene {
-  std::unique_ptr<Engine> engine;
-  CompactionSetup setup;
-  PunchState punch;
-};
+using testing::expect_same_bits;
 
 MaterialTable multicontact_material() {
   MulticontactParameters m;
@@ -33,46 +28,9 @@ MaterialTable multicontact_material() {
                        {{"m", "m", 0.5, 0.5, 0.02, NormalLaw::multicontact, m}});
 }
 
-// 2500 spheres poured at the punch moving at 2 m/s: enough pairs and spheres that the pair loop
-// and the gather both run on two threads.
+using Scene = testing::CompactionScene;
 Scene scene() {
-  const MaterialTable table = multicontact_material();
-  const double length = 14e-3, height = 30e-3;
-  SphereState s =
-      make_state(insert_random_spheres(Box{length, length}, {2500, 0.8e-3, 1.2e-3, 0.0, height, 5}),
-                 1541.0, 0);
-  std::mt19937_64 random(5);
-  std::normal_distribution<double> v(0.0, 0.2);
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    s.velocity.x[i] = v(random);
-    s.velocity.y[i] = v(random);
-    s.velocity.z[i] = v(random);
-  }
-  Scene out;
-  out.engine = std::make_unique<Engine>(
-      std::move(s), Box{length, length}, table,
-      std::vector<PlaneWall>{PlaneWall{0.0, 1, 0.0, 0}, PlaneWall{height, -1, 0.0, 0}},
-      EngineSettings{default_time_step(table, 0.4e-3), {0, 0, -9.81}, 0.1e-3});
-  out.setup.program.speed = 2.0;
-  out.setup.die_area = length * length;
-  out.setup.reference_gap = height;
-  out.setup.record_every = 0;
-  out.punch.reference_gap = height;
-  return out;
-}
-
-void expect_same_bits(const Engine& a, const Engine& b) {
-  EXPECT_EQ(a.step_index(), b.step_index());
-  EXPECT_TRUE(a.state().position == b.state().position);
-  EXPECT_TRUE(a.state().velocity == b.state().velocity);
-  EXPECT_TRUE(a.state().force == b.state().force);
-  EXPECT_TRUE(a.state().torque == b.state().torque);
-  EXPECT_EQ(a.wall_force(1), b.wall_force(1));
-  EXPECT_TRUE(a.particle_stress() == b.particle_stress());
-  const EngineCheckpoint ca = a.checkpoint(), cb = b.checkpoint();
-  ASSERT_EQ(ca.first, cb.first);
-  for (std::size_t k = 0; k < ca.history.size(); ++k)
-    ASSERT_EQ(ca.history[k].plastic_force, cb.history[k].plastic_force);
+  return testing::compaction_scene(multicontact_material());
 }
 
 constexpr int steps = 1500;

@@ -1,0 +1,22 @@
+#pragma once
+// Scratch folders and files for end-to-end tests.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace shapepress::testing {
+
+// An empty folder shapepress_e2e_<name> in the system's temporary folder (emptied if it exists).
+// Names carry the test suite's prefix, so suites running in parallel never share one.
+inline std::filesystem::path fresh_directory(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+}  // namespace shapepress::testing
