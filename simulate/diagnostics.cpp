@@ -158,7 +158,7 @@ std::vector<double> Engine::particle_stress() const {
     const double distance = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     const double n[3] = {d[0] / distance, d[1] / distance, d[2] / distance};
     const double overlap = s.radius[a] + s.radius[b] - distance;
-    add(sigma, s.radius[i] - 0.5 * overlap, n, pair_results_[p].force);
+    add(sigma, s.radius[i] - 0.5 * overlap, n, pair_results_[pair_slot_[p]].force);
   };
   for (std::size_t i = 0; i < s.size(); ++i) {
     double* sigma = &stress[stress_components * i];

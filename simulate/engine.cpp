@@ -83,7 +83,8 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   touching.first = std::move(checkpoint.first);
   touching.second = std::move(checkpoint.second);
   history_ = carry_history(touching, checkpoint.history, pairs_);
-  pair_results_.assign(pairs_.size(), PairResult{});
+  pair_results_.assign(pairs_.size() + 1, PairResult{});  // slot 0: the zero result
+  pair_slot_.assign(pairs_.size(), 0);
   if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   pair_touching_ = touching_flags(pairs_, touching);
   energy_reference_ = checkpoint.energy_reference;
@@ -133,7 +134,8 @@ void Engine::build_list(bool wrap) {
   pair_touching_ = touching_flags(next, was_touching);
   pairs_ = std::move(next);
   // Zero for every pair: the force pass rewrites the touching ones before they are gathered.
-  pair_results_.assign(pairs_.size(), PairResult{});
+  pair_results_.assign(pairs_.size() + 1, PairResult{});  // slot 0: the zero result
+  pair_slot_.assign(pairs_.size(), 0);
   if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   index_bonded_pairs();
   build_reference_ = state_.position;

@@ -170,9 +170,13 @@ class Engine {
     double torque_first[3];
     double torque_second[3];
   };
-  std::vector<PairResult> pair_results_;  // zero where pair_touching_ is 0
-  std::vector<double> geometry_;          // per sphere x, y, z, r (pair_forces)
-  std::vector<double> motion_;            // per sphere predicted v, ω, then m, 1/I
+  // Compact: one result per touching pair, at slot 1 + its rank among the touching pairs of the
+  // list; slot 0 holds zeros and is where every non-touching pair points. Only touching pairs
+  // are written and read, so a sparse bed does not stream a result per list pair.
+  std::vector<PairResult> pair_results_;
+  std::vector<std::int32_t> pair_slot_;  // per list pair: its slot in pair_results_
+  std::vector<double> geometry_;         // per sphere x, y, z, r (pair_forces)
+  std::vector<double> motion_;           // per sphere predicted v, ω, then m, 1/I
   // One byte per pair: the gather skips non-touching pairs without reading their 72-byte
   // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
   std::vector<std::uint8_t> pair_touching_;

@@ -74,6 +74,7 @@ void Engine::pair_forces_with() {
   // so the gather sums every pair without testing it.
   touching_index_.resize(static_cast<std::size_t>(count));
   std::int32_t* __restrict selected = touching_index_.data();
+  std::int32_t* __restrict slot = pair_slot_.data();
   std::uint8_t* __restrict was_touching = pair_touching_.data();
   const std::int32_t* __restrict first = pairs_.first.data();
   const std::int32_t* __restrict second = pairs_.second.data();
@@ -105,10 +106,12 @@ void Engine::pair_forces_with() {
       const std::uint8_t now = (dx * dx + dy * dy + dz * dz < reach * reach) & (held ^ 1);
       if (was_touching[p] & (now ^ 1)) {  // the contact just opened: its spring is released
         history_[p] = ContactHistory{};
-        pair_results_[p] = PairResult{};
         if constexpr (stress_on) virial[2 * p] = virial[2 * p + 1] = 0.0;
       }
       was_touching[p] = now;
+      // A touching pair's result goes to slot 1 + k of the compact result array; the others
+      // point at slot 0, which holds zeros.
+      slot[p] = static_cast<std::int32_t>(now) * static_cast<std::int32_t>(k + 1);
       selected[k] = static_cast<std::int32_t>(p);
       k += now;
     }
@@ -116,7 +119,7 @@ void Engine::pair_forces_with() {
     for (std::int64_t q = begin; q < k; ++q) {
       const std::int64_t p = selected[q];
       const int i = first[p], j = second[p];
-      PairResult& out = pair_results_[p];
+      PairResult& out = pair_results_[q + 1];
       const double* gi = geometry + 4 * i;
       const double* gj = geometry + 4 * j;
       const double dx = gj[0] - gi[0] + shift_x[p];
@@ -201,6 +204,7 @@ void Engine::gather_forces_with(double kick) {
   const std::int32_t* __restrict second_offset = pairs_.second_offset.data();
   const std::int32_t* __restrict second_pairs = pairs_.second_pairs.data();
   const PairResult* __restrict results = pair_results_.data();
+  const std::int32_t* __restrict slot = pair_slot_.data();
   // Raw pointers hoisted out of the loop: through the containers the compiler reloads every
   // array's address after each store.
   const double* __restrict geometry = geometry_.data();
@@ -243,9 +247,9 @@ void Engine::gather_forces_with(double kick) {
     double arm_force = 0.0;  // Σ rc Fn
     const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
     // Partners below i (i is second), then above (i is first): increasing partner order.
-    // Non-touching pairs hold a zero result, so every pair is summed without a test.
+    // Non-touching pairs point at the zero result, so every pair is summed without a test.
     for (std::int32_t e = second_offset[i]; e < second_offset[i + 1]; ++e) {
-      const PairResult& r = results[second_pairs[e]];
+      const PairResult& r = results[slot[second_pairs[e]]];
       if constexpr (stress_on) {
         const double* v = virial + 2 * second_pairs[e];
         arm_force += (ri - v[1]) * v[0];
@@ -254,7 +258,7 @@ void Engine::gather_forces_with(double kick) {
       t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
     }
     for (std::int32_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
-      const PairResult& r = results[p];
+      const PairResult& r = results[slot[p]];
       if constexpr (stress_on) {
         const double* v = virial + 2 * p;
         arm_force += (ri - v[1]) * v[0];
