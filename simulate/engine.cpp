@@ -83,7 +83,9 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   touching.first = std::move(checkpoint.first);
   touching.second = std::move(checkpoint.second);
   history_ = carry_history(touching, checkpoint.history, pairs_);
-  pair_results_.assign(pairs_.size() + 1, PairResult{});  // slot 0: the zero result
+  // Slot 0 is the zero result; the others are written by the pair loop before any is read.
+  pair_results_.resize(pairs_.size() + 1);
+  pair_results_[0] = PairResult{};
   pair_slot_.assign(pairs_.size(), 0);
   if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   pair_touching_ = touching_flags(pairs_, touching);
@@ -134,7 +136,9 @@ void Engine::build_list(bool wrap) {
   pair_touching_ = touching_flags(next, was_touching);
   pairs_ = std::move(next);
   // Zero for every pair: the force pass rewrites the touching ones before they are gathered.
-  pair_results_.assign(pairs_.size() + 1, PairResult{});  // slot 0: the zero result
+  // Slot 0 is the zero result; the others are written by the pair loop before any is read.
+  pair_results_.resize(pairs_.size() + 1);
+  pair_results_[0] = PairResult{};
   pair_slot_.assign(pairs_.size(), 0);
   if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   index_bonded_pairs();

@@ -70,8 +70,9 @@ void Engine::pair_forces_with() {
   // Two passes per thread over its own static chunk of the list. The first selects the touching
   // pairs without a branch on the outcome (about half the list pairs touch in a dense bed, so a
   // branch there mispredicts all the time) and releases the contacts that just opened; the
-  // second computes the law for the selected pairs only. Non-touching pairs keep a zero result,
-  // so the gather sums every pair without testing it.
+  // second computes the law for the selected pairs only, into a compact result array. Every
+  // non-touching pair's slot points at the one zero result, so the gather sums every pair
+  // without testing it.
   touching_index_.resize(static_cast<std::size_t>(count));
   std::int32_t* __restrict selected = touching_index_.data();
   std::int32_t* __restrict slot = pair_slot_.data();

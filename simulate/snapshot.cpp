@@ -77,6 +77,12 @@ void write_vec3(H5Writer& file, const std::string& name, const Vec3Array& v,
   file.unit(name, unit);
 }
 
+void write_with_unit(H5Writer& file, const std::string& name, const std::vector<double>& values,
+                     std::string_view si_unit) {
+  file.write(name, values);
+  file.unit(name, si_unit);
+}
+
 // The bonds and their history (/bonds): everything BondSet holds but the per-step results and
 // the gather index, which are rebuilt. Pairs as (B, 2) so the XDMF sidecar draws them as lines.
 void write_bonds(H5Writer& file, const BondSet& b) {
@@ -86,28 +92,18 @@ void write_bonds(H5Writer& file, const BondSet& b) {
   for (std::size_t k = 0; k < b.size(); ++k)
     pairs.insert(pairs.end(), {b.first[k], b.second[k]});
   file.write("/bonds/pairs", pairs, {b.size(), 2});
-  file.write("/bonds/radius", b.radius);
-  file.unit("/bonds/radius", "m");
-  file.write("/bonds/normal_spring", b.normal_spring);
-  file.unit("/bonds/normal_spring", "N/m");
-  file.write("/bonds/shear_spring", b.shear_spring);
-  file.unit("/bonds/shear_spring", "N/m");
-  file.write("/bonds/twist_spring", b.twist_spring);
-  file.unit("/bonds/twist_spring", "N m");
-  file.write("/bonds/bend_spring", b.bend_spring);
-  file.unit("/bonds/bend_spring", "N m");
-  file.write("/bonds/tensile_strength", b.tensile_strength);
-  file.unit("/bonds/tensile_strength", "Pa");
-  file.write("/bonds/shear_strength", b.shear_strength);
-  file.unit("/bonds/shear_strength", "Pa");
+  write_with_unit(file, "/bonds/radius", b.radius, "m");
+  write_with_unit(file, "/bonds/normal_spring", b.normal_spring, "N/m");
+  write_with_unit(file, "/bonds/shear_spring", b.shear_spring, "N/m");
+  write_with_unit(file, "/bonds/twist_spring", b.twist_spring, "N m");
+  write_with_unit(file, "/bonds/bend_spring", b.bend_spring, "N m");
+  write_with_unit(file, "/bonds/tensile_strength", b.tensile_strength, "Pa");
+  write_with_unit(file, "/bonds/shear_strength", b.shear_strength, "Pa");
   file.write("/bonds/damping_ratio", b.damping_ratio);
-  file.write("/bonds/length", b.length);
-  file.unit("/bonds/length", "m");
-  file.write("/bonds/normal_force", b.normal_force);
-  file.unit("/bonds/normal_force", "N");
+  write_with_unit(file, "/bonds/length", b.length, "m");
+  write_with_unit(file, "/bonds/normal_force", b.normal_force, "N");
   write_vec3(file, "/bonds/shear_force", b.shear_force, "N");
-  file.write("/bonds/twist_moment", b.twist_moment);
-  file.unit("/bonds/twist_moment", "N m");
+  write_with_unit(file, "/bonds/twist_moment", b.twist_moment, "N m");
   write_vec3(file, "/bonds/bend_moment", b.bend_moment, "N m");
   file.write("/bonds/intact", b.intact);
   file.attribute("/bonds", "contact_when_bonded", std::int64_t{b.contact_when_bonded ? 1 : 0});
@@ -156,10 +152,8 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   write_vec3(file, "/particles/angular_velocity", s.angular_velocity, "rad/s");
   write_vec3(file, "/particles/force", s.force, "N");
   write_vec3(file, "/particles/torque", s.torque, "N m");
-  file.write("/particles/radius", s.radius);
-  file.unit("/particles/radius", "m");
-  file.write("/particles/mass", s.mass);
-  file.unit("/particles/mass", "kg");
+  write_with_unit(file, "/particles/radius", s.radius, "m");
+  write_with_unit(file, "/particles/mass", s.mass, "kg");
   file.write("/particles/inverse_mass", s.inverse_mass);
   file.write("/particles/inverse_inertia", s.inverse_inertia);
   file.write("/particles/material", s.material);
@@ -174,8 +168,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
     std::vector<double> pressure(n);
     for (std::size_t i = 0; i < n; ++i)
       pressure[i] = engine.particle_pressure(i);
-    file.write("/particles/pressure", pressure);
-    file.unit("/particles/pressure", "Pa");
+    write_with_unit(file, "/particles/pressure", pressure, "Pa");
   }
 
   const EngineCheckpoint c = engine.checkpoint();
@@ -194,10 +187,8 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   for (const auto& w : c.wall_history)
     wall_history.insert(wall_history.end(), w.begin(), w.end());
   file.write("/engine/wall_tangential", history_values(wall_history), {wall_history.size(), 3});
-  file.write("/engine/contact_plastic_force", plastic_values(c.history));
-  file.unit("/engine/contact_plastic_force", "N");
-  file.write("/engine/wall_plastic_force", plastic_values(wall_history));
-  file.unit("/engine/wall_plastic_force", "N");
+  write_with_unit(file, "/engine/contact_plastic_force", plastic_values(c.history), "N");
+  write_with_unit(file, "/engine/wall_plastic_force", plastic_values(wall_history), "N");
   write_bonds(file, c.bonds);
 
   // Walls: the state, and each wall as a quad over the box for ParaView.
@@ -218,8 +209,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
       quads.push_back(static_cast<std::int32_t>(4 * k + q));
     }
   }
-  file.write("/walls/position", position);
-  file.unit("/walls/position", "m");
+  write_with_unit(file, "/walls/position", position, "m");
   file.write("/walls/velocity", velocity);
   file.write("/walls/force", force);
   file.write("/walls/facing", facing);
