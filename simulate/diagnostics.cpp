@@ -15,8 +15,8 @@ namespace {
 // Overlap of list pair p (negative when apart), with its periodic image shift.
 double pair_overlap(const SphereState& s, const PairList& pairs, std::size_t p) {
   const int i = pairs.first[p], j = pairs.second[p];
-  const double dx = s.position.x[j] - s.position.x[i] + pairs.shift_x[p];
-  const double dy = s.position.y[j] - s.position.y[i] + pairs.shift_y[p];
+  const double dx = s.position.x[j] - s.position.x[i] + pairs.shift(p)[0];
+  const double dy = s.position.y[j] - s.position.y[i] + pairs.shift(p)[1];
   const double dz = s.position.z[j] - s.position.z[i];
   return s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
 }
@@ -120,6 +120,7 @@ void Engine::check_divergence() const {
 }
 
 void Engine::rebase_energy() {
+  pack_spheres();  // the packed radius, mass and 1/I follow any change made to the state
   const EnergySummary e = energy();
   energy_reference_ = e.kinetic + e.elastic;
   work_in_ = 0.0;
@@ -152,8 +153,8 @@ std::vector<double> Engine::particle_stress() const {
   const auto add_pair = [&](std::size_t i, std::size_t p, double* sigma) {
     if (!pair_touching_[p]) return;
     const int a = pairs_.first[p], b = pairs_.second[p];
-    const double d[3] = {s.position.x[b] - s.position.x[a] + pairs_.shift_x[p],
-                         s.position.y[b] - s.position.y[a] + pairs_.shift_y[p],
+    const double d[3] = {s.position.x[b] - s.position.x[a] + pairs_.shift(p)[0],
+                         s.position.y[b] - s.position.y[a] + pairs_.shift(p)[1],
                          s.position.z[b] - s.position.z[a]};
     const double distance = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     const double n[3] = {d[0] / distance, d[1] / distance, d[2] / distance};

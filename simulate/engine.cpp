@@ -91,6 +91,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   pair_touching_ = touching_flags(pairs_, touching);
   energy_reference_ = checkpoint.energy_reference;
   work_in_ = checkpoint.work_in;
+  pack_spheres();  // radius, mass and 1/I; step() rewrites the rest
 }
 
 void Engine::require_material_pairs() const {
@@ -168,23 +169,22 @@ void Engine::step() {
   const double* __restrict ty = s.torque.y.data();
   const double* __restrict tz = s.torque.z.data();
   const double* __restrict inverse_mass = s.inverse_mass.data();
-  const double* __restrict inverse_inertia = s.inverse_inertia.data();
   const double* __restrict rx = build_reference_.x.data();
   const double* __restrict ry = build_reference_.y.data();
   const double* __restrict rz = build_reference_.z.data();
-  const double* __restrict radius = s.radius.data();
-  const double* __restrict mass = s.mass.data();
-  geometry_.resize(4 * static_cast<std::size_t>(n));
-  motion_.resize(8 * static_cast<std::size_t>(n));
   double* __restrict geometry = geometry_.data();
   double* __restrict motion = motion_.data();
   // Half kick and drift, fused with the largest displacement since the last list build and with
   // the packed copies the pair loop reads (pack_spheres(): the predicted end-of-step velocity
   // v(t+dt/2) + dt/2 F(t)/m is the half-step velocity plus the same half kick once more).
+  // Radius, mass and 1/I stay in the packed copies from pack_spheres(): every array this loop
+  // streams is one more memory stream, and it streams two dozen.
   double largest = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : largest) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
-    const double im = half * inverse_mass[i], ii = half * inverse_inertia[i];
+    double* gi = geometry + 4 * i;
+    double* mi = motion + 8 * i;
+    const double im = half * inverse_mass[i], ii = half * mi[7];
     vx[i] += fx[i] * im;
     vy[i] += fy[i] * im;
     vz[i] += fz[i] * im;
@@ -194,12 +194,9 @@ void Engine::step() {
     px[i] += dt * vx[i];
     py[i] += dt * vy[i];
     pz[i] += dt * vz[i];
-    double* gi = geometry + 4 * i;
-    gi[0] = px[i], gi[1] = py[i], gi[2] = pz[i], gi[3] = radius[i];
-    double* mi = motion + 8 * i;
+    gi[0] = px[i], gi[1] = py[i], gi[2] = pz[i];
     mi[0] = vx[i] + fx[i] * im, mi[1] = vy[i] + fy[i] * im, mi[2] = vz[i] + fz[i] * im;
     mi[3] = wx[i] + tx[i] * ii, mi[4] = wy[i] + ty[i] * ii, mi[5] = wz[i] + tz[i] * ii;
-    mi[6] = mass[i], mi[7] = inverse_inertia[i];
     const double dx = px[i] - rx[i], dy = py[i] - ry[i], dz = pz[i] - rz[i];
     const double d2 = dx * dx + dy * dy + dz * dz;
     largest = largest > d2 ? largest : d2;

@@ -102,8 +102,9 @@ class Engine {
   void check_divergence() const;
 
   const SphereState& state() const { return state_; }
-  // Scenario set-up (launch velocities). Call rebase_energy() after changing velocities: the
-  // energy check must not count that change as energy from nowhere.
+  // Scenario set-up (launch velocities). Call rebase_energy() after changing the state: the
+  // energy check must not count that change as energy from nowhere, and the packed copies of
+  // radius, mass and inertia the force loops read are refreshed there.
   SphereState& mutable_state() { return state_; }
   void rebase_energy();
   const Box& box() const { return box_; }

@@ -79,8 +79,8 @@ void Engine::pair_forces_with() {
   std::uint8_t* __restrict was_touching = pair_touching_.data();
   const std::int32_t* __restrict first = pairs_.first.data();
   const std::int32_t* __restrict second = pairs_.second.data();
-  const double* __restrict shift_x = pairs_.shift_x.data();
-  const double* __restrict shift_y = pairs_.shift_y.data();
+  const std::uint8_t* __restrict image = pairs_.image.data();
+  const double* __restrict image_shift = pairs_.image_shift.data();
   // Love–Weber: p of the last gather in; Fn and δ/2 of each touching pair out.
   const double* __restrict pressure = stress_on ? pressure_.data() : nullptr;
   double* __restrict virial = stress_on ? pair_virial_.data() : nullptr;
@@ -98,8 +98,9 @@ void Engine::pair_forces_with() {
     for (std::int64_t p = begin; p < end; ++p) {
       const double* gi = geometry + 4 * first[p];
       const double* gj = geometry + 4 * second[p];
-      const double dx = gj[0] - gi[0] + shift_x[p];
-      const double dy = gj[1] - gi[1] + shift_y[p];
+      const double* shift = image_shift + 2 * image[p];
+      const double dx = gj[0] - gi[0] + shift[0];
+      const double dy = gj[1] - gi[1] + shift[1];
       const double dz = gj[2] - gi[2];
       const double reach = gi[3] + gj[3];
       const std::uint8_t held =
@@ -123,8 +124,9 @@ void Engine::pair_forces_with() {
       PairResult& out = pair_results_[q + 1];
       const double* gi = geometry + 4 * i;
       const double* gj = geometry + 4 * j;
-      const double dx = gj[0] - gi[0] + shift_x[p];
-      const double dy = gj[1] - gi[1] + shift_y[p];
+      const double* shift = image_shift + 2 * image[p];
+      const double dx = gj[0] - gi[0] + shift[0];
+      const double dy = gj[1] - gi[1] + shift[1];
       const double dz = gj[2] - gi[2];
       const double ri = gi[3], rj = gj[3];
       const double reach = ri + rj;
