@@ -182,6 +182,8 @@ class Engine {
   // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
   std::vector<std::uint8_t> pair_touching_;
   std::vector<std::int32_t> touching_index_;  // per thread chunk: its touching pairs (pair loop)
+  // Per sphere: the slots [begin, end) of its touching "first" pairs in pair_results_.
+  std::vector<std::int32_t> first_touching_;
   std::vector<std::vector<ContactHistory>> wall_history_;
   std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
   std::vector<std::vector<std::uint8_t>> wall_touching_;
