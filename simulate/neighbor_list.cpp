@@ -31,7 +31,7 @@ struct CellGrid {
 
 CellGrid make_grid(const SphereState& state, const Box& box, double cell) {
   CellGrid g;
-  const std::vector<double>* coords[3] = {&state.position.x, &state.position.y, &state.position.z};
+  const SphereArray<double>* coords[3] = {&state.position.x, &state.position.y, &state.position.z};
   const double lengths[3] = {box.length_x, box.length_y, 0.0};
   for (int axis = 0; axis < 3; ++axis) {
     if (lengths[axis] > 0.0) {
@@ -215,7 +215,7 @@ std::vector<ContactHistory> carry_history(const PairList& old_pairs,
 }
 
 void wrap_positions(SphereState& state, const Box& box) {
-  const auto wrap = [](std::vector<double>& values, double length) {
+  const auto wrap = [](SphereArray<double>& values, double length) {
     if (length <= 0.0) return;
     for (double& v : values) {
       if (v < 0.0 || v >= length) {

@@ -77,7 +77,7 @@ void write_vec3(H5Writer& file, const std::string& name, const Vec3Array& v,
   file.unit(name, unit);
 }
 
-void write_with_unit(H5Writer& file, const std::string& name, const std::vector<double>& values,
+void write_with_unit(H5Writer& file, const std::string& name, std::span<const double> values,
                      std::string_view si_unit) {
   file.write(name, values);
   file.unit(name, si_unit);
@@ -236,12 +236,12 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
   s.angular_velocity = split(file.doubles("/particles/angular_velocity"));
   s.force = split(file.doubles("/particles/force"));
   s.torque = split(file.doubles("/particles/torque"));
-  s.radius = file.doubles("/particles/radius");
-  s.mass = file.doubles("/particles/mass");
-  s.inverse_mass = file.doubles("/particles/inverse_mass");
-  s.inverse_inertia = file.doubles("/particles/inverse_inertia");
-  s.material = file.int32s("/particles/material");
-  s.body = file.int32s("/particles/body");
+  s.radius = to_sphere_array(file.doubles("/particles/radius"));
+  s.mass = to_sphere_array(file.doubles("/particles/mass"));
+  s.inverse_mass = to_sphere_array(file.doubles("/particles/inverse_mass"));
+  s.inverse_inertia = to_sphere_array(file.doubles("/particles/inverse_inertia"));
+  s.material = to_sphere_array(file.int32s("/particles/material"));
+  s.body = to_sphere_array(file.int32s("/particles/body"));
   const std::size_t n = s.radius.size();
 
   EngineCheckpoint& c = out.checkpoint;

@@ -8,10 +8,22 @@
 #include <cstdint>
 #include <vector>
 
+#include "simulate/staggered_allocator.hpp"
+
 namespace shapepress::simulate {
 
+// A per-sphere array. Each starts at its own offset within a page (staggered_allocator.hpp): the
+// integrator streams some twenty of them at once.
+template <class T>
+using SphereArray = std::vector<T, StaggeredAllocator<T>>;
+
+template <class T>
+SphereArray<T> to_sphere_array(const std::vector<T>& values) {
+  return SphereArray<T>(values.begin(), values.end());
+}
+
 struct Vec3Array {
-  std::vector<double> x, y, z;
+  SphereArray<double> x, y, z;
   void resize(std::size_t n, double value = 0.0) {
     x.assign(n, value);
     y.assign(n, value);
@@ -32,12 +44,12 @@ struct SphereState {
   Vec3Array angular_velocity;  // rad/s
   Vec3Array force;             // N, from the last force evaluation
   Vec3Array torque;            // N·m
-  std::vector<double> radius;  // m
-  std::vector<double> mass;    // kg
-  std::vector<double> inverse_mass;
-  std::vector<double> inverse_inertia;  // solid sphere: I = 2/5 m r²
-  std::vector<std::int32_t> material;
-  std::vector<std::int32_t> body;
+  SphereArray<double> radius;  // m
+  SphereArray<double> mass;    // kg
+  SphereArray<double> inverse_mass;
+  SphereArray<double> inverse_inertia;  // solid sphere: I = 2/5 m r²
+  SphereArray<std::int32_t> material;
+  SphereArray<std::int32_t> body;
 
   std::size_t size() const { return radius.size(); }
   // A solid sphere at rest; its body id is its own index.
