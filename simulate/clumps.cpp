@@ -178,6 +178,7 @@ double place_clump_spheres(ClumpSet& clumps, SphereState& s, double* geometry, d
     const Vector3 omega_end = angular_velocity(predicted);
     const Vector3& inertia = body.principal_inertia;
     const double inverse_inertia = 1.0 / std::min({inertia[0], inertia[1], inertia[2]});
+    const double damping_mass = clump_damping_mass(clumps, c);
     for (std::int32_t i = clumps.first[c], m = clumps.member_start[c]; i < clumps.last[c];
          ++i, ++m) {
       const Vector3 r = rotate_to_world(
@@ -195,7 +196,7 @@ double place_clump_spheres(ClumpSet& clumps, SphereState& s, double* geometry, d
       mo[0] = v_end[0] + spin_end[0], mo[1] = v_end[1] + spin_end[1];
       mo[2] = v_end[2] + spin_end[2];
       mo[3] = omega_end[0], mo[4] = omega_end[1], mo[5] = omega_end[2];
-      mo[6] = clumps.mass[c], mo[7] = inverse_inertia;
+      mo[6] = damping_mass, mo[7] = inverse_inertia;
       const double dx = s.position.x[i] - reference.x[i], dy = s.position.y[i] - reference.y[i],
                    dz = s.position.z[i] - reference.z[i];
       largest = std::max(largest, dx * dx + dy * dy + dz * dz);

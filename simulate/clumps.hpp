@@ -13,7 +13,12 @@
 // - sub-spheres carry no mass of their own in SphereState (mass = 1/m = 1/I = 0), so the plain
 //   per-sphere kick–drift leaves their velocities alone and gravity acts on the body, once;
 // - the pair loop and the wall contacts see a sub-sphere as a sphere moving with the body, of
-//   the clump's mass (the effective mass of the contact damping, as LIGGGHTS' multisphere does);
+//   the clump's mass shared equally among its sub-spheres (clump_damping_mass: the effective
+//   mass of the contact damping). Not the whole clump's mass, as LIGGGHTS' multisphere takes:
+//   with n contacts each damping with √(k M) the body's damping grows as √n times that of one
+//   contact of the summed stiffness — 600 sub-sphere contacts under the plates made the step
+//   unstable (damping rate × dt ≫ 1) and added ~10 % viscous force to a quasi-static curve;
+//   with M/n the sum over n equal contacts is √(K M), the restitution damping of the body;
 // - after the per-sphere gather the clump sums force and torque over its sub-spheres in index
 //   order (the same bits for any thread count), kicks the body and sets the sub-spheres' velocity
 //   v + ω × r and angular velocity ω.
@@ -78,13 +83,18 @@ std::size_t add_clump(SphereState& state, ClumpSet& clumps, std::span<const Vect
                       std::span<const double> radii, double density, int material,
                       const std::string& name, int cells = 128);
 
+// The mass a sub-sphere of clump c brings to its contacts' damping: M / (sub-sphere count).
+inline double clump_damping_mass(const ClumpSet& clumps, std::size_t c) {
+  return clumps.mass[c] / static_cast<double>(clumps.last[c] - clumps.first[c]);
+}
+
 // Engine steps (engine.cpp calls these; clumps.cpp explains each).
 // First half kick of the body and its drift and free rotation over dt.
 void advance_clumps(ClumpSet& clumps, double dt);
 // Sub-sphere positions, velocities and angular velocities from the bodies, and the packed
 // copies the pair loop reads (4 doubles per sphere of geometry, 8 of motion: predicted
-// end-of-step v, ω, then the clump's mass and 1/I). Returns the largest squared displacement of
-// a sub-sphere since `reference` (the list build positions).
+// end-of-step v, ω, then clump_damping_mass and the clump's largest 1/I). Returns the largest
+// squared displacement of a sub-sphere since `reference` (the list build positions).
 double place_clump_spheres(ClumpSet& clumps, SphereState& state, double* geometry, double* motion,
                            double half_dt, const Vec3Array& reference);
 // Sums the sub-spheres' forces and torques (gathered into `state`) per clump about its centre,

@@ -136,31 +136,43 @@ double clump_contact_period(const ClumpSet& clumps, const SphereState& state,
                             const MaterialTable& materials, const std::vector<int>& partners,
                             const std::vector<double>& overlap) {
   double fastest = 0.0;  // largest ω² bound over the clumps
+  double damping = 0.0;  // largest damping-rate bound
   for (std::size_t c = 0; c < clumps.size(); ++c) {
     const Vector3& inertia = clumps.rotation[c].principal_inertia;
     const double inverse_mass = 1.0 / clumps.mass[c];
     const double inverse_inertia = 1.0 / std::min({inertia[0], inertia[1], inertia[2]});
-    double sum = 0.0;
+    const double m = clump_damping_mass(clumps, c);
+    double sum = 0.0, rate = 0.0;
     for (std::int32_t i = clumps.first[c]; i < clumps.last[c]; ++i) {
       const double delta = overlap[static_cast<std::size_t>(i)];
       if (!(delta > 0.0)) continue;
-      double stiffest = 0.0;  // 2E* + 2·8G* of the stiffest partner, per √(r δ)
+      // The stiffest partner: 2E* + 2·8G* per √(r δ), and its dampers.
+      double stiffest = 0.0, damper = 0.0;
+      const double root = std::sqrt(state.radius[i] * delta);
       for (int partner : partners)
         if (materials.has_pair(state.material[i], partner)) {
           const PairConstants& pc = materials.pair(state.material[i], partner);
           stiffest =
               std::max(stiffest, 2.0 * pc.effective_modulus + 16.0 * pc.effective_shear_modulus);
+          damper =
+              std::max(damper, pc.damping_factor *
+                                   (std::sqrt(2.0 * pc.effective_modulus * root * m) +
+                                    2.0 * std::sqrt(8.0 * pc.effective_shear_modulus * root * m)));
         }
       const double arm2 = std::pow(state.position.x[i] - clumps.centre.x[c], 2) +
                           std::pow(state.position.y[i] - clumps.centre.y[c], 2) +
                           std::pow(state.position.z[i] - clumps.centre.z[c], 2);
-      sum +=
-          stiffest * std::sqrt(state.radius[i] * delta) * (inverse_mass + arm2 * inverse_inertia);
+      const double reach = inverse_mass + arm2 * inverse_inertia;
+      sum += stiffest * root * reach;
+      rate += damper * reach;
     }
     fastest = std::max(fastest, sum);
+    damping = std::max(damping, rate);
   }
-  return fastest > 0.0 ? 2.0 * std::numbers::pi / std::sqrt(fastest)
-                       : std::numeric_limits<double>::infinity();
+  double period = std::numeric_limits<double>::infinity();
+  if (fastest > 0.0) period = 2.0 * std::numbers::pi / std::sqrt(fastest);
+  if (damping > 0.0) period = std::min(period, std::numbers::pi / damping);
+  return period;
 }
 
 }  // namespace shapepress::simulate

@@ -46,7 +46,10 @@ struct TimeStepChoice {
 // ω² is at most the trace of the mass-normalised stiffness of the contacts,
 //   ω² ≤ Σ_i (kn,i + 2 kt,i) (1/M + |r_i|²/I_min),  kn = 2E*√(r δ), kt = 8G*√(r δ)
 // (the Hertz and Mindlin tangent stiffnesses at overlap δ_i = overlap[i], against the partner
-// material of the stiffest pair). Returns 2π/ω_max [s], +inf without clumps or contacts.
+// material of the stiffest pair), and the contact dampers' rate is at most
+//   γ ≤ Σ_i c_i (1/M + |r_i|²/I_min),  c_i = damping_factor (√(kn m) + √(kt m)), m = M/n
+// (clump_damping_mass). Returns min(2π/ω_max, π/γ_max) [s] (the dampers held below π/γ as for
+// bonds), +inf without clumps or contacts.
 double clump_contact_period(const ClumpSet& clumps, const SphereState& state,
                             const MaterialTable& materials, const std::vector<int>& partners,
                             const std::vector<double>& overlap);
