@@ -208,11 +208,16 @@ double place_clump_spheres(ClumpSet& clumps, SphereState& s, double* geometry, d
 void gather_clump_forces(ClumpSet& clumps, SphereState& s, const std::array<double, 3>& g,
                          double kick) {
   for (std::size_t c = 0; c < clumps.size(); ++c) {
+    // The per-sphere gather added each sub-sphere's packed mass (clump_damping_mass) times g:
+    // taken off here, so gravity acts once, at the centre of mass, and makes no torque.
+    const double share = clump_damping_mass(clumps, c);
+    const Vector3 weight = {share * g[0], share * g[1], share * g[2]};
     // Fixed sub-sphere order: the same sum for any thread count.
     Vector3 f = {0.0, 0.0, 0.0}, t = {0.0, 0.0, 0.0};
     for (std::int32_t i = clumps.first[c], m = clumps.member_start[c]; i < clumps.last[c];
          ++i, ++m) {
-      const Vector3 fi = {s.force.x[i], s.force.y[i], s.force.z[i]};
+      const Vector3 fi = {s.force.x[i] - weight[0], s.force.y[i] - weight[1],
+                          s.force.z[i] - weight[2]};
       const Vector3 moment = cross({clumps.arm.x[m], clumps.arm.y[m], clumps.arm.z[m]}, fi);
       for (int k = 0; k < 3; ++k)
         f[k] += fi[k];

@@ -11,7 +11,8 @@
 //
 // How the engine uses a ClumpSet (engine.hpp):
 // - sub-spheres carry no mass of their own in SphereState (mass = 1/m = 1/I = 0), so the plain
-//   per-sphere kick–drift leaves their velocities alone and gravity acts on the body, once;
+//   per-sphere kick–drift leaves their velocities alone; gravity acts on the body, once (the
+//   gather's weight of a sub-sphere's packed mass is taken off again in the clump sum);
 // - the pair loop and the wall contacts see a sub-sphere as a sphere moving with the body, of
 //   the clump's mass shared equally among its sub-spheres (clump_damping_mass: the effective
 //   mass of the contact damping). Not the whole clump's mass, as LIGGGHTS' multisphere takes:

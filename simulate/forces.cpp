@@ -231,7 +231,6 @@ void Engine::gather_forces_with(double kick) {
   const double* __restrict motion = motion_.data();
   const std::int32_t* __restrict material = s.material.data();
   const double* __restrict inverse_mass = s.inverse_mass.data();
-  const double* __restrict mass = s.mass.data();
   double* __restrict fx = s.force.x.data();
   double* __restrict fy = s.force.y.data();
   double* __restrict fz = s.force.z.data();
@@ -343,9 +342,7 @@ void Engine::gather_forces_with(double kick) {
       }
     }
     if constexpr (stress_on) pressure[i] = arm_force / (4.0 * std::numbers::pi * ri * ri * ri);
-    // Gravity by the sphere's own mass: a clump's sub-spheres have none (their packed mass is
-    // the clump's, for the contact damping); the clump adds its weight once (clumps.cpp).
-    const double m = mass[i];
+    const double m = motion[8 * i + 6];
     f[0] += m * g[0], f[1] += m * g[1], f[2] += m * g[2];
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
