@@ -152,7 +152,15 @@ void Engine::enable_particle_stress() {
 void Engine::build_list(bool wrap) {
   if (wrap) wrap_positions(state_, box_);
   if (wrap && !clumps_.empty()) wrap_clumps(clumps_, state_, box_);
-  PairList next = build_pair_list(state_, box_, settings_.skin, clumps_.clump_of);
+  PairList next;
+  if (clumps_.size() == 1 && clumps_.member_start.back() == static_cast<int>(state_.size())) {
+    // One clump and nothing else (the plate rig): no pair can exist, and the cell search over
+    // thousands of mutually overlapping sub-spheres would cost O(n²) per build.
+    next.first_offset.assign(state_.size() + 1, 0);
+    next.second_offset.assign(state_.size() + 1, 0);
+  } else {
+    next = build_pair_list(state_, box_, settings_.skin, clumps_.clump_of);
+  }
   history_ = carry_history(pairs_, history_, next);
   // Touching flags follow the pairs like the history does (a contact that stays closed must
   // not be taken as newly opened and lose its spring).

@@ -156,6 +156,26 @@ TEST(CmsCompactCli, CompactsClumpsSnapshotsAndRestarts) {
   EXPECT_EQ(u.column("top_force_N").back(), t.column("top_force_N").back());
 }
 
+TEST(CmsCompactCli, TakesClumpsFromATemplatesFile) {
+  // `fill --kind cms` writes /cms/<name>; [clumps] templates = that file.
+  const auto dir = fresh_directory("cms_compact_templates");
+  auto r =
+      run_shapepress("--quiet fill --ellipsoid 0.6mm,0.4mm,0.3mm --kind cms --count 20 --out " +
+                     q(dir / "templates.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string config = clump_compact_config(three_spheres);
+  const std::size_t key = config.find("spheres = ");
+  config.replace(key, config.find('\n', key) - key,
+                 "templates = \"" + (dir / "templates.h5").string() + "\"");
+  write_text(dir / "compact.toml", config);
+  r = run_shapepress("--quiet compact --config " + q(dir / "compact.toml") + " --out " +
+                     q(dir / "run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const CsvTable t = read_csv(dir / "run" / "punch.csv");
+  EXPECT_GT(t.column("top_force_N").back(), 0.0);
+  EXPECT_NEAR(t.column("strain").back(), 0.3, 0.01);
+}
+
 TEST(CmsCompactCli, BadClumpsExitTwoNamingTheCause) {
   const auto dir = fresh_directory("cms_compact_bad");
   // Zero volume: a sub-sphere of radius 0.
