@@ -27,7 +27,9 @@ EnergySummary Engine::energy() const {
   const SphereState& s = state_;
   EnergySummary e;
   const auto& g = settings_.gravity;
+  const std::vector<std::int32_t>& clump_of = clumps_.clump_of;
   for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!clump_of.empty() && clump_of[i] >= 0) continue;  // the body holds its motion
     const double v2 = s.velocity.x[i] * s.velocity.x[i] + s.velocity.y[i] * s.velocity.y[i] +
                       s.velocity.z[i] * s.velocity.z[i];
     const double w2 = s.angular_velocity.x[i] * s.angular_velocity.x[i] +
@@ -37,6 +39,10 @@ EnergySummary Engine::energy() const {
     e.gravitational -=
         s.mass[i] * (g[0] * s.position.x[i] + g[1] * s.position.y[i] + g[2] * s.position.z[i]);
   }
+  e.kinetic += clump_kinetic_energy(clumps_);
+  for (std::size_t c = 0; c < clumps_.size(); ++c)
+    e.gravitational -= clumps_.mass[c] * (g[0] * clumps_.centre.x[c] + g[1] * clumps_.centre.y[c] +
+                                          g[2] * clumps_.centre.z[c]);
   const auto add_contact = [&](const PairConstants& pc, double r_eff, double overlap,
                                const ContactHistory& h) {
     e.elastic += normal_elastic_energy(pc, r_eff, overlap, h);
@@ -102,6 +108,8 @@ void Engine::check_divergence() const {
   const double budget = energy_reference_ + work_in_;
   double total_mass = 0.0;
   for (double m : s.mass)
+    total_mass += m;
+  for (double m : clumps_.mass)
     total_mass += m;
   const double floor = 1e-6 * total_mass;
   if (e.kinetic + e.elastic > 2.0 * std::max(budget, 0.0) + floor) {
@@ -208,6 +216,7 @@ EngineCheckpoint Engine::checkpoint() const {
   c.energy_reference = energy_reference_;
   c.work_in = work_in_;
   c.bonds = bonds_;
+  c.clumps = clumps_;
   return c;
 }
 

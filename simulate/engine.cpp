@@ -1,5 +1,6 @@
 #include "simulate/engine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -27,21 +28,32 @@ std::vector<std::uint8_t> touching_flags(const PairList& list, const PairList& t
 }  // namespace
 
 Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
-               EngineSettings settings, BondSet bonds)
+               EngineSettings settings, BondSet bonds, ClumpSet clumps)
     : state_(std::move(state)),
       box_(box),
       materials_(std::move(materials)),
       walls_(std::move(walls)),
       settings_(settings),
-      bonds_(std::move(bonds)) {
+      bonds_(std::move(bonds)),
+      clumps_(std::move(clumps)) {
   if (!(settings_.time_step > 0.0)) throw InputError("time step must be > 0");
   if (!(settings_.skin >= 0.0)) throw InputError("neighbour skin must be >= 0");
   require_material_pairs();
   enable_particle_stress();
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
   if (!bonds_.empty()) bonds_.index(state_);
+  const double half = 0.5 * settings_.time_step;
+  if (!clumps_.empty()) {
+    index_clumps();
+    // Sub-spheres where their bodies put them before the first list build.
+    geometry_.resize(4 * state_.size());
+    motion_.resize(8 * state_.size());
+    place_clump_spheres(clumps_, state_, geometry_.data(), motion_.data(), half, state_.position);
+  }
   build_list(true);
   pack_spheres();
+  if (!clumps_.empty())  // the packed motion of sub-spheres is the body's
+    place_clump_spheres(clumps_, state_, geometry_.data(), motion_.data(), half, state_.position);
   compute_forces(0.0);
   bond_increments_ = true;
   energy_reference_ = energy().kinetic + energy().elastic;
@@ -57,9 +69,11 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
       step_(checkpoint.step),
       time_(checkpoint.time),
       bonds_(std::move(checkpoint.bonds)),
-      bond_increments_(true) {
+      bond_increments_(true),
+      clumps_(std::move(checkpoint.clumps)) {
   require_material_pairs();
   enable_particle_stress();
+  if (!clumps_.empty()) index_clumps();
   if (particle_stress_on_ && !checkpoint.particle_pressure.empty()) {
     // The next pair loop reads p of the step the checkpoint was taken at: restore it bit for bit.
     if (checkpoint.particle_pressure.size() != pressure_.size())
@@ -110,6 +124,19 @@ void Engine::require_material_pairs() const {
   }
 }
 
+void Engine::index_clumps() {
+  clumps_.index(state_.size());
+  for (std::size_t b = 0; b < bonds_.size(); ++b)
+    if (clumps_.clump_of[bonds_.first[b]] >= 0 || clumps_.clump_of[bonds_.second[b]] >= 0)
+      throw InputError("bond " + std::to_string(b) + " joins sphere " +
+                       std::to_string(bonds_.first[b]) + " and " +
+                       std::to_string(bonds_.second[b]) +
+                       ", one of them a sub-sphere of a rigid clump (clumps are rigid; bonds "
+                       "join the sub-spheres of BMS particles)");
+  for (std::size_t c = 0; c < clumps_.size(); ++c)
+    if (!(clumps_.mass[c] > 0.0)) throw InputError("clump " + std::to_string(c) + " has no mass");
+}
+
 void Engine::enable_particle_stress() {
   bool needed = settings_.particle_stress;
   for (int a = 0; a < materials_.count(); ++a)
@@ -124,7 +151,16 @@ void Engine::enable_particle_stress() {
 
 void Engine::build_list(bool wrap) {
   if (wrap) wrap_positions(state_, box_);
-  PairList next = build_pair_list(state_, box_, settings_.skin);
+  if (wrap && !clumps_.empty()) wrap_clumps(clumps_, state_, box_);
+  PairList next;
+  if (clumps_.size() == 1 && clumps_.member_start.back() == static_cast<int>(state_.size())) {
+    // One clump and nothing else (the plate rig): no pair can exist, and the cell search over
+    // thousands of mutually overlapping sub-spheres would cost O(n²) per build.
+    next.first_offset.assign(state_.size() + 1, 0);
+    next.second_offset.assign(state_.size() + 1, 0);
+  } else {
+    next = build_pair_list(state_, box_, settings_.skin, clumps_.clump_of);
+  }
   history_ = carry_history(pairs_, history_, next);
   // Touching flags follow the pairs like the history does (a contact that stays closed must
   // not be taken as newly opened and lose its spring).
@@ -201,11 +237,21 @@ void Engine::step() {
     const double d2 = dx * dx + dy * dy + dz * dz;
     largest = largest > d2 ? largest : d2;
   }
+  if (!clumps_.empty()) {
+    // Clumps move as bodies; their sub-spheres (no own mass, left alone above) follow.
+    advance_clumps(clumps_, dt);
+    const double moved = place_clump_spheres(clumps_, s, geometry, motion, half, build_reference_);
+    largest = std::max(largest, moved);
+  }
   const auto& g = settings_.gravity;
   if (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) {
     double gravity_power = 0.0;  // Σ m g·v at mid-step, for the energy budget only
     for (std::int64_t i = 0; i < n; ++i)
       gravity_power += s.mass[i] * (g[0] * vx[i] + g[1] * vy[i] + g[2] * vz[i]);
+    for (std::size_t c = 0; c < clumps_.size(); ++c)
+      gravity_power +=
+          clumps_.mass[c] * (g[0] * clumps_.velocity.x[c] + g[1] * clumps_.velocity.y[c] +
+                             g[2] * clumps_.velocity.z[c]);
     work_in_ += gravity_power * dt;
   }
   for (PlaneWall& w : walls_)
@@ -231,6 +277,7 @@ void Engine::compute_forces(double kick) {
     compute_bond_forces(bonds_, state_, motion_.data(), box_, settings_.time_step,
                         !bond_increments_);
   gather_forces(kick);
+  if (!clumps_.empty()) gather_clump_forces(clumps_, state_, settings_.gravity, kick);
 }
 
 void Engine::index_bonded_pairs() {

@@ -71,7 +71,8 @@ std::uint8_t image_code(int ix, int iy) {
 
 }  // namespace
 
-PairList build_pair_list(const SphereState& state, const Box& box, double skin) {
+PairList build_pair_list(const SphereState& state, const Box& box, double skin,
+                         std::span<const std::int32_t> rigid_group) {
   const int count = static_cast<int>(state.size());
   PairList list;
   for (int ix = -1; ix <= 1; ++ix)
@@ -159,7 +160,9 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
               ddy += minimum_image(ddy, box.length_y) * box.length_y;
               const double ddz = z[j] - z[i];
               const double reach = state.radius[i] + state.radius[j] + skin;
-              if (ddx * ddx + ddy * ddy + ddz * ddz < reach * reach) partners.push_back(j);
+              if (ddx * ddx + ddy * ddy + ddz * ddz < reach * reach &&
+                  (rigid_group.empty() || rigid_group[i] < 0 || rigid_group[i] != rigid_group[j]))
+                partners.push_back(j);
             }
           }
         }

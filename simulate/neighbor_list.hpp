@@ -7,6 +7,7 @@
 // over a rebuild by merging the old and new sorted pair lists (carry_history), never hashed.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "simulate/contact_law.hpp"
@@ -36,8 +37,10 @@ struct PairList {
 };
 
 // Builds the half list. InputError when a periodic length is not more than twice the reach
-// 2 r_max + skin: then a pair could meet through two images.
-PairList build_pair_list(const SphereState& state, const Box& box, double skin);
+// 2 r_max + skin: then a pair could meet through two images. `rigid_group` (empty, or one entry
+// per sphere): spheres of the same group ≥ 0 never pair (the sub-spheres of one rigid clump).
+PairList build_pair_list(const SphereState& state, const Box& box, double skin,
+                         std::span<const std::int32_t> rigid_group = {});
 
 // History of pairs present in both lists is moved to the new list's slots; new pairs start
 // from zero history. Both lists must be sorted by (first, second).
