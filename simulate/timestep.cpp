@@ -35,7 +35,7 @@ namespace {
 TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable& materials,
                                   const std::vector<int>& wall_materials,
                                   std::optional<double> fixed, double fraction, double speed,
-                                  const std::vector<double>& mass) {
+                                  std::span<const double> mass) {
   TimeStepChoice choice;
   if (state.size() == 0) throw InputError("no spheres to simulate");
   std::size_t smallest = 0;
@@ -114,7 +114,7 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds,
                                 const ClumpSet& clumps) {
-  std::vector<double> mass = state.mass;
+  std::vector<double> mass(state.mass.begin(), state.mass.end());
   std::vector<double> overlap(state.size(), 0.0);
   std::vector<int> partners = wall_materials;
   for (std::size_t c = 0; c < clumps.size(); ++c)

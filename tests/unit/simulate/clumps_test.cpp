@@ -124,7 +124,7 @@ TEST(Clumps, SubSpheresOfOneClumpNeverTouchEachOther) {
   Engine engine(s, Box{}, rubber(), {}, EngineSettings{1e-6, {0, 0, 0}, 1e-4}, {}, k);
   engine.step();
   EXPECT_EQ(engine.sphere_contacts(), 0);  // they overlap by up to 0.4 mm
-  EXPECT_EQ(engine.state().force.x, std::vector<double>(4, 0.0));
+  EXPECT_EQ(engine.state().force.x, SphereArray<double>(4, 0.0));
 }
 
 TEST(Clumps, ABondOnAClumpSubSphereIsRefused) {
