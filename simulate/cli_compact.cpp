@@ -39,9 +39,9 @@ int run(const CompactCli& cli, const RunContext& context) {
   }
   Engine& engine = *prepared.engine;
   spdlog::info(
-      "compact: {} spheres, time step {:.3g} s ({:.3g} of the Rayleigh time, {:.0f} "
-      "steps per Hertz collision)",
-      engine.state().size(), prepared.time_step.time_step,
+      "compact: {} spheres ({} rigid clumps), time step {:.3g} s ({:.3g} of the Rayleigh time, "
+      "{:.0f} steps per Hertz collision)",
+      engine.state().size(), engine.clumps().size(), prepared.time_step.time_step,
       prepared.time_step.time_step / prepared.time_step.rayleigh_time,
       prepared.time_step.collision_time / prepared.time_step.time_step);
 
@@ -81,7 +81,8 @@ int run(const CompactCli& cli, const RunContext& context) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
     write_snapshot(out / "snapshots" / name, e, punch, provenance);
     index.push_back({std::filesystem::path("snapshots") / name, e.time(), e.state().size(),
-                     e.walls().size(), e.computes_particle_stress(), e.bonds().size()});
+                     e.walls().size(), e.computes_particle_stress(), e.bonds().size(),
+                     e.clumps().size()});
     write_xdmf(out / "snapshots.xdmf", index);
   };
   const double total = config.run.steps > 0 ? static_cast<double>(config.run.steps) : 0.0;

@@ -25,6 +25,7 @@ struct PlateCli {
   std::string model;  // empty: each interaction's normal_law
   std::string particle = "sphere";
   int count = 0;
+  int spheres = 0;
   bool snapshot = false;
 };
 
@@ -35,20 +36,31 @@ int run(const PlateCli& cli, const RunContext& context) {
     model = cli.model == "multicontact" ? NormalLaw::multicontact : NormalLaw::hertz;
   PlateConfig config = read_plate_config(root, model);
   root.check_unknown_keys();
-  const bool bonded = cli.particle == "bms";
+  const PlateParticleKind kind = cli.particle == "bms"   ? PlateParticleKind::bms
+                                 : cli.particle == "cms" ? PlateParticleKind::cms
+                                                         : PlateParticleKind::sphere;
+  const bool bonded = kind == PlateParticleKind::bms;
   if (bonded && !config.bms)
     throw InputError(cli.config + ": --particle bms needs a [bms] table (and [bond])");
   if (!bonded && config.bms)
-    spdlog::info("plate: --particle sphere: the [bms] and [bond] tables are not used");
+    spdlog::info("plate: --particle {}: the [bms] and [bond] tables are not used", cli.particle);
+  if (kind != PlateParticleKind::cms && config.cms)
+    spdlog::info("plate: --particle {}: the [cms] table is not used", cli.particle);
   if (cli.count > 0) {
     if (!bonded) throw InputError("--count is the number of sub-spheres of --particle bms");
     config.bms->count = cli.count;
   }
+  if (cli.spheres > 0) {
+    if (kind != PlateParticleKind::cms)
+      throw InputError("--spheres is the number of overlapping sub-spheres of --particle cms");
+    if (!config.cms) config.cms = CmsConfig{};
+    config.cms->count = cli.spheres;
+  }
   const std::filesystem::path out(cli.out);
   std::filesystem::create_directories(out);
   const PlateRunOutcome outcome =
-      run_plate_config(config, bonded, [](const std::string& line) { spdlog::info("{}", line); });
-  write_force_csv(out / "force.csv", outcome, config, bonded);
+      run_plate_config(config, kind, [](const std::string& line) { spdlog::info("{}", line); });
+  write_force_csv(out / "force.csv", outcome, config, kind);
   if (cli.snapshot && outcome.final_snapshot) {
     // The last state, for ParaView (sub-spheres as points, bonds as lines, plates as quads).
     const Provenance provenance{context.command_line, root.text(),
@@ -58,7 +70,7 @@ int run(const PlateCli& cli, const RunContext& context) {
                {{"final.h5", outcome.final_snapshot->time(), outcome.final_snapshot->state().size(),
                  outcome.final_snapshot->walls().size(),
                  outcome.final_snapshot->computes_particle_stress(),
-                 outcome.final_snapshot->bonds().size()}});
+                 outcome.final_snapshot->bonds().size(), outcome.final_snapshot->clumps().size()}});
   }
   const PlateRow& last = outcome.rows.back();
   spdlog::info("plate: {} rows in {}; {} of {} bonds intact; {:.3g} s wall, {:.3g} s CPU",
@@ -79,13 +91,20 @@ StageRunner setup_plate_cli(CLI::App& app) {
                  "(multicontact: paper Eq. 6 with the interaction's parameters)")
       ->check(CLI::IsMember({"hertz", "multicontact"}));
   app.add_option("--particle", cli->particle,
-                 "sphere (one Hertz sphere) or bms (bonded sub-spheres filling it, [bms] + [bond])")
-      ->check(CLI::IsMember({"sphere", "bms"}))
+                 "sphere (one Hertz sphere), bms (bonded sub-spheres filling it, [bms] + [bond]) "
+                 "or cms (one rigid clump of overlapping sub-spheres filling it, [cms])")
+      ->check(CLI::IsMember({"sphere", "bms", "cms"}))
       ->capture_default_str();
   app.add_option("--count", cli->count, "bms: number of sub-spheres (overrides bms.count)")
       ->check(CLI::Range(1, 1000000));
-  app.add_flag("--snapshot", cli->snapshot,
-               "also write final.h5 + final.xdmf (ParaView: sub-spheres, bonds as lines, plates)");
+  app.add_option("--spheres", cli->spheres,
+                 "cms: number of overlapping sub-spheres asked of the filler (overrides "
+                 "cms.count)")
+      ->check(CLI::Range(1, 1000000));
+  app.add_flag(
+      "--snapshot", cli->snapshot,
+      "also write final.h5 + final.xdmf (ParaView: sub-spheres, bonds as lines, clump axes, "
+      "plates)");
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -16,11 +16,8 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   r.top_force = engine.wall_load(setup.punch_wall);
   r.bottom_force = engine.wall_load(setup.bottom_wall);
   r.stress = r.top_force / setup.die_area;
-  double solid = 0.0;
-  for (double radius : engine.state().radius)
-    solid += radius * radius * radius;
-  solid *= 4.0 / 3.0 * std::numbers::pi;
-  r.solid_fraction = solid / (setup.die_area * r.gap);
+  // setup.solid_volume counts each clump's union once (compact_setup.cpp).
+  r.solid_fraction = setup.solid_volume / (setup.die_area * r.gap);
   r.phase = punch.phase;
   r.kinetic_energy = engine.energy().kinetic;
   r.sphere_contacts = engine.sphere_contacts();

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "common/error.hpp"
+#include "simulate/clump_packing.hpp"
 
 namespace shapepress::simulate {
 namespace {
@@ -31,20 +32,25 @@ EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double
   return settings;
 }
 
-double solid_volume(const SphereState& s) {
+// Plain spheres' volumes plus each clump's union volume (its sub-spheres overlap).
+double solid_volume(const SphereState& s, const ClumpSet& clumps) {
   double volume = 0.0;
-  for (double r : s.radius)
-    volume += r * r * r;
-  return 4.0 / 3.0 * std::numbers::pi * volume;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (clumps.clump_of.empty() || clumps.clump_of[i] < 0)
+      volume += s.radius[i] * s.radius[i] * s.radius[i];
+  volume *= 4.0 / 3.0 * std::numbers::pi;
+  for (double v : clumps.volume)
+    volume += v;
+  return volume;
 }
 
 CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
-                                 const SphereState& state) {
+                                 const SphereState& state, const ClumpSet& clumps) {
   CompactionSetup setup;
   setup.program = c.program;
   if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
   setup.strain_from_fill = c.strain_from_fill;
-  setup.solid_volume = solid_volume(state);
+  setup.solid_volume = solid_volume(state, clumps);
   setup.max_solid_fraction = c.max_solid_fraction;
   // Solid-fraction ceiling: D = V / (A H) reaches it at H = V / (A D_max).
   const double min_gap = setup.solid_volume / (c.box_x * c.box_y * c.max_solid_fraction);
@@ -71,7 +77,7 @@ CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
 }
 
 // Settles a generated bed under gravity with the punch parked, then lowers the punch onto it.
-SphereState settle(const CompactConfig& c, SphereState state, MaterialTable table,
+SphereState settle(const CompactConfig& c, SphereState state, ClumpSet& clumps, MaterialTable table,
                    const std::vector<PlaneWall>& walls, double dt) {
   if (c.settle_friction) {  // a denser fill: settle with other friction, press with the real one
     MaterialConfig m = c.materials;
@@ -81,15 +87,38 @@ SphereState settle(const CompactConfig& c, SphereState state, MaterialTable tabl
   }
   EngineSettings settings = settings_for(c, state, dt);
   if (settings.gravity == std::array<double, 3>{0.0, 0.0, 0.0}) settings.gravity = {0, 0, -9.81};
-  Engine engine(std::move(state), Box{c.box_x, c.box_y}, table, walls, settings);
+  Engine engine(std::move(state), Box{c.box_x, c.box_y}, table, walls, settings, {},
+                std::move(clumps));
   const auto steps = static_cast<std::int64_t>(std::ceil(c.settle_time / dt));
-  spdlog::info("settling {} spheres under gravity for {} steps", engine.state().size(), steps);
+  spdlog::info("settling {} spheres ({} in {} rigid clumps) under gravity for {} steps",
+               engine.state().size(),
+               engine.clumps().empty() ? 0 : engine.clumps().member_start.back(),
+               engine.clumps().size(), steps);
   for (std::int64_t k = 0; k < steps; ++k)
     engine.step();
   SphereState settled = engine.state();
   settled.velocity.resize(settled.size());
   settled.angular_velocity.resize(settled.size());
+  clumps = engine.clumps();  // at rest too: no velocity, no angular momentum
+  clumps.velocity.resize(clumps.size());
+  for (RigidRotation& r : clumps.rotation)
+    r.body_angular_momentum = {0.0, 0.0, 0.0};
   return settled;
+}
+
+// The [clumps] templates: a templates file's /cms groups or the one given inline.
+std::vector<ClumpTemplate> clump_templates(const ClumpsConfig& k) {
+  if (!k.templates.empty())
+    return read_clump_templates(k.templates, k.template_name.empty()
+                                                 ? std::vector<std::string>{}
+                                                 : std::vector<std::string>{k.template_name});
+  ClumpTemplate t;
+  t.name = "clumps.spheres";
+  for (std::size_t i = 0; i + 3 < k.spheres.size(); i += 4) {
+    t.centres.push_back({k.spheres[i], k.spheres[i + 1], k.spheres[i + 2]});
+    t.radii.push_back(k.spheres[i + 3]);
+  }
+  return {t};
 }
 
 }  // namespace
@@ -101,20 +130,32 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
   const Box box{c.box_x, c.box_y};
   const bool generated = !spheres;
   if (generated) {
-    if (!c.generate)
-      throw InputError("no packing: pass --packing FILE or add a [generate] table to the config");
-    spheres = insert_random_spheres(box, *c.generate);
+    if (!c.generate && !c.clumps)
+      throw InputError(
+          "no packing: pass --packing FILE or add a [generate] (or [clumps]) table to the config");
+    spheres = c.generate ? insert_random_spheres(box, *c.generate) : SphereList{};
   }
   const double density = table.material(particle).density;
   SphereState state = make_state(*spheres, density, particle);
+  ClumpSet clumps;
+  if (c.clumps) {
+    ClumpInsertion request;
+    request.templates = clump_templates(*c.clumps);
+    request.count = c.clumps->count;
+    request.seed = c.clumps->seed;
+    request.integration_cells = c.clumps->integration_cells;
+    request.z_low = c.generate ? c.generate->z_low : c.bottom;
+    request.z_high = c.generate ? c.generate->z_high : c.punch;
+    insert_clumps(state, clumps, box, request, density, particle);
+  }
   std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
                                   PlaneWall{c.punch, -1, 0.0, wall}};
   PreparedCompaction out;
   out.time_step = select_time_step(state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
-                                   expected_speed(c, state));
+                                   expected_speed(c, state), BondSet{}, clumps);
   const double dt = out.time_step.time_step;
   if (generated && c.settle_time > 0.0) {
-    state = settle(c, std::move(state), table, walls, dt);
+    state = settle(c, std::move(state), clumps, table, walls, dt);
     double top = c.bottom;
     for (std::size_t i = 0; i < state.size(); ++i)
       top = std::max(top, state.position.z[i] + state.radius[i]);
@@ -126,13 +167,15 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
       throw InputError("packing: sphere " + std::to_string(i) +
                        " lies outside the space between box.bottom and box.punch");
   const EngineSettings settings = settings_for(c, state, dt);
-  out.engine = std::make_unique<Engine>(std::move(state), box, table, walls, settings);
+  out.engine =
+      std::make_unique<Engine>(std::move(state), box, table, walls, settings, BondSet{}, clumps);
   // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
   // paper's "maximum initial height"), which strains like its 57 % need (README, H0).
   out.punch.reference_gap = c.strain_from_fill && c.generate
                                 ? c.generate->z_high - c.generate->z_low
                                 : walls[1].position - walls[0].position;
-  out.setup = compaction_setup(c, out.punch.reference_gap, out.engine->state());
+  out.setup =
+      compaction_setup(c, out.punch.reference_gap, out.engine->state(), out.engine->clumps());
   return out;
 }
 
@@ -144,12 +187,13 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
     wall_materials.push_back(w.material);
   out.time_step = select_time_step(snapshot.state, table, wall_materials, c.run.time_step,
                                    c.run.time_step_fraction, expected_speed(c, snapshot.state),
-                                   snapshot.checkpoint.bonds);
+                                   snapshot.checkpoint.bonds, snapshot.checkpoint.clumps);
   const EngineSettings settings = settings_for(c, snapshot.state, out.time_step.time_step);
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = snapshot.punch;
-  out.setup = compaction_setup(c, out.punch.reference_gap, out.engine->state());
+  out.setup =
+      compaction_setup(c, out.punch.reference_gap, out.engine->state(), out.engine->clumps());
   return out;
 }
 

@@ -149,6 +149,28 @@ CompactConfig read_compact_config(const ConfigTable& root) {
       c.settle_friction = g.number("settle_friction", std::nullopt, Range::non_negative());
     c.generate = r;
   }
+  if (root.has("clumps")) {
+    const ConfigTable t = root.table("clumps");
+    ClumpsConfig k;
+    k.count = t.integer("count", std::nullopt, Range::at_least(1));
+    k.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
+    k.integration_cells =
+        static_cast<int>(t.integer("integration_cells", 128, Range::closed(8, 1024)));
+    if (t.has("templates") == t.has("spheres"))
+      throw InputError(root.source_name() +
+                       ": [clumps] needs templates (a templates file) or spheres (x, y, z, r per "
+                       "sub-sphere), one of the two");
+    if (t.has("templates")) {
+      k.templates = t.string("templates");
+      k.template_name = t.string("template", "");
+    } else {
+      k.spheres = t.numbers("spheres");
+      if (k.spheres.empty() || k.spheres.size() % 4 != 0)
+        throw InputError(root.source_name() +
+                         ": clumps.spheres must hold x, y, z, r (metres) per sub-sphere");
+    }
+    c.clumps = k;
+  }
   return c;
 }
 
@@ -208,6 +230,19 @@ PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> 
     }
     c.bms = b;
   }
+  if (root.has("cms")) {
+    const ConfigTable t = root.table("cms");
+    CmsConfig m;
+    m.count = static_cast<int>(t.integer("count", 150, Range::closed(1, 1000000)));
+    m.resolution = static_cast<int>(t.integer("resolution", 64, Range::closed(8, 1024)));
+    m.min_radius_fraction = t.number("min_radius_fraction", 0.02, Range{0.0, 1.0, true, false});
+    m.match_volume = t.boolean("match_volume", true);
+    m.integration_cells =
+        static_cast<int>(t.integer("integration_cells", 128, Range::closed(8, 1024)));
+    m.material = t.has("material") ? t.string("material") : sphere.string("material");
+    table.index_of(m.material);
+    c.cms = m;
+  }
   return c;
 }
 
@@ -236,6 +271,14 @@ std::string plate_config_toml(const PlateConfig& c) {
   out += fmt::format("[plate]\nmaterial = \"{}\"\nspeed = {}\nmax_deformation = {}\nrecords = {}\n",
                      names[static_cast<std::size_t>(c.setup.plate_material)].name,
                      number(c.setup.speed), number(c.setup.max_deformation), c.setup.records);
+  if (c.cms) {
+    const CmsConfig& m = *c.cms;
+    out += fmt::format(
+        "\n[cms]\ncount = {}\nresolution = {}\nmin_radius_fraction = {}\nmatch_volume = {}\n"
+        "integration_cells = {}\nmaterial = \"{}\"\n",
+        m.count, m.resolution, number(m.min_radius_fraction), m.match_volume ? "true" : "false",
+        m.integration_cells, m.material);
+  }
   if (!c.bms) return out;
   const BmsConfig& b = *c.bms;
   out += fmt::format(

@@ -25,6 +25,11 @@
 //                    under gravity, 9.81 m/s² down if [run] gravity is zero; then the punch is
 //                    lowered onto the bed), settle_friction (μs = μr of every interaction
 //                    while settling only)
+//   [clumps]         count, seed = 1, integration_cells = 128, and either templates (a
+//                    templates.h5; template = one /cms/<name>, default all in turn) or spheres
+//                    = [x, y, z, r, …] (one template inline, metres): rigid CMS clumps inserted
+//                    at random where they overlap nothing, in the [generate] region (else the
+//                    box), of the particles' material
 // plate only:
 //   [sphere]         radius, material; [plate] material, speed, max_deformation = 0.01,
 //                    records = 50
@@ -35,6 +40,9 @@
 //                    shear_ratio = 1 (k̄s/k̄n); radius_multiplier = 1 (λ̄),
 //                    tensile_strength, shear_strength (Pa, default unbreakable),
 //                    damping_ratio = 0, contact_when_bonded = true
+//   [cms]            (plate --particle cms) count = 150 (plate --spheres), resolution = 64,
+//                    min_radius_fraction = 0.02, match_volume = true, integration_cells = 128,
+//                    material = the sphere's
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -69,6 +77,17 @@ struct RunConfig {
 };
 RunConfig read_run(const ConfigTable& root);
 
+// Rigid clumps (CMS particles) added to a compaction bed ([clumps]): from a templates file's
+// /cms groups or one template given inline, inserted where they overlap nothing.
+struct ClumpsConfig {
+  std::int64_t count = 0;
+  std::uint64_t seed = 1;
+  std::string templates;        // templates.h5; empty: `spheres` holds the one template
+  std::string template_name;    // one /cms/<name> of `templates`; empty: all, in turn
+  std::vector<double> spheres;  // x, y, z, r per sub-sphere (m), body frame
+  int integration_cells = 128;
+};
+
 struct CompactConfig {
   MaterialConfig materials;
   RunConfig run;
@@ -83,6 +102,7 @@ struct CompactConfig {
   // Sliding and rolling friction of every interaction while settling (a denser fill, as DEM
   // fills are usually made to reach a target density); absent: the interactions' own.
   std::optional<double> settle_friction;
+  std::optional<ClumpsConfig> clumps;  // filled in from [clumps] when present
 };
 CompactConfig read_compact_config(const ConfigTable& root);
 
@@ -97,11 +117,23 @@ struct BmsConfig {
   BondParameters bond;
 };
 
+// A rigid clump of overlapping sub-spheres filling the plate rig's sphere (plate --particle cms),
+// made by the CMS filler (geometry::fill_rigid) of the analytic sphere.
+struct CmsConfig {
+  int count = 150;                    // sub-spheres asked of the filler (plate --spheres)
+  int resolution = 64;                // filler grid cells along the sphere's diameter
+  double min_radius_fraction = 0.02;  // smallest sub-sphere / largest
+  bool match_volume = true;           // grow the radii until the union has the sphere's volume
+  int integration_cells = 128;        // voxels along the clump's longest side (mass, inertia)
+  std::string material;               // of the sub-spheres; empty: the sphere's
+};
+
 struct PlateConfig {
   MaterialConfig materials;
   RunConfig run;
   PlateSetup setup;              // time_step left 0: chosen from run
   std::optional<BmsConfig> bms;  // when the config has [bms]
+  std::optional<CmsConfig> cms;  // when the config has [cms]
 };
 // `normal_law` (plate --model) replaces the normal law of every interaction.
 PlateConfig read_plate_config(const ConfigTable& root,

@@ -82,10 +82,12 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
   }
   for (int k = 0; k < 3; ++k)
     xi[k] += vt[k] * dt;
-  const double spring = kt * std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+  // Compared squared: a sticking contact (most of them) then needs no square root.
+  const double xi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
   const double limit = p.sliding_friction * std::fabs(friction_load);
-  if (spring > limit) {
-    const double ratio = spring > 0.0 ? limit / spring : 0.0;
+  if (kt * kt * xi2 > limit * limit) {
+    const double spring = kt * std::sqrt(xi2);
+    const double ratio = limit / spring;  // spring > limit >= 0
     for (int k = 0; k < 3; ++k) {
       xi[k] *= ratio;
       force[k] = -kt * xi[k];

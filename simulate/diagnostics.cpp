@@ -15,8 +15,8 @@ namespace {
 // Overlap of list pair p (negative when apart), with its periodic image shift.
 double pair_overlap(const SphereState& s, const PairList& pairs, std::size_t p) {
   const int i = pairs.first[p], j = pairs.second[p];
-  const double dx = s.position.x[j] - s.position.x[i] + pairs.shift_x[p];
-  const double dy = s.position.y[j] - s.position.y[i] + pairs.shift_y[p];
+  const double dx = s.position.x[j] - s.position.x[i] + pairs.shift(p)[0];
+  const double dy = s.position.y[j] - s.position.y[i] + pairs.shift(p)[1];
   const double dz = s.position.z[j] - s.position.z[i];
   return s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
 }
@@ -27,7 +27,9 @@ EnergySummary Engine::energy() const {
   const SphereState& s = state_;
   EnergySummary e;
   const auto& g = settings_.gravity;
+  const std::vector<std::int32_t>& clump_of = clumps_.clump_of;
   for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!clump_of.empty() && clump_of[i] >= 0) continue;  // the body holds its motion
     const double v2 = s.velocity.x[i] * s.velocity.x[i] + s.velocity.y[i] * s.velocity.y[i] +
                       s.velocity.z[i] * s.velocity.z[i];
     const double w2 = s.angular_velocity.x[i] * s.angular_velocity.x[i] +
@@ -37,6 +39,10 @@ EnergySummary Engine::energy() const {
     e.gravitational -=
         s.mass[i] * (g[0] * s.position.x[i] + g[1] * s.position.y[i] + g[2] * s.position.z[i]);
   }
+  e.kinetic += clump_kinetic_energy(clumps_);
+  for (std::size_t c = 0; c < clumps_.size(); ++c)
+    e.gravitational -= clumps_.mass[c] * (g[0] * clumps_.centre.x[c] + g[1] * clumps_.centre.y[c] +
+                                          g[2] * clumps_.centre.z[c]);
   const auto add_contact = [&](const PairConstants& pc, double r_eff, double overlap,
                                const ContactHistory& h) {
     e.elastic += normal_elastic_energy(pc, r_eff, overlap, h);
@@ -103,6 +109,8 @@ void Engine::check_divergence() const {
   double total_mass = 0.0;
   for (double m : s.mass)
     total_mass += m;
+  for (double m : clumps_.mass)
+    total_mass += m;
   const double floor = 1e-6 * total_mass;
   if (e.kinetic + e.elastic > 2.0 * std::max(budget, 0.0) + floor) {
     std::size_t fastest = 0;
@@ -120,6 +128,7 @@ void Engine::check_divergence() const {
 }
 
 void Engine::rebase_energy() {
+  pack_spheres();  // the packed radius, mass and 1/I follow any change made to the state
   const EnergySummary e = energy();
   energy_reference_ = e.kinetic + e.elastic;
   work_in_ = 0.0;
@@ -152,8 +161,8 @@ std::vector<double> Engine::particle_stress() const {
   const auto add_pair = [&](std::size_t i, std::size_t p, double* sigma) {
     if (!pair_touching_[p]) return;
     const int a = pairs_.first[p], b = pairs_.second[p];
-    const double d[3] = {s.position.x[b] - s.position.x[a] + pairs_.shift_x[p],
-                         s.position.y[b] - s.position.y[a] + pairs_.shift_y[p],
+    const double d[3] = {s.position.x[b] - s.position.x[a] + pairs_.shift(p)[0],
+                         s.position.y[b] - s.position.y[a] + pairs_.shift(p)[1],
                          s.position.z[b] - s.position.z[a]};
     const double distance = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     const double n[3] = {d[0] / distance, d[1] / distance, d[2] / distance};
@@ -207,6 +216,7 @@ EngineCheckpoint Engine::checkpoint() const {
   c.energy_reference = energy_reference_;
   c.work_in = work_in_;
   c.bonds = bonds_;
+  c.clumps = clumps_;
   return c;
 }
 

@@ -1,5 +1,6 @@
 #include "simulate/engine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -27,21 +28,32 @@ std::vector<std::uint8_t> touching_flags(const PairList& list, const PairList& t
 }  // namespace
 
 Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
-               EngineSettings settings, BondSet bonds)
+               EngineSettings settings, BondSet bonds, ClumpSet clumps)
     : state_(std::move(state)),
       box_(box),
       materials_(std::move(materials)),
       walls_(std::move(walls)),
       settings_(settings),
-      bonds_(std::move(bonds)) {
+      bonds_(std::move(bonds)),
+      clumps_(std::move(clumps)) {
   if (!(settings_.time_step > 0.0)) throw InputError("time step must be > 0");
   if (!(settings_.skin >= 0.0)) throw InputError("neighbour skin must be >= 0");
   require_material_pairs();
   enable_particle_stress();
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
   if (!bonds_.empty()) bonds_.index(state_);
+  const double half = 0.5 * settings_.time_step;
+  if (!clumps_.empty()) {
+    index_clumps();
+    // Sub-spheres where their bodies put them before the first list build.
+    geometry_.resize(4 * state_.size());
+    motion_.resize(8 * state_.size());
+    place_clump_spheres(clumps_, state_, geometry_.data(), motion_.data(), half, state_.position);
+  }
   build_list(true);
   pack_spheres();
+  if (!clumps_.empty())  // the packed motion of sub-spheres is the body's
+    place_clump_spheres(clumps_, state_, geometry_.data(), motion_.data(), half, state_.position);
   compute_forces(0.0);
   bond_increments_ = true;
   energy_reference_ = energy().kinetic + energy().elastic;
@@ -57,9 +69,11 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
       step_(checkpoint.step),
       time_(checkpoint.time),
       bonds_(std::move(checkpoint.bonds)),
-      bond_increments_(true) {
+      bond_increments_(true),
+      clumps_(std::move(checkpoint.clumps)) {
   require_material_pairs();
   enable_particle_stress();
+  if (!clumps_.empty()) index_clumps();
   if (particle_stress_on_ && !checkpoint.particle_pressure.empty()) {
     // The next pair loop reads p of the step the checkpoint was taken at: restore it bit for bit.
     if (checkpoint.particle_pressure.size() != pressure_.size())
@@ -91,6 +105,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   pair_touching_ = touching_flags(pairs_, touching);
   energy_reference_ = checkpoint.energy_reference;
   work_in_ = checkpoint.work_in;
+  pack_spheres();  // radius, mass and 1/I; step() rewrites the rest
 }
 
 void Engine::require_material_pairs() const {
@@ -109,6 +124,19 @@ void Engine::require_material_pairs() const {
   }
 }
 
+void Engine::index_clumps() {
+  clumps_.index(state_.size());
+  for (std::size_t b = 0; b < bonds_.size(); ++b)
+    if (clumps_.clump_of[bonds_.first[b]] >= 0 || clumps_.clump_of[bonds_.second[b]] >= 0)
+      throw InputError("bond " + std::to_string(b) + " joins sphere " +
+                       std::to_string(bonds_.first[b]) + " and " +
+                       std::to_string(bonds_.second[b]) +
+                       ", one of them a sub-sphere of a rigid clump (clumps are rigid; bonds "
+                       "join the sub-spheres of BMS particles)");
+  for (std::size_t c = 0; c < clumps_.size(); ++c)
+    if (!(clumps_.mass[c] > 0.0)) throw InputError("clump " + std::to_string(c) + " has no mass");
+}
+
 void Engine::enable_particle_stress() {
   bool needed = settings_.particle_stress;
   for (int a = 0; a < materials_.count(); ++a)
@@ -123,7 +151,8 @@ void Engine::enable_particle_stress() {
 
 void Engine::build_list(bool wrap) {
   if (wrap) wrap_positions(state_, box_);
-  PairList next = build_pair_list(state_, box_, settings_.skin);
+  if (wrap && !clumps_.empty()) wrap_clumps(clumps_, state_, box_);
+  PairList next = build_pair_list(state_, box_, settings_.skin, clumps_.clump_of);
   history_ = carry_history(pairs_, history_, next);
   // Touching flags follow the pairs like the history does (a contact that stays closed must
   // not be taken as newly opened and lose its spring).
@@ -168,23 +197,22 @@ void Engine::step() {
   const double* __restrict ty = s.torque.y.data();
   const double* __restrict tz = s.torque.z.data();
   const double* __restrict inverse_mass = s.inverse_mass.data();
-  const double* __restrict inverse_inertia = s.inverse_inertia.data();
   const double* __restrict rx = build_reference_.x.data();
   const double* __restrict ry = build_reference_.y.data();
   const double* __restrict rz = build_reference_.z.data();
-  const double* __restrict radius = s.radius.data();
-  const double* __restrict mass = s.mass.data();
-  geometry_.resize(4 * static_cast<std::size_t>(n));
-  motion_.resize(8 * static_cast<std::size_t>(n));
   double* __restrict geometry = geometry_.data();
   double* __restrict motion = motion_.data();
   // Half kick and drift, fused with the largest displacement since the last list build and with
   // the packed copies the pair loop reads (pack_spheres(): the predicted end-of-step velocity
   // v(t+dt/2) + dt/2 F(t)/m is the half-step velocity plus the same half kick once more).
+  // Radius, mass and 1/I stay in the packed copies from pack_spheres(): every array this loop
+  // streams is one more memory stream, and it streams two dozen.
   double largest = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : largest) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
-    const double im = half * inverse_mass[i], ii = half * inverse_inertia[i];
+    double* gi = geometry + 4 * i;
+    double* mi = motion + 8 * i;
+    const double im = half * inverse_mass[i], ii = half * mi[7];
     vx[i] += fx[i] * im;
     vy[i] += fy[i] * im;
     vz[i] += fz[i] * im;
@@ -194,21 +222,28 @@ void Engine::step() {
     px[i] += dt * vx[i];
     py[i] += dt * vy[i];
     pz[i] += dt * vz[i];
-    double* gi = geometry + 4 * i;
-    gi[0] = px[i], gi[1] = py[i], gi[2] = pz[i], gi[3] = radius[i];
-    double* mi = motion + 8 * i;
+    gi[0] = px[i], gi[1] = py[i], gi[2] = pz[i];
     mi[0] = vx[i] + fx[i] * im, mi[1] = vy[i] + fy[i] * im, mi[2] = vz[i] + fz[i] * im;
     mi[3] = wx[i] + tx[i] * ii, mi[4] = wy[i] + ty[i] * ii, mi[5] = wz[i] + tz[i] * ii;
-    mi[6] = mass[i], mi[7] = inverse_inertia[i];
     const double dx = px[i] - rx[i], dy = py[i] - ry[i], dz = pz[i] - rz[i];
     const double d2 = dx * dx + dy * dy + dz * dz;
     largest = largest > d2 ? largest : d2;
+  }
+  if (!clumps_.empty()) {
+    // Clumps move as bodies; their sub-spheres (no own mass, left alone above) follow.
+    advance_clumps(clumps_, dt);
+    const double moved = place_clump_spheres(clumps_, s, geometry, motion, half, build_reference_);
+    largest = std::max(largest, moved);
   }
   const auto& g = settings_.gravity;
   if (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) {
     double gravity_power = 0.0;  // Σ m g·v at mid-step, for the energy budget only
     for (std::int64_t i = 0; i < n; ++i)
       gravity_power += s.mass[i] * (g[0] * vx[i] + g[1] * vy[i] + g[2] * vz[i]);
+    for (std::size_t c = 0; c < clumps_.size(); ++c)
+      gravity_power +=
+          clumps_.mass[c] * (g[0] * clumps_.velocity.x[c] + g[1] * clumps_.velocity.y[c] +
+                             g[2] * clumps_.velocity.z[c]);
     work_in_ += gravity_power * dt;
   }
   for (PlaneWall& w : walls_)
@@ -234,6 +269,7 @@ void Engine::compute_forces(double kick) {
     compute_bond_forces(bonds_, state_, motion_.data(), box_, settings_.time_step,
                         !bond_increments_);
   gather_forces(kick);
+  if (!clumps_.empty()) gather_clump_forces(clumps_, state_, settings_.gravity, kick);
 }
 
 void Engine::index_bonded_pairs() {

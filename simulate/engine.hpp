@@ -19,9 +19,12 @@
 //   for contacts with other bodies only, dividing by the body's volume and reading p[body[i]].
 // - Bodies: SphereState::body groups sub-spheres. Bonds (bonds.hpp, BMS particles) are a second
 //   pair array evaluated once per bond after the contacts and gathered per sphere after its
-//   contacts in fixed order; rigid clumps sum their sub-spheres' forces per body after the
-//   gather and integrate the body (rigid_body.hpp: principal-axis splitting) instead of the
-//   sub-spheres.
+//   contacts in fixed order. Rigid clumps (clumps.hpp, CMS particles): sub-spheres of one clump
+//   never enter the pair list; they carry no own mass, so the per-sphere kick–drift leaves them
+//   alone; after that loop each clump is kicked, drifted and turned (rigid_body.hpp:
+//   principal-axis splitting) and places its sub-spheres; after the gather each clump sums its
+//   sub-spheres' forces and torques about its centre in index order and takes the second half
+//   kick. Plain spheres run the same loops as without clumps.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -29,6 +32,7 @@
 #include <vector>
 
 #include "simulate/bonds.hpp"
+#include "simulate/clumps.hpp"
 #include "simulate/contact_law.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/neighbor_list.hpp"
@@ -76,7 +80,8 @@ struct EngineCheckpoint {
   std::vector<double> particle_pressure;  // per sphere, the last gather's; empty: not computed
   double energy_reference = 0.0;
   double work_in = 0.0;
-  BondSet bonds;  // with their accumulated forces and moments (empty without BMS particles)
+  BondSet bonds;    // with their accumulated forces and moments (empty without BMS particles)
+  ClumpSet clumps;  // bodies with their motion and last force and torque (empty without CMS)
 };
 
 struct EnergySummary {
@@ -89,9 +94,11 @@ class Engine {
  public:
   // Computes the initial forces (the first half-kick needs them). Checks that every material
   // pair that can meet has an interaction.
-  // `bonds` (create_bonds) join the sub-spheres of BMS particles.
+  // `bonds` (create_bonds) join the sub-spheres of BMS particles; `clumps` (add_clump) make
+  // rigid bodies of the sub-spheres of CMS particles (InputError when a bond joins a clump's
+  // sub-sphere: a clump is rigid).
   Engine(SphereState state, Box box, MaterialTable materials, std::vector<PlaneWall> walls,
-         EngineSettings settings, BondSet bonds = {});
+         EngineSettings settings, BondSet bonds = {}, ClumpSet clumps = {});
   // Continues from a checkpoint: the forces in `state` are those of the step it was taken at.
   Engine(SphereState state, Box box, MaterialTable materials, EngineSettings settings,
          EngineCheckpoint checkpoint);
@@ -102,8 +109,9 @@ class Engine {
   void check_divergence() const;
 
   const SphereState& state() const { return state_; }
-  // Scenario set-up (launch velocities). Call rebase_energy() after changing velocities: the
-  // energy check must not count that change as energy from nowhere.
+  // Scenario set-up (launch velocities). Call rebase_energy() after changing the state: the
+  // energy check must not count that change as energy from nowhere, and the packed copies of
+  // radius, mass and inertia the force loops read are refreshed there.
   SphereState& mutable_state() { return state_; }
   void rebase_energy();
   const Box& box() const { return box_; }
@@ -135,6 +143,7 @@ class Engine {
   std::vector<double> particle_stress() const;
   double particle_pressure(std::size_t i) const { return pressure_[i]; }
   const BondSet& bonds() const { return bonds_; }
+  const ClumpSet& clumps() const { return clumps_; }
 
   EngineCheckpoint checkpoint() const;
 
@@ -153,6 +162,7 @@ class Engine {
   void gather_forces_with(double kick);
   void require_material_pairs() const;
   void enable_particle_stress();
+  void index_clumps();  // clumps_.index and the checks against bonds
 
   SphereState state_;
   Box box_;
@@ -181,6 +191,8 @@ class Engine {
   // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
   std::vector<std::uint8_t> pair_touching_;
   std::vector<std::int32_t> touching_index_;  // per thread chunk: its touching pairs (pair loop)
+  // Per sphere: the slots [begin, end) of its touching "first" pairs in pair_results_.
+  std::vector<std::int32_t> first_touching_;
   std::vector<std::vector<ContactHistory>> wall_history_;
   std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
   std::vector<std::vector<std::uint8_t>> wall_touching_;
@@ -201,6 +213,7 @@ class Engine {
   std::vector<std::int32_t> pair_bond_;
   bool bond_increments_ = false;  // false for the forces at t = 0: no step has moved anything
   double work_in_ = 0.0;
+  ClumpSet clumps_;
 };
 
 }  // namespace shapepress::simulate

@@ -79,8 +79,8 @@ void Engine::pair_forces_with() {
   std::uint8_t* __restrict was_touching = pair_touching_.data();
   const std::int32_t* __restrict first = pairs_.first.data();
   const std::int32_t* __restrict second = pairs_.second.data();
-  const double* __restrict shift_x = pairs_.shift_x.data();
-  const double* __restrict shift_y = pairs_.shift_y.data();
+  const std::uint8_t* __restrict image = pairs_.image.data();
+  const double* __restrict image_shift = pairs_.image_shift.data();
   // Love–Weber: p of the last gather in; Fn and δ/2 of each touching pair out.
   const double* __restrict pressure = stress_on ? pressure_.data() : nullptr;
   double* __restrict virial = stress_on ? pair_virial_.data() : nullptr;
@@ -89,32 +89,49 @@ void Engine::pair_forces_with() {
   // (BondSet::contact_when_bonded); pair_bond_ is empty otherwise.
   const std::int32_t* bond_of_pair = pair_bond_.empty() ? nullptr : pair_bond_.data();
   const std::uint8_t* bond_intact = bonds_.intact.data();
+  const std::int32_t* __restrict first_offset = pairs_.first_offset.data();
+  const std::int64_t spheres = static_cast<std::int64_t>(s.size());
+  first_touching_.resize(2 * static_cast<std::size_t>(spheres));
+  std::int32_t* __restrict first_touching = first_touching_.data();
   const int threads = count >= parallel_min_pairs ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads) reduction(+ : touching)
   {
+    // Chunks of about count / team pairs, cut at sphere boundaries: a sphere's "first" pairs
+    // then get consecutive compact slots, and the gather reads them as one range.
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
-    const std::int64_t begin = count * rank / team, end = count * (rank + 1) / team;
+    const auto sphere_at = [&](std::int64_t pair) {  // the first sphere whose pairs start there
+      return std::lower_bound(first_offset, first_offset + spheres, pair) - first_offset;
+    };
+    const std::int64_t sphere_begin = sphere_at(count * rank / team);
+    const std::int64_t sphere_end =
+        rank + 1 == team ? spheres : sphere_at(count * (rank + 1) / team);
+    const std::int64_t begin = first_offset[sphere_begin];
     std::int64_t k = begin;
-    for (std::int64_t p = begin; p < end; ++p) {
-      const double* gi = geometry + 4 * first[p];
-      const double* gj = geometry + 4 * second[p];
-      const double dx = gj[0] - gi[0] + shift_x[p];
-      const double dy = gj[1] - gi[1] + shift_y[p];
-      const double dz = gj[2] - gi[2];
-      const double reach = gi[3] + gj[3];
-      const std::uint8_t held =
-          bond_of_pair != nullptr && bond_of_pair[p] >= 0 && bond_intact[bond_of_pair[p]];
-      const std::uint8_t now = (dx * dx + dy * dy + dz * dz < reach * reach) & (held ^ 1);
-      if (was_touching[p] & (now ^ 1)) {  // the contact just opened: its spring is released
-        history_[p] = ContactHistory{};
-        if constexpr (stress_on) virial[2 * p] = virial[2 * p + 1] = 0.0;
+    for (std::int64_t i = sphere_begin; i < sphere_end; ++i) {
+      first_touching[2 * i] = static_cast<std::int32_t>(k + 1);
+      const double* gi = geometry + 4 * i;
+      for (std::int64_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
+        const double* gj = geometry + 4 * second[p];
+        const double* shift = image_shift + 2 * image[p];
+        const double dx = gj[0] - gi[0] + shift[0];
+        const double dy = gj[1] - gi[1] + shift[1];
+        const double dz = gj[2] - gi[2];
+        const double reach = gi[3] + gj[3];
+        const std::uint8_t held =
+            bond_of_pair != nullptr && bond_of_pair[p] >= 0 && bond_intact[bond_of_pair[p]];
+        const std::uint8_t now = (dx * dx + dy * dy + dz * dz < reach * reach) & (held ^ 1);
+        if (was_touching[p] & (now ^ 1)) {  // the contact just opened: its spring is released
+          history_[p] = ContactHistory{};
+          if constexpr (stress_on) virial[2 * p] = virial[2 * p + 1] = 0.0;
+        }
+        was_touching[p] = now;
+        // A touching pair's result goes to slot 1 + k of the compact result array; the others
+        // point at slot 0, which holds zeros.
+        slot[p] = static_cast<std::int32_t>(now) * static_cast<std::int32_t>(k + 1);
+        selected[k] = static_cast<std::int32_t>(p);
+        k += now;
       }
-      was_touching[p] = now;
-      // A touching pair's result goes to slot 1 + k of the compact result array; the others
-      // point at slot 0, which holds zeros.
-      slot[p] = static_cast<std::int32_t>(now) * static_cast<std::int32_t>(k + 1);
-      selected[k] = static_cast<std::int32_t>(p);
-      k += now;
+      first_touching[2 * i + 1] = static_cast<std::int32_t>(k + 1);
     }
     touching += k - begin;
     for (std::int64_t q = begin; q < k; ++q) {
@@ -123,8 +140,9 @@ void Engine::pair_forces_with() {
       PairResult& out = pair_results_[q + 1];
       const double* gi = geometry + 4 * i;
       const double* gj = geometry + 4 * j;
-      const double dx = gj[0] - gi[0] + shift_x[p];
-      const double dy = gj[1] - gi[1] + shift_y[p];
+      const double* shift = image_shift + 2 * image[p];
+      const double dx = gj[0] - gi[0] + shift[0];
+      const double dy = gj[1] - gi[1] + shift[1];
       const double dz = gj[2] - gi[2];
       const double ri = gi[3], rj = gj[3];
       const double reach = ri + rj;
@@ -206,12 +224,14 @@ void Engine::gather_forces_with(double kick) {
   const std::int32_t* __restrict second_pairs = pairs_.second_pairs.data();
   const PairResult* __restrict results = pair_results_.data();
   const std::int32_t* __restrict slot = pair_slot_.data();
+  const std::int32_t* __restrict first_touching = first_touching_.data();
   // Raw pointers hoisted out of the loop: through the containers the compiler reloads every
   // array's address after each store.
   const double* __restrict geometry = geometry_.data();
   const double* __restrict motion = motion_.data();
   const std::int32_t* __restrict material = s.material.data();
   const double* __restrict inverse_mass = s.inverse_mass.data();
+  const double* __restrict mass = s.mass.data();
   double* __restrict fx = s.force.x.data();
   double* __restrict fy = s.force.y.data();
   double* __restrict fz = s.force.z.data();
@@ -258,14 +278,20 @@ void Engine::gather_forces_with(double kick) {
       f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
       t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
     }
-    for (std::int32_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
-      const PairResult& r = results[slot[p]];
-      if constexpr (stress_on) {
+    if constexpr (stress_on) {
+      for (std::int32_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
+        const PairResult& r = results[slot[p]];
         const double* v = virial + 2 * p;
         arm_force += (ri - v[1]) * v[0];
+        f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
+        t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
       }
-      f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
-      t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
+    } else {  // only the touching ones: they hold consecutive slots (pair_forces_with)
+      for (std::int32_t q = first_touching[2 * i]; q < first_touching[2 * i + 1]; ++q) {
+        const PairResult& r = results[q];
+        f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
+        t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
+      }
     }
     if (has_bonds) gather_bond_forces(bonds_, i, f, t);
     // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
@@ -317,7 +343,9 @@ void Engine::gather_forces_with(double kick) {
       }
     }
     if constexpr (stress_on) pressure[i] = arm_force / (4.0 * std::numbers::pi * ri * ri * ri);
-    const double m = motion[8 * i + 6];
+    // Gravity by the sphere's own mass: a clump's sub-spheres have none (their packed mass is
+    // the clump's, for the contact damping); the clump adds its weight once (clumps.cpp).
+    const double m = mass[i];
     f[0] += m * g[0], f[1] += m * g[1], f[2] += m * g[2];
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];

@@ -56,19 +56,30 @@ CellGrid make_grid(const SphereState& state, const Box& box, double cell) {
   return g;
 }
 
-// The shift that brings a separation to its nearest image (|d| < 1.5 L here: positions are
-// wrapped at builds and move less than half a skin between them).
-double minimum_image(double d, double length) {
-  if (length <= 0.0) return 0.0;
+// The image (-1, 0, +1 box lengths) that brings a separation to its nearest image (|d| < 1.5 L
+// here: positions are wrapped at builds and move less than half a skin between them).
+int minimum_image(double d, double length) {
+  if (length <= 0.0) return 0;
   const double half = 0.5 * length;
-  return d > half ? -length : (d < -half ? length : 0.0);
+  return d > half ? -1 : (d < -half ? 1 : 0);
+}
+
+// PairList::image's code of the images (ix, iy), each in -1..1.
+std::uint8_t image_code(int ix, int iy) {
+  return static_cast<std::uint8_t>(3 * (ix + 1) + iy + 1);
 }
 
 }  // namespace
 
-PairList build_pair_list(const SphereState& state, const Box& box, double skin) {
+PairList build_pair_list(const SphereState& state, const Box& box, double skin,
+                         std::span<const std::int32_t> rigid_group) {
   const int count = static_cast<int>(state.size());
   PairList list;
+  for (int ix = -1; ix <= 1; ++ix)
+    for (int iy = -1; iy <= 1; ++iy) {
+      list.image_shift[2 * image_code(ix, iy)] = ix * std::max(box.length_x, 0.0);
+      list.image_shift[2 * image_code(ix, iy) + 1] = iy * std::max(box.length_y, 0.0);
+    }
   list.first_offset.assign(static_cast<std::size_t>(count) + 1, 0);
   list.second_offset.assign(static_cast<std::size_t>(count) + 1, 0);
   if (count == 0) return list;
@@ -113,8 +124,7 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
     const std::size_t expected = 8 * static_cast<std::size_t>(count) / threads + 64;
     part.first.reserve(expected);
     part.second.reserve(expected);
-    part.shift_x.reserve(expected);
-    part.shift_y.reserve(expected);
+    part.image.reserve(expected);
   }
   // Static schedule: thread t gets a contiguous range of i, so concatenating the parts in thread
   // order gives the list sorted by first, whatever the thread count.
@@ -146,11 +156,13 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
               const int j = members[m];
               if (j <= i) continue;
               double ddx = x[j] - x[i], ddy = y[j] - y[i];
-              ddx += minimum_image(ddx, box.length_x);
-              ddy += minimum_image(ddy, box.length_y);
+              ddx += minimum_image(ddx, box.length_x) * box.length_x;
+              ddy += minimum_image(ddy, box.length_y) * box.length_y;
               const double ddz = z[j] - z[i];
               const double reach = state.radius[i] + state.radius[j] + skin;
-              if (ddx * ddx + ddy * ddy + ddz * ddz < reach * reach) partners.push_back(j);
+              if (ddx * ddx + ddy * ddy + ddz * ddz < reach * reach &&
+                  (rigid_group.empty() || rigid_group[i] < 0 || rigid_group[i] != rigid_group[j]))
+                partners.push_back(j);
             }
           }
         }
@@ -159,16 +171,15 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin) 
       for (int j : partners) {
         part.first.push_back(i);
         part.second.push_back(j);
-        part.shift_x.push_back(minimum_image(x[j] - x[i], box.length_x));
-        part.shift_y.push_back(minimum_image(y[j] - y[i], box.length_y));
+        part.image.push_back(image_code(minimum_image(x[j] - x[i], box.length_x),
+                                        minimum_image(y[j] - y[i], box.length_y)));
       }
     }
   }
   for (const PairList& part : parts) {
     list.first.insert(list.first.end(), part.first.begin(), part.first.end());
     list.second.insert(list.second.end(), part.second.begin(), part.second.end());
-    list.shift_x.insert(list.shift_x.end(), part.shift_x.begin(), part.shift_x.end());
-    list.shift_y.insert(list.shift_y.end(), part.shift_y.begin(), part.shift_y.end());
+    list.image.insert(list.image.end(), part.image.begin(), part.image.end());
   }
 
   // Gather lists: second_pairs filled in pair order, so each sphere's are sorted by pair index.

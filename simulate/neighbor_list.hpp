@@ -5,7 +5,9 @@
 // last build. Periodic in x and y: a pair across a boundary carries the image shift to add to
 // x_second - x_first. Contact history lives in an array aligned with the pairs and is carried
 // over a rebuild by merging the old and new sorted pair lists (carry_history), never hashed.
+#include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "simulate/contact_law.hpp"
@@ -16,8 +18,12 @@ namespace shapepress::simulate {
 struct PairList {
   std::vector<std::int32_t> first;
   std::vector<std::int32_t> second;
-  std::vector<double> shift_x;  // added to x[second] - x[first]
-  std::vector<double> shift_y;
+  // The periodic image of second seen from first, as one byte per pair: the pair loop streams
+  // the list every step, and two doubles of shift per pair were most of its bytes. image_shift
+  // holds (x, y) for each code, to be added to x[second] - x[first].
+  std::vector<std::uint8_t> image;
+  std::array<double, 18> image_shift{};
+  const double* shift(std::size_t p) const { return &image_shift[2 * image[p]]; }
   // Per-sphere gather lists in fixed order. Pairs are sorted by first, so the pairs where i is
   // first are the contiguous range [first_offset[i], first_offset[i+1]); the pairs where i is
   // second are second_pairs[second_offset[i] .. second_offset[i+1]) (CSR), in increasing pair
@@ -31,8 +37,10 @@ struct PairList {
 };
 
 // Builds the half list. InputError when a periodic length is not more than twice the reach
-// 2 r_max + skin: then a pair could meet through two images.
-PairList build_pair_list(const SphereState& state, const Box& box, double skin);
+// 2 r_max + skin: then a pair could meet through two images. `rigid_group` (empty, or one entry
+// per sphere): spheres of the same group ≥ 0 never pair (the sub-spheres of one rigid clump).
+PairList build_pair_list(const SphereState& state, const Box& box, double skin,
+                         std::span<const std::int32_t> rigid_group = {});
 
 // History of pairs present in both lists is moved to the new list's slots; new pairs start
 // from zero history. Both lists must be sorted by (first, second).

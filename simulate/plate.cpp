@@ -52,7 +52,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   settings.check_every = 1000;
   settings.max_overlap_fraction = setup.max_overlap_fraction;
   Engine engine(std::move(s), Box{}, materials, std::move(walls), settings,
-                std::move(particle.bonds));
+                std::move(particle.bonds), std::move(particle.clumps));
   const double e_star =
       materials.pair(setup.sphere_material, setup.plate_material).effective_modulus;
   const double diameter = 2.0 * setup.radius;

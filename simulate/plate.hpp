@@ -1,7 +1,8 @@
 #pragma once
 // The single-particle rig: one particle between two plates, the top plate approaching at a
 // prescribed speed (DESIGN.md `shapepress plate`). The particle is one Hertz sphere (classical
-// DEM) or a bonded multi-sphere agglomerate (BMS, paper §3.1). Quasi-static when the speed is
+// DEM), a bonded multi-sphere agglomerate (BMS, paper §3.1) or a rigid clump of overlapping
+// sub-spheres (CMS, paper §3.3). Quasi-static when the speed is
 // small against the particle's wave speed: every row carries the kinetic energy and the work
 // the plates did, so a run shows that it was.
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "simulate/bonds.hpp"
+#include "simulate/clumps.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/state.hpp"
 
@@ -42,11 +44,12 @@ struct PlateRow {
   double wall_seconds = 0.0;    // elapsed time since the run started
 };
 
-// What is pressed: sub-spheres (one for classical DEM) and their bonds, in any frame; run_plate
-// puts the plates on its lowest and highest points.
+// What is pressed: sub-spheres (one for classical DEM) and their bonds (BMS) or the rigid clump
+// they form (CMS), in any frame; run_plate puts the plates on its lowest and highest points.
 struct PlateParticle {
   SphereState spheres;
   BondSet bonds;
+  ClumpSet clumps;
 };
 
 // Hertz between a sphere and two identical plates: each contact carries Δ/2 (models.md).

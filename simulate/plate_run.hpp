@@ -1,7 +1,7 @@
 #pragma once
-// A plate run from a config: the particle (one sphere or a BMS agglomerate), the time step
-// (Rayleigh time and, with bonds, the bonded network's period), the run. Shared by `plate` and
-// `calibrate`, which runs it many times with different bond parameters.
+// A plate run from a config: the particle (one sphere, a BMS agglomerate or a CMS clump), the
+// time step (Rayleigh time and, with bonds, the bonded network's period), the run. Shared by
+// `plate` and `calibrate`, which runs it many times with different bond parameters.
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -10,6 +10,7 @@
 
 #include "simulate/config_io.hpp"
 #include "simulate/plate.hpp"
+#include "simulate/timestep.hpp"
 
 namespace shapepress::simulate {
 
@@ -20,19 +21,43 @@ struct PlateRunOutcome {
   std::string description;  // "BMS sphere R = … m, 545 sub-spheres of r = … m, 2900 bonds"
   std::size_t spheres = 0;
   std::size_t bonds = 0;
+  std::size_t requested_spheres = 0;  // CMS: the count asked of the filler
   double sub_sphere_radius = 0.0;
   double time_step = 0.0;
   std::shared_ptr<const Engine> final_snapshot;  // the engine at the last row
 };
 
-// `log` (optional) receives one-line notes (time step, particle); bonded: --particle bms.
-PlateRunOutcome run_plate_config(const PlateConfig& config, bool bonded,
+// What `plate --particle` presses: one Hertz sphere, a BMS agglomerate ([bms], [bond]) or a
+// rigid CMS clump ([cms]).
+enum class PlateParticleKind { sphere, bms, cms };
+const char* particle_name(PlateParticleKind kind);  // "sphere", "bms", "cms"
+
+// The step of a plate run: select_time_step (Rayleigh time, bonds, clumps) and, for a clump,
+// its contact period bound at the end of the compression (each plate Δ/2 into it).
+TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTable& table,
+                               const PlateSetup& setup, const RunConfig& run);
+
+// `log` (optional) receives one-line notes (time step, particle). CMS: the plates pass through
+// the clump's outer sub-spheres by design (it cannot deform), so the run's overlap check is
+// widened to the deepest overlap the compression can make (logged); a blow-up is still caught
+// by the energy and non-finite checks.
+PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
                                  const std::function<void(const std::string&)>& log = {});
+// bonded: --particle bms, else sphere.
+inline PlateRunOutcome run_plate_config(const PlateConfig& config, bool bonded,
+                                        const std::function<void(const std::string&)>& log = {}) {
+  return run_plate_config(config, bonded ? PlateParticleKind::bms : PlateParticleKind::sphere, log);
+}
 
 // force.csv (atomically): time_s, deformation, approach_m, top_force_N, bottom_force_N,
 // hertz_force_N, contacts, intact_bonds, kinetic_energy_J, work_J, cpu_s, wall_s; comment lines
 // say what was pressed (report reads "sub_spheres = N").
 void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,
-                     const PlateConfig& config, bool bonded);
+                     const PlateConfig& config, PlateParticleKind kind);
+inline void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,
+                            const PlateConfig& config, bool bonded) {
+  write_force_csv(path, outcome, config,
+                  bonded ? PlateParticleKind::bms : PlateParticleKind::sphere);
+}
 
 }  // namespace shapepress::simulate

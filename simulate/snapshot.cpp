@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -140,6 +142,98 @@ BondSet read_bonds(const H5Reader& file) {
   return b;
 }
 
+// The clumps (/clumps): bodies with their motion and last force and torque, and the sub-sphere
+// offsets; the derived arrays (clump_of, arms) are rebuilt. For ParaView, each body frame as
+// three line cells from the centre along the principal axes (axis 0 the smallest moment), as
+// long as the clump's reach.
+void write_clumps(H5Writer& file, const ClumpSet& k) {
+  if (k.empty()) return;
+  const std::size_t n = k.size();
+  std::vector<std::int32_t> range;
+  std::vector<double> orientation, momentum, inertia, omega, axis_points;
+  std::vector<std::int32_t> axis_lines, axis_id;
+  for (std::size_t c = 0; c < n; ++c) {
+    range.insert(range.end(), {k.first[c], k.last[c]});
+    const RigidRotation& r = k.rotation[c];
+    orientation.insert(orientation.end(),
+                       {r.orientation.w, r.orientation.x, r.orientation.y, r.orientation.z});
+    momentum.insert(momentum.end(), r.body_angular_momentum.begin(), r.body_angular_momentum.end());
+    inertia.insert(inertia.end(), r.principal_inertia.begin(), r.principal_inertia.end());
+    const Vector3 w = k.angular_velocity(c);
+    omega.insert(omega.end(), w.begin(), w.end());
+    double reach = 0.0;
+    for (std::int32_t m = k.member_start[c]; m < k.member_start[c + 1]; ++m)
+      reach = std::max(reach, std::hypot(k.offset.x[m], k.offset.y[m], k.offset.z[m]));
+    const Vector3 centre = {k.centre.x[c], k.centre.y[c], k.centre.z[c]};
+    const auto base = static_cast<std::int32_t>(4 * c);
+    axis_points.insert(axis_points.end(), centre.begin(), centre.end());
+    for (int a = 0; a < 3; ++a) {
+      Vector3 unit = {0.0, 0.0, 0.0};
+      unit[static_cast<std::size_t>(a)] = reach;
+      const Vector3 tip = rotate_to_world(r.orientation, unit);
+      axis_points.insert(axis_points.end(),
+                         {centre[0] + tip[0], centre[1] + tip[1], centre[2] + tip[2]});
+      axis_lines.insert(axis_lines.end(), {base, base + 1 + a});
+      axis_id.push_back(a);
+    }
+  }
+  file.write("/clumps/range", range, {n, 2});
+  write_with_unit(file, "/clumps/mass", k.mass, "kg");
+  write_with_unit(file, "/clumps/volume", k.volume, "m^3");
+  write_vec3(file, "/clumps/centre", k.centre, "m");
+  write_vec3(file, "/clumps/velocity", k.velocity, "m/s");
+  write_vec3(file, "/clumps/force", k.force, "N");
+  write_vec3(file, "/clumps/torque", k.torque, "N m");
+  file.write("/clumps/orientation", orientation, {n, 4});
+  file.write("/clumps/body_angular_momentum", momentum, {n, 3});
+  file.unit("/clumps/body_angular_momentum", "kg m^2/s");
+  file.write("/clumps/principal_inertia", inertia, {n, 3});
+  file.unit("/clumps/principal_inertia", "kg m^2");
+  file.write("/clumps/angular_velocity", omega, {n, 3});
+  file.unit("/clumps/angular_velocity", "rad/s");
+  write_vec3(file, "/clumps/offset", k.offset, "m");
+  file.write("/clumps/axis_points", axis_points, {4 * n, 3});
+  file.write("/clumps/axis_lines", axis_lines, {3 * n, 2});
+  file.write("/clumps/axis_id", axis_id);
+}
+
+ClumpSet read_clumps(const H5Reader& file) {
+  ClumpSet k;
+  if (!file.has("/clumps/range")) return k;
+  const std::vector<std::int32_t> range = file.int32s("/clumps/range");
+  for (std::size_t c = 0; c + 1 < range.size(); c += 2) {
+    k.first.push_back(range[c]);
+    k.last.push_back(range[c + 1]);
+  }
+  const std::size_t n = k.first.size();
+  k.mass = file.doubles("/clumps/mass");
+  k.volume = file.doubles("/clumps/volume");
+  k.centre = split(file.doubles("/clumps/centre"));
+  k.velocity = split(file.doubles("/clumps/velocity"));
+  k.force = split(file.doubles("/clumps/force"));
+  k.torque = split(file.doubles("/clumps/torque"));
+  k.offset = split(file.doubles("/clumps/offset"));
+  const std::vector<double> orientation = file.doubles("/clumps/orientation");
+  const std::vector<double> momentum = file.doubles("/clumps/body_angular_momentum");
+  const std::vector<double> inertia = file.doubles("/clumps/principal_inertia");
+  for (std::size_t size :
+       {k.mass.size(), k.volume.size(), k.centre.size(), k.velocity.size(), k.force.size(),
+        k.torque.size(), orientation.size() / 4, momentum.size() / 3, inertia.size() / 3})
+    if (size != n)
+      throw InputError("'" + file.path().string() + "': /clumps datasets differ in length");
+  for (std::size_t c = 0; c < n; ++c) {
+    RigidRotation r;
+    r.orientation = {orientation[4 * c], orientation[4 * c + 1], orientation[4 * c + 2],
+                     orientation[4 * c + 3]};
+    for (std::size_t a = 0; a < 3; ++a) {
+      r.body_angular_momentum[a] = momentum[3 * c + a];
+      r.principal_inertia[a] = inertia[3 * c + a];
+    }
+    k.rotation.push_back(r);
+  }
+  return k;
+}
+
 }  // namespace
 
 void write_snapshot(const std::filesystem::path& path, const Engine& engine,
@@ -190,6 +284,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   write_with_unit(file, "/engine/contact_plastic_force", plastic_values(c.history), "N");
   write_with_unit(file, "/engine/wall_plastic_force", plastic_values(wall_history), "N");
   write_bonds(file, c.bonds);
+  write_clumps(file, c.clumps);
 
   // Walls: the state, and each wall as a quad over the box for ParaView.
   const auto& walls = c.walls;
@@ -222,6 +317,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   file.attribute("/punch", "reference_gap", punch.reference_gap);
   file.attribute("/", "spheres", static_cast<std::int64_t>(n));
   file.attribute("/", "bonds", static_cast<std::int64_t>(c.bonds.size()));
+  file.attribute("/", "clumps", static_cast<std::int64_t>(c.clumps.size()));
   file.commit();
 }
 
@@ -281,6 +377,8 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
         static_cast<std::size_t>(c.bonds.second[k]) >= n)
       throw InputError("'" + path.string() + "': bond " + std::to_string(k) +
                        " joins a sphere that is not in the snapshot");
+  c.clumps = read_clumps(file);
+  c.clumps.index(n);  // InputError when a range leaves the snapshot's spheres
   out.punch.phase = static_cast<PunchPhase>(file.attribute_int64("/punch", "phase"));
   out.punch.phase_start = file.attribute_double("/punch", "phase_start");
   out.punch.reference_gap = file.attribute_double("/punch", "reference_gap");
@@ -324,6 +422,7 @@ void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotInd
     xml += attribute("velocity", "Vector", "/particles/velocity", 3, false);
     xml += attribute("force", "Vector", "/particles/force", 3, false);
     xml += attribute("contacts", "Scalar", "/particles/contacts", 1, true);
+    xml += attribute("body", "Scalar", "/particles/body", 1, true);
     if (e.stress) {
       xml += attribute("pressure", "Scalar", "/particles/pressure", 1, false);
       xml += attribute("stress", "Tensor6", "/particles/stress", 6, false);
@@ -347,6 +446,21 @@ void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotInd
           "     <Attribute Name=\"bond_normal_force\" AttributeType=\"Scalar\" "
           "Center=\"Cell\">{}</Attribute>\n    </Grid>\n",
           item("/bonds/normal_force", e.bonds, 1));
+    }
+    if (e.clumps > 0) {
+      // Each clump's body frame as three line cells from its centre along its principal axes,
+      // colourable by "axis" (0: the smallest principal moment).
+      xml += fmt::format(
+          "    <Grid Name=\"clump_axes\"><Topology TopologyType=\"Polyline\" "
+          "NodesPerElement=\"2\" NumberOfElements=\"{}\"><DataItem Dimensions=\"{} 2\" "
+          "NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">{}:/clumps/axis_lines</DataItem>"
+          "</Topology>\n     <Geometry GeometryType=\"XYZ\">{}</Geometry>\n",
+          3 * e.clumps, 3 * e.clumps, f, item("/clumps/axis_points", 4 * e.clumps, 3));
+      xml += fmt::format(
+          "     <Attribute Name=\"axis\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem "
+          "Dimensions=\"{}\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">{}:"
+          "/clumps/axis_id</DataItem></Attribute>\n    </Grid>\n",
+          3 * e.clumps, f);
     }
     xml += fmt::format(
         "    <Grid Name=\"walls\"><Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"{}\">"

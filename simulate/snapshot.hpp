@@ -2,8 +2,8 @@
 // Snapshots: one HDF5 file per snapshot with everything a restart needs (sphere state including
 // the last forces, contact history, walls, punch program state, list-build reference), plus an
 // XDMF sidecar indexing all snapshots of a run so ParaView opens them as a time series (spheres
-// as points with radius, velocity, force and contact count; bonds as line cells; each wall as a
-// quad).
+// as points with radius, velocity, force, contact count and body id; bonds as line cells; each
+// rigid clump's principal axes as three line cells; each wall as a quad).
 #include <filesystem>
 #include <vector>
 
@@ -30,8 +30,9 @@ struct SnapshotIndexEntry {
   double time = 0.0;
   std::size_t spheres = 0;
   std::size_t walls = 0;
-  bool stress = false;    // /particles/stress and /particles/pressure are present
-  std::size_t bonds = 0;  // drawn as line cells between sphere centres
+  bool stress = false;     // /particles/stress and /particles/pressure are present
+  std::size_t bonds = 0;   // drawn as line cells between sphere centres
+  std::size_t clumps = 0;  // each body frame drawn as three line cells
 };
 // Writes the XDMF 3 sidecar atomically (rewritten after each snapshot).
 void write_xdmf(const std::filesystem::path& path, const std::vector<SnapshotIndexEntry>& entries);

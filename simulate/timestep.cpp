@@ -1,5 +1,6 @@
 #include "simulate/timestep.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -28,9 +29,13 @@ double hertz_collision_time(double effective_mass, double effective_radius,
 
 namespace shapepress::simulate {
 
-TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
-                                const std::vector<int>& wall_materials, std::optional<double> fixed,
-                                double fraction, double speed) {
+namespace {
+
+// `mass`: the mass each sphere's contacts move (its own, or its clump's).
+TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable& materials,
+                                  const std::vector<int>& wall_materials,
+                                  std::optional<double> fixed, double fraction, double speed,
+                                  const std::vector<double>& mass) {
   TimeStepChoice choice;
   if (state.size() == 0) throw InputError("no spheres to simulate");
   std::size_t smallest = 0;
@@ -44,7 +49,7 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
     throw InputError("time_step_fraction must be in (0, 1]");
   choice.time_step = fixed ? *fixed : fraction * choice.rayleigh_time;
   if (!(choice.time_step > 0.0)) throw InputError("time_step must be > 0");
-  const double r = state.radius[smallest], m = state.mass[smallest];
+  const double r = state.radius[smallest], m = mass[smallest];
   const int mat = state.material[smallest];
   const double v = std::max(speed, 1e-3);  // a resting bed still sees mm/s impacts
   choice.collision_time =
@@ -67,11 +72,20 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
   return choice;
 }
 
+}  // namespace
+
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
-                                double fraction, double speed, const BondSet& bonds) {
-  TimeStepChoice choice =
-      select_time_step(state, materials, wall_materials, fixed, fraction, speed);
+                                double fraction, double speed) {
+  return select_with_masses(state, materials, wall_materials, fixed, fraction, speed, state.mass);
+}
+
+namespace {
+
+// fraction × the bonded network's period bound when that is shorter; a fixed step above the
+// stability limit T_b/π is an InputError.
+TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fixed, double fraction,
+                                const BondSet& bonds, const SphereState& state) {
   choice.bond_period = bond_oscillation_period(bonds, state);
   if (!std::isfinite(choice.bond_period)) return choice;
   if (fixed) {
@@ -84,6 +98,81 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
   }
   choice.time_step = std::min(choice.time_step, fraction * choice.bond_period);
   return choice;
+}
+
+}  // namespace
+
+TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
+                                const std::vector<int>& wall_materials, std::optional<double> fixed,
+                                double fraction, double speed, const BondSet& bonds) {
+  return with_bond_period(
+      select_time_step(state, materials, wall_materials, fixed, fraction, speed), fixed, fraction,
+      bonds, state);
+}
+
+TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
+                                const std::vector<int>& wall_materials, std::optional<double> fixed,
+                                double fraction, double speed, const BondSet& bonds,
+                                const ClumpSet& clumps) {
+  std::vector<double> mass = state.mass;
+  std::vector<double> overlap(state.size(), 0.0);
+  std::vector<int> partners = wall_materials;
+  for (std::size_t c = 0; c < clumps.size(); ++c)
+    for (std::int32_t i = clumps.first[c]; i < clumps.last[c]; ++i) {
+      mass[static_cast<std::size_t>(i)] = clumps.mass[c];
+      overlap[static_cast<std::size_t>(i)] = assumed_clump_overlap * state.radius[i];
+      partners.push_back(state.material[i]);
+    }
+  TimeStepChoice choice = with_bond_period(
+      select_with_masses(state, materials, wall_materials, fixed, fraction, speed, mass), fixed,
+      fraction, bonds, state);
+  choice.clump_period = clump_contact_period(clumps, state, materials, partners, overlap);
+  if (!fixed && std::isfinite(choice.clump_period))
+    choice.time_step = std::min(choice.time_step, fraction * choice.clump_period);
+  return choice;
+}
+
+double clump_contact_period(const ClumpSet& clumps, const SphereState& state,
+                            const MaterialTable& materials, const std::vector<int>& partners,
+                            const std::vector<double>& overlap) {
+  double fastest = 0.0;  // largest ω² bound over the clumps
+  double damping = 0.0;  // largest damping-rate bound
+  for (std::size_t c = 0; c < clumps.size(); ++c) {
+    const Vector3& inertia = clumps.rotation[c].principal_inertia;
+    const double inverse_mass = 1.0 / clumps.mass[c];
+    const double inverse_inertia = 1.0 / std::min({inertia[0], inertia[1], inertia[2]});
+    const double m = clump_damping_mass(clumps, c);
+    double sum = 0.0, rate = 0.0;
+    for (std::int32_t i = clumps.first[c]; i < clumps.last[c]; ++i) {
+      const double delta = overlap[static_cast<std::size_t>(i)];
+      if (!(delta > 0.0)) continue;
+      // The stiffest partner: 2E* + 2·8G* per √(r δ), and its dampers.
+      double stiffest = 0.0, damper = 0.0;
+      const double root = std::sqrt(state.radius[i] * delta);
+      for (int partner : partners)
+        if (materials.has_pair(state.material[i], partner)) {
+          const PairConstants& pc = materials.pair(state.material[i], partner);
+          stiffest =
+              std::max(stiffest, 2.0 * pc.effective_modulus + 16.0 * pc.effective_shear_modulus);
+          damper =
+              std::max(damper, pc.damping_factor *
+                                   (std::sqrt(2.0 * pc.effective_modulus * root * m) +
+                                    2.0 * std::sqrt(8.0 * pc.effective_shear_modulus * root * m)));
+        }
+      const double arm2 = std::pow(state.position.x[i] - clumps.centre.x[c], 2) +
+                          std::pow(state.position.y[i] - clumps.centre.y[c], 2) +
+                          std::pow(state.position.z[i] - clumps.centre.z[c], 2);
+      const double reach = inverse_mass + arm2 * inverse_inertia;
+      sum += stiffest * root * reach;
+      rate += damper * reach;
+    }
+    fastest = std::max(fastest, sum);
+    damping = std::max(damping, rate);
+  }
+  double period = std::numeric_limits<double>::infinity();
+  if (fastest > 0.0) period = 2.0 * std::numbers::pi / std::sqrt(fastest);
+  if (damping > 0.0) period = std::min(period, std::numbers::pi / damping);
+  return period;
 }
 
 }  // namespace shapepress::simulate

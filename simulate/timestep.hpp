@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "simulate/bonds.hpp"
+#include "simulate/clumps.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/state.hpp"
 
@@ -35,8 +36,26 @@ struct TimeStepChoice {
   double time_step = 0.0;       // s
   double rayleigh_time = 0.0;   // of the smallest sphere
   double collision_time = 0.0;  // shortest Hertz impact at `speed`, sphere–sphere or –wall
-  double bond_period = std::numeric_limits<double>::infinity();  // bond_oscillation_period
+  double bond_period = std::numeric_limits<double>::infinity();   // bond_oscillation_period
+  double clump_period = std::numeric_limits<double>::infinity();  // clump_contact_period
 };
+
+// Bound on the shortest period of a rigid clump rocking on its contacts: a clump's mass and
+// inertia sit behind all its sub-spheres' contacts at once, which the Rayleigh time of one
+// sub-sphere does not see (a 41-sphere clump pressed 40 % between plates blows up at 0.2 t_R).
+// ω² is at most the trace of the mass-normalised stiffness of the contacts,
+//   ω² ≤ Σ_i (kn,i + 2 kt,i) (1/M + |r_i|²/I_min),  kn = 2E*√(r δ), kt = 8G*√(r δ)
+// (the Hertz and Mindlin tangent stiffnesses at overlap δ_i = overlap[i], against the partner
+// material of the stiffest pair), and the contact dampers' rate is at most
+//   γ ≤ Σ_i c_i (1/M + |r_i|²/I_min),  c_i = damping_factor (√(kn m) + √(kt m)), m = M/n
+// (clump_damping_mass). Returns min(2π/ω_max, π/γ_max) [s] (the dampers held below π/γ as for
+// bonds), +inf without clumps or contacts.
+double clump_contact_period(const ClumpSet& clumps, const SphereState& state,
+                            const MaterialTable& materials, const std::vector<int>& partners,
+                            const std::vector<double>& overlap);
+// The overlap the generic bound assumes for every sub-sphere (fraction of its radius, one
+// contact each) where the scene does not say more (compact).
+inline constexpr double assumed_clump_overlap = 0.1;
 
 // `fixed` if given, else fraction × the Rayleigh time of the smallest sphere. InputError when
 // the step resolves a Hertz collision at `speed` (the fastest expected relative speed) with
@@ -51,5 +70,15 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds);
+
+// With rigid clumps too: a clump's sub-sphere has no own mass (clumps.hpp), so its Hertz
+// collision time is that of a sphere of its radius carrying the clump's mass (the mass its
+// contacts decelerate; the contact damping uses the same). The step is fraction ×
+// min(Rayleigh time of the smallest sub-sphere, bond period, clump_contact_period with every
+// sub-sphere touching the stiffest partner at assumed_clump_overlap of its radius).
+TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
+                                const std::vector<int>& wall_materials, std::optional<double> fixed,
+                                double fraction, double speed, const BondSet& bonds,
+                                const ClumpSet& clumps);
 
 }  // namespace shapepress::simulate

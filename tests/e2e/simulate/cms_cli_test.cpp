@@ -1,0 +1,186 @@
+// Rigid clumps (CMS) as a user runs them: `plate --particle cms --spheres N` writes the BMS
+// plate's force.csv columns and ParaView's clump axes; `compact` with a [clumps] table inserts,
+// settles and compacts clumps, snapshots them and restarts; bad clumps exit 2 naming the cause.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "common/csv.hpp"
+#include "common/hdf5_file.hpp"
+#include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
+
+namespace shapepress {
+namespace {
+
+using shapepress::testing::fresh_directory;
+using shapepress::testing::run_shapepress;
+using shapepress::testing::write_text;
+using ::testing::HasSubstr;
+
+const std::filesystem::path repo =
+    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+const std::filesystem::path shipped = repo / "pipelines/configs/rubber-sphere.toml";
+
+std::string q(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(CmsPlateCli, WritesTheBmsForceColumnsAndClumpAxes) {
+  const auto dir = fresh_directory("cms_plate");
+  const auto r = run_shapepress("--quiet plate --config " + q(shipped) +
+                                " --particle cms --spheres 50 --snapshot --out " + q(dir / "run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const CsvTable t = read_csv(dir / "run" / "force.csv");
+  for (const char* column :
+       {"time_s", "deformation", "approach_m", "top_force_N", "bottom_force_N", "hertz_force_N",
+        "contacts", "intact_bonds", "kinetic_energy_J", "work_J", "cpu_s", "wall_s"})
+    EXPECT_NO_THROW(t.column(column)) << column;
+  // The run reaches 40 %: the plates passing through outer sub-spheres do not stop it.
+  EXPECT_NEAR(t.column("deformation").back(), 0.40, 0.005);
+  EXPECT_GT(t.column("top_force_N").back(), 0.0);
+  EXPECT_GE(t.column("contacts").back(), 2.0);
+  EXPECT_EQ(t.column("intact_bonds").back(), 0.0);
+  const std::string csv = read_text(dir / "run" / "force.csv");
+  EXPECT_THAT(csv, HasSubstr("particle = cms"));
+  EXPECT_THAT(csv, HasSubstr("requested_spheres = 50"));
+  const std::string xdmf = read_text(dir / "run" / "final.xdmf");
+  EXPECT_THAT(xdmf, HasSubstr("clump_axes"));
+  EXPECT_THAT(xdmf, HasSubstr("/clumps/axis_lines"));
+  EXPECT_THAT(xdmf, HasSubstr("/particles/body"));
+  H5Reader h5(dir / "run" / "final.h5");
+  EXPECT_EQ(h5.doubles("/clumps/mass").size(), 1u);
+  EXPECT_EQ(h5.int32s("/clumps/axis_lines").size(), 6u);
+}
+
+TEST(CmsPlateCli, SpheresIsForCmsOnly) {
+  const auto dir = fresh_directory("cms_plate_usage");
+  const auto r = run_shapepress("--quiet plate --config " + q(shipped) +
+                                " --particle sphere --spheres 50 --out " + q(dir / "run"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--spheres"));
+}
+
+// A few clumps of three overlapping spheres (about 1 mm) with a handful of plain spheres.
+std::string clump_compact_config(const std::string& spheres) {
+  return R"(
+[[material]]
+name = "powder"
+youngs_modulus = "100 MPa"
+poisson_ratio = 0.3
+density = "1541 kg/m^3"
+
+[[interaction]]
+first = "powder"
+second = "powder"
+restitution = 0.5
+sliding_friction = 0.5
+
+[run]
+record_every = 50
+snapshot_every = 500
+gravity = [0.0, 0.0, -9.81]
+
+[box]
+x = "5 mm"
+y = "5 mm"
+punch = "6 mm"
+
+[particles]
+material = "powder"
+
+[walls]
+material = "powder"
+
+[generate]
+count = 40
+diameter_min = "0.8 mm"
+diameter_max = "1.0 mm"
+seed = 3
+settle_time = "80 ms"
+
+[clumps]
+count = 6
+seed = 2
+integration_cells = 48
+spheres = )" +
+         spheres + R"(
+
+[punch]
+speed = "0.5 m/s"
+target_strain = 0.3
+)";
+}
+
+const std::string three_spheres =
+    "[0.0, 0.0, 0.0, 0.5e-3,  0.6e-3, 0.0, 0.0, 0.4e-3,  0.0, 0.5e-3, 0.0, 0.35e-3]";
+
+TEST(CmsCompactCli, CompactsClumpsSnapshotsAndRestarts) {
+  const auto dir = fresh_directory("cms_compact");
+  write_text(dir / "compact.toml", clump_compact_config(three_spheres));
+  const auto r = run_shapepress("--quiet compact --config " + q(dir / "compact.toml") + " --out " +
+                                q(dir / "run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const CsvTable t = read_csv(dir / "run" / "punch.csv");
+  EXPECT_GT(t.column("top_force_N").back(), 0.0);
+  EXPECT_NEAR(t.column("strain").back(), 0.3, 0.01);
+  // The solid fraction counts each clump's union once: below the sum of its sub-spheres'.
+  const double fraction = t.column("solid_fraction").back();
+  EXPECT_GT(fraction, 0.0);
+  EXPECT_LT(fraction, 1.0);
+  const std::string xdmf = read_text(dir / "run" / "snapshots.xdmf");
+  EXPECT_THAT(xdmf, HasSubstr("clump_axes"));
+  std::filesystem::path snapshot;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "run" / "snapshots"))
+    if (entry.path().extension() == ".h5") snapshot = std::max(snapshot, entry.path());
+  ASSERT_FALSE(snapshot.empty());
+  H5Reader h5(snapshot);
+  EXPECT_EQ(h5.doubles("/clumps/mass").size(), 6u);
+  EXPECT_EQ(h5.int32s("/particles/body").size(), 40u + 6u * 3u);
+  const auto again = run_shapepress("--quiet compact --config " + q(dir / "compact.toml") +
+                                    " --restart " + q(snapshot) + " --out " + q(dir / "again"));
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  // The restarted run ends where the first one did (same bits: the validation tests).
+  const CsvTable u = read_csv(dir / "again" / "punch.csv");
+  EXPECT_EQ(u.column("top_force_N").back(), t.column("top_force_N").back());
+}
+
+TEST(CmsCompactCli, BadClumpsExitTwoNamingTheCause) {
+  const auto dir = fresh_directory("cms_compact_bad");
+  // Zero volume: a sub-sphere of radius 0.
+  write_text(dir / "zero.toml",
+             clump_compact_config("[0.0, 0.0, 0.0, 0.5e-3,  0.6e-3, 0.0, 0.0, 0.0]"));
+  auto r =
+      run_shapepress("--quiet compact --config " + q(dir / "zero.toml") + " --out " + q(dir / "a"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("zero volume"));
+  // An overlapping fill that is not connected: the third sphere is 2 mm from the others.
+  write_text(dir / "apart.toml",
+             clump_compact_config(
+                 "[0.0, 0.0, 0.0, 0.5e-3,  0.6e-3, 0.0, 0.0, 0.4e-3,  2.6e-3, 0.0, 0.0, 0.4e-3]"));
+  r = run_shapepress("--quiet compact --config " + q(dir / "apart.toml") + " --out " +
+                     q(dir / "b"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("separate groups"));
+  // Neither a templates file nor inline spheres.
+  std::string none = clump_compact_config(three_spheres);
+  none.replace(none.find("spheres = "), std::string("spheres = ").size(), "sphere_list = ");
+  write_text(dir / "none.toml", none);
+  r = run_shapepress("--quiet compact --config " + q(dir / "none.toml") + " --out " + q(dir / "c"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("[clumps]"));
+}
+
+}  // namespace
+}  // namespace shapepress
