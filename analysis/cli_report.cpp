@@ -18,6 +18,7 @@ struct ReportCli {
   std::string out;
   std::optional<double> poisson_ratio;
   std::vector<std::string> plate_curves;  // LABEL=FILE.csv
+  std::vector<std::string> spread_from;   // METHOD=N
   std::vector<double> heckel_window{0.3, 1.0};
   std::vector<double> kawakita_window{0.05, 1.0};
 };
@@ -37,6 +38,21 @@ int run(const ReportCli& cli, const RunContext& context) {
     if (equals == std::string::npos || equals == 0 || equals + 1 == curve.size())
       throw InputError(fmt::format("--plate-curve '{}': expected LABEL=FILE.csv", curve));
     options.plate_curves.emplace_back(curve.substr(0, equals), curve.substr(equals + 1));
+  }
+  for (const std::string& item : cli.spread_from) {
+    const std::size_t equals = item.find('=');
+    int n = 0;
+    try {
+      std::size_t used = 0;
+      if (equals != std::string::npos) n = std::stoi(item.substr(equals + 1), &used);
+      if (equals == std::string::npos || equals == 0 || equals + 1 + used != item.size()) n = 0;
+    } catch (const std::exception&) {
+      n = 0;
+    }
+    if (n < 2)
+      throw InputError(fmt::format(
+          "--spread-from '{}': expected METHOD=N with N >= 2 (e.g. cms=150, bms=819)", item));
+    options.spread_from[item.substr(0, equals)] = n;
   }
   options.command_line = context.command_line;
   const ReportResult result = write_report(options);
@@ -63,6 +79,9 @@ StageRunner setup_report_cli(CLI::App& app) {
   app.add_option("--plate-curve", cli->plate_curves,
                  "LABEL=FILE.csv: one more curve on the plate chart (columns deformation and "
                  "force_N or top_force_N), e.g. a BMS plate run; repeatable");
+  app.add_option("--spread-from", cli->spread_from,
+                 "METHOD=N: the convergence spread of the plate runs with particle METHOD (cms, "
+                 "bms) is taken over N and up (default: the method's two finest runs); repeatable");
   app.add_option("--heckel-window", cli->heckel_window,
                  "Heckel fit on loading points with stress in [LO, HI] x peak stress")
       ->expected(2)

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <set>
 
 #include <fmt/format.h>
 
+#include "analysis/plate_analysis.hpp"
 #include "analysis/sphere_plates.hpp"
 #include "common/csv.hpp"
+#include "common/error.hpp"
 
 namespace shapepress::analysis {
 namespace {
@@ -27,7 +31,8 @@ std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
                                       std::optional<double> poisson_ratio, double from, double to) {
   std::vector<const LoadedRun*> members;
   for (const LoadedRun& run : runs)
-    if (run.plate && run.plate->sub_spheres > 0) members.push_back(&run);
+    if (run.plate && run.plate->sub_spheres > 0 && run.plate->particle != "cms")
+      members.push_back(&run);
   // A study compares sub-sphere counts: it needs two agglomerates (N > 1), not only single
   // spheres (the demo's Hertz and multi-contact spheres are N = 1 each).
   const auto agglomerates = std::count_if(
@@ -149,6 +154,229 @@ void write_plate_study_csv(const std::filesystem::path& path, const PlateStudy& 
                   r.versus_tatara ? format_number(r.versus_tatara->rms_relative) : "",
                   r.versus_tatara ? format_number(r.versus_tatara->max_relative) : ""});
   csv.commit();
+}
+
+namespace {
+
+constexpr double not_reached = std::numeric_limits<double>::quiet_NaN();
+
+ConvergenceRun convergence_run(const LoadedRun& run, const std::vector<double>& deformations) {
+  const PlateCurve& c = *run.plate;
+  ConvergenceRun out;
+  out.label = run.label;
+  out.sub_spheres = c.sub_spheres;
+  out.cpu_seconds = c.cpu_seconds;
+  const Curve curve = loading_curve(c, run.label);
+  out.reached = curve.x.back();
+  for (double d : deformations)
+    // A run that stops a rounding short of a deformation (0.39999 for 40 %) still reaches it.
+    out.force.push_back(d <= out.reached + 1e-3 ? interpolate(curve, d) : not_reached);
+  for (std::size_t i = 0; i < c.top_force.size(); ++i) {
+    out.finite = out.finite && std::isfinite(c.top_force[i]);
+    if (i < c.contacts.size()) out.finite = out.finite && std::isfinite(c.contacts[i]);
+    if (i == 0 || c.deformation[i] <= c.deformation[i - 1]) continue;  // loading rows only
+    if (c.top_force[i] < 0.99 * c.top_force[i - 1]) ++out.force_drops;
+    if (i < c.contacts.size() && c.contacts[i] < c.contacts[i - 1]) ++out.contact_drops;
+  }
+  return out;
+}
+
+// (max − min)/mean of the finite values; NaN with fewer than two.
+double spread_of(const std::vector<double>& values) {
+  double low = HUGE_VAL, high = -HUGE_VAL, sum = 0.0;
+  int n = 0;
+  for (double v : values)
+    if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v), sum += v, ++n;
+  if (n < 2 || sum == 0.0) return not_reached;
+  return (high - low) / std::fabs(sum / n);
+}
+
+std::string percent_label(double deformation) {
+  return fmt::format("{:.0f} %", 100.0 * deformation);
+}
+
+}  // namespace
+
+std::optional<ConvergenceStudy> convergence_study(const std::vector<LoadedRun>& runs,
+                                                  const std::map<std::string, int>& spread_from,
+                                                  std::vector<double> deformations) {
+  std::map<std::string, std::vector<const LoadedRun*>> by_method;
+  for (const LoadedRun& run : runs)
+    if (run.plate && run.plate->sub_spheres > 1 && !run.plate->particle.empty())
+      by_method[run.plate->particle].push_back(&run);
+  if (by_method["cms"].size() < 2) return std::nullopt;
+  ConvergenceStudy study;
+  study.deformations = std::move(deformations);
+  for (auto& [method, members] : by_method) {
+    if (members.size() < 2) continue;
+    std::stable_sort(members.begin(), members.end(), [](const LoadedRun* a, const LoadedRun* b) {
+      return a->plate->sub_spheres < b->plate->sub_spheres;
+    });
+    MethodConvergence m;
+    m.method = method;
+    for (const LoadedRun* run : members)
+      m.runs.push_back(convergence_run(*run, study.deformations));
+    for (std::size_t k = 0; k < m.runs.size(); ++k)
+      for (std::size_t d = 0; d < study.deformations.size(); ++d)
+        m.runs[k].change.push_back(
+            k == 0 ? not_reached : spread_of({m.runs[k - 1].force[d], m.runs[k].force[d]}));
+    const auto given = spread_from.find(method);
+    m.spread_from =
+        given != spread_from.end() ? given->second : m.runs[m.runs.size() - 2].sub_spheres;
+    for (const ConvergenceRun& r : m.runs)
+      if (r.sub_spheres >= m.spread_from) ++m.spread_runs, m.spread_to = r.sub_spheres;
+    if (m.spread_runs < 2)
+      throw InputError(fmt::format(
+          "--spread-from {}={}: {} run(s) of {} have N >= {}, the spread needs two (runs have N "
+          "up to {})",
+          method, m.spread_from, m.spread_runs, method, m.spread_from, m.runs.back().sub_spheres));
+    for (std::size_t d = 0; d < study.deformations.size(); ++d) {
+      std::vector<double> values;
+      for (const ConvergenceRun& r : m.runs)
+        if (r.sub_spheres >= m.spread_from) values.push_back(r.force[d]);
+      m.spread.push_back(spread_of(values));
+    }
+    study.methods.push_back(std::move(m));
+  }
+  for (const auto& [method, n] : spread_from)
+    if (std::none_of(study.methods.begin(), study.methods.end(),
+                     [&](const MethodConvergence& m) { return m.method == method; }))
+      throw InputError(
+          fmt::format("--spread-from {}={}: no two plate runs with particle = {} among the runs",
+                      method, n, method));
+  return study;
+}
+
+std::vector<Chart> convergence_charts(const ConvergenceStudy& study,
+                                      const std::vector<LoadedRun>& runs,
+                                      std::optional<double> poisson_ratio) {
+  Chart force{"Rigid multi-sphere (CMS) sphere: force vs deformation for every N",
+              "deformation Delta/(2R)",
+              "plate force [N]",
+              "deformation",
+              "force_N",
+              {}};
+  Chart contacts{"CMS: sub-sphere contacts with the plates (drops are the force dropouts)",
+                 "deformation Delta/(2R)",
+                 "contacts",
+                 "deformation",
+                 "contacts",
+                 {}};
+  // The finest run of every method: the CMS ladder is drawn whole, the others by their best.
+  std::map<std::string, const LoadedRun*> finest;
+  const LoadedRun* longest_cms = nullptr;
+  for (const LoadedRun& run : runs) {
+    if (!run.plate || run.plate->sub_spheres <= 1) continue;
+    const PlateCurve& c = *run.plate;
+    if (c.particle == "cms") {
+      force.series.push_back({fmt::format("CMS N = {}", c.sub_spheres), c.deformation, c.top_force,
+                              SeriesStyle::lines});
+      if (!c.contacts.empty())
+        contacts.series.push_back({fmt::format("CMS N = {}", c.sub_spheres), c.deformation,
+                                   c.contacts, SeriesStyle::lines});
+      if (!longest_cms || c.deformation.back() > longest_cms->plate->deformation.back())
+        longest_cms = &run;
+      continue;
+    }
+    const LoadedRun*& best = finest[c.particle.empty() ? std::string("?") : c.particle];
+    if (!best || c.sub_spheres > best->plate->sub_spheres) best = &run;
+  }
+  for (const auto& [method, run] : finest)
+    force.series.push_back({fmt::format("{} N = {} (finest)", method == "bms" ? "BMS" : method,
+                                        run->plate->sub_spheres),
+                            run->plate->deformation, run->plate->top_force, SeriesStyle::lines});
+  if (longest_cms) {
+    // The theories of the whole sphere, from the Hertz column the CMS run carries.
+    const PlateCurve& c = *longest_cms->plate;
+    const Curve hertz = monotone_prefix({c.deformation, c.hertz_force, "Hertz"});
+    force.series.push_back({"Hertz", hertz.x, hertz.y, SeriesStyle::dashed});
+    if (poisson_ratio) {
+      const ElasticSphere sphere = infer_sphere(c, *poisson_ratio);
+      std::vector<double> approaches;
+      for (double d : hertz.x)
+        approaches.push_back(2 * sphere.radius * d);
+      force.series.push_back({fmt::format("Tatara (nu = {})", *poisson_ratio), hertz.x,
+                              tatara_plate_forces(sphere, approaches), SeriesStyle::dashed});
+    }
+  }
+  Chart change{"Change of the force from the next coarser N (converging: falls towards 0)",
+               "sub-spheres N",
+               "|F(N) - F(N_previous)| / mean [%]",
+               "sub_spheres",
+               "change_percent",
+               {}};
+  Chart spread{"Spread (max - min)/mean of the force across N",
+               "deformation Delta/(2R) [%]",
+               "spread across N [%]",
+               "deformation_percent",
+               "spread_percent",
+               {}};
+  int colour = 0;
+  for (const MethodConvergence& m : study.methods) {
+    const std::string name = m.method == "bms" ? "BMS" : m.method == "cms" ? "CMS" : m.method;
+    const SeriesStyle style = m.method == "cms" ? SeriesStyle::lines : SeriesStyle::dashed;
+    for (std::size_t d = 0; d < study.deformations.size(); ++d) {
+      Series s{fmt::format("{} at {}", name, percent_label(study.deformations[d])),
+               {},
+               {},
+               style,
+               static_cast<int>(d) + 1};
+      for (const ConvergenceRun& r : m.runs)
+        if (std::isfinite(r.change[d]))
+          s.x.push_back(r.sub_spheres), s.y.push_back(100.0 * r.change[d]);
+      change.series.push_back(std::move(s));
+    }
+    Series s{
+        fmt::format("{}, N = {}-{} ({} runs)", name, m.spread_from, m.spread_to, m.spread_runs),
+        {},
+        {},
+        style,
+        ++colour};
+    for (std::size_t d = 0; d < study.deformations.size(); ++d)
+      s.x.push_back(100.0 * study.deformations[d]), s.y.push_back(100.0 * m.spread[d]);
+    spread.series.push_back(std::move(s));
+  }
+  return {force, contacts, change, spread};
+}
+
+void write_convergence_csv(const std::filesystem::path& folder, const ConvergenceStudy& study) {
+  std::vector<std::string> columns = {"method", "label", "sub_spheres", "cpu_s", "max_deformation"};
+  for (double d : study.deformations)
+    columns.push_back(fmt::format("force_{:.0f}pct_N", 100 * d));
+  for (double d : study.deformations)
+    columns.push_back(fmt::format("change_{:.0f}pct", 100 * d));
+  for (const char* c : {"force_drops", "contact_drops"})
+    columns.emplace_back(c);
+  CsvWriter runs(folder / "convergence_runs.csv", columns);
+  runs.comment(
+      "force at fixed deformations of the loading branch; change = |F - F(next coarser "
+      "N)| / mean of the two");
+  runs.comment(
+      "force_drops: loading rows with F < 0.99 F(previous row); contact_drops: rows "
+      "with fewer contacts than the row before");
+  for (const MethodConvergence& m : study.methods)
+    for (const ConvergenceRun& r : m.runs) {
+      std::vector<std::string> row = {m.method, r.label, fmt::format("{}", r.sub_spheres),
+                                      format_number(r.cpu_seconds), format_number(r.reached)};
+      for (double f : r.force)
+        row.push_back(std::isfinite(f) ? format_number(f) : "");
+      for (double c : r.change)
+        row.push_back(std::isfinite(c) ? format_number(c) : "");
+      row.push_back(fmt::format("{}", r.force_drops));
+      row.push_back(fmt::format("{}", r.contact_drops));
+      runs.row_text(row);
+    }
+  runs.commit();
+  CsvWriter spread(
+      folder / "convergence_spread.csv",
+      {"method", "from_sub_spheres", "to_sub_spheres", "runs", "deformation", "spread"});
+  spread.comment("spread = (max - min)/mean of the loading force over the runs with N in range");
+  for (const MethodConvergence& m : study.methods)
+    for (std::size_t d = 0; d < study.deformations.size(); ++d)
+      spread.row_text({m.method, fmt::format("{}", m.spread_from), fmt::format("{}", m.spread_to),
+                       fmt::format("{}", m.spread_runs), format_number(study.deformations[d]),
+                       std::isfinite(m.spread[d]) ? format_number(m.spread[d]) : ""});
+  spread.commit();
 }
 
 }  // namespace shapepress::analysis

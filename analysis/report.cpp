@@ -260,6 +260,15 @@ ReportResult write_report(const ReportOptions& options) {
     charts.emplace_back(cs[1].title, plot_chart(cs[1], options.out / "plate_speed_accuracy").svg);
     write_plate_study_csv(options.out / "plate_study.csv", *study);
   }
+  if (const std::optional<ConvergenceStudy> study = convergence_study(runs, options.spread_from)) {
+    // Two or more rigid multi-sphere runs: does the force settle as N grows (paper §3.3)?
+    const std::vector<Chart> cs = convergence_charts(*study, runs, options.poisson_ratio);
+    const char* stems[] = {"cms_force", "cms_contacts", "convergence_change", "convergence_spread"};
+    for (std::size_t i = 0; i < cs.size(); ++i)
+      if (!cs[i].series.empty())
+        charts.emplace_back(cs[i].title, plot_chart(cs[i], options.out / stems[i]).svg);
+    write_convergence_csv(options.out, *study);
+  }
   for (const auto& chart : charts)
     result.charts.push_back(chart.second);
   const ReportProvenance provenance{options.command_line, shapepress_version(),

@@ -2,6 +2,7 @@
 // The report of one or several runs: charts (SVG + PNG + data CSV), metrics.json and a
 // self-contained report.html (DESIGN.md, "run/… ──report──▶ report/").
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,6 +20,9 @@ struct ReportOptions {
   // Extra curves on the plate chart (another method's force–deformation, e.g. a BMS run or a
   // digitised experiment): label and a CSV with columns deformation and force_N or top_force_N.
   std::vector<std::pair<std::string, std::filesystem::path>> plate_curves;
+  // The convergence study (CMS against BMS): smallest N of each method's spread, by the
+  // particle kind of force.csv ("cms" → 150 for the paper's 150…3000); default its two finest.
+  std::map<std::string, int> spread_from;
   std::string command_line;  // provenance of the report
 };
 

@@ -102,10 +102,13 @@ PlateCurve read_plate_curve(const std::filesystem::path& path) {
   };
   if (has("cpu_s")) curve.cpu_seconds = table.column("cpu_s").back();
   if (has("wall_s")) curve.wall_seconds = table.column("wall_s").back();
+  if (has("contacts")) curve.contacts = table.column("contacts");
   const std::regex count(R"(sub_spheres\s*=\s*([0-9]+))");
+  const std::regex particle(R"(^particle\s*=\s*([A-Za-z_]+))");
   for (const std::string& line : csv_comments(path)) {
     std::smatch match;
     if (std::regex_search(line, match, count)) curve.sub_spheres = std::stoi(match[1]);
+    if (std::regex_search(line, match, particle)) curve.particle = match[1];
   }
   return curve;
 }

@@ -22,6 +22,10 @@ struct PlateCurve {
   int sub_spheres = 0;
   double cpu_seconds = -1.0;
   double wall_seconds = -1.0;
+  // The particle kind ("# particle = sphere|bms|cms"; empty when the run does not say) and the
+  // contact count of every row (empty when force.csv has no contacts column).
+  std::string particle;
+  std::vector<double> contacts;
 };
 
 struct RunFiles {
@@ -40,7 +44,7 @@ std::vector<std::string> csv_comments(const std::filesystem::path& path);
 // punch.csv: the columns time_s, gap_m, top_force_N, stress_Pa, solid_fraction, phase, and H0
 // and the die area from the comment "strain from H0 = … m; die area … m^2".
 PunchCurve read_punch_curve(const std::filesystem::path& path);
-// force.csv: deformation, approach_m, top_force_N, hertz_force_N.
+// force.csv: deformation, approach_m, top_force_N, hertz_force_N (contacts when present).
 PlateCurve read_plate_curve(const std::filesystem::path& path);
 
 }  // namespace shapepress::analysis

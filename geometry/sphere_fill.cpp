@@ -110,6 +110,9 @@ void RigidFillOptions::check() const {
   if (!(min_radius_fraction >= 0.0 && min_radius_fraction < 1.0))
     throw InputError(
         fmt::format("minimum radius fraction {} must be in [0, 1)", min_radius_fraction));
+  if (!(max_radius >= 0.0 && std::isfinite(max_radius)))
+    throw InputError(
+        fmt::format("maximum radius {} must be > 0 (or 0 to use the count)", max_radius));
 }
 
 SphereTemplate fill_bonded(const SignedDistance& shape, const BondedFillOptions& options) {

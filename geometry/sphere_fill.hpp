@@ -4,7 +4,8 @@
 //    FCC or HCP lattice, bonded by Eq. 10 of Giannis et al. 2023, |x_i - x_j| < (r_i + r_j) m_b;
 //  - conventional multi-sphere (CMS): overlapping spheres, each the largest ball inscribed in the
 //    shape that covers the deepest still-uncovered interior point (a distance-transform greedy
-//    cover, in the spirit of OpenVDB's fillWithSpheres).
+//    cover, in the spirit of OpenVDB's fillWithSpheres), with a cap on the balls that reach the
+//    surface when the shape needs fewer balls than asked (a sphere needs one).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -47,15 +48,48 @@ struct BondedFillOptions {
 SphereTemplate fill_bonded(const SignedDistance& shape, const BondedFillOptions& options);
 
 struct RigidFillOptions {
+  // Balls in the template. The cover stops at this count; when the shape's medial-axis cover
+  // would need fewer (a sphere needs one), the radius of the balls that reach the surface is
+  // capped, as much as needed for the cover to take this many (paper Fig. 3: a sphere as 50 …
+  // 3000 overlapping spheres).
   int sphere_count = 150;
   int resolution = 64;                // grid cells along the longest side of the shape's box
   double min_radius_fraction = 0.02;  // smallest sphere, as a fraction of the largest
+  double max_radius = 0.0;            // m; > 0 fixes the cap instead of choosing it by the count
   // Grow every radius by one common amount until the union's volume equals the shape's: the
   // inscribed balls alone always fall short, by the slivers between them and the surface.
   bool match_volume = true;
   void check() const;
 };
-SphereTemplate fill_rigid(const SignedDistance& shape, const RigidFillOptions& options);
+
+// What the rigid filler chose (for reports): the cap (infinity when none binds), the grid cell,
+// whether the N balls cover every interior cell, and the wall seconds the fill took.
+struct RigidFillInfo {
+  double radius_cap = 0.0;  // m
+  double grid_cell = 0.0;   // m
+  bool cover_complete = true;
+  double seconds = 0.0;
+};
+
+// A greedy cover of the interior voxels, deepest uncovered cell first, each by the largest
+// inscribed ball through it that the cap allows: a ball that reaches the surface has a radius at
+// most the cap; a larger one stays one cap below the surface (so the surface is drawn by balls
+// of the cap's size and the core by few large ones). The cap is the largest for which the cover
+// takes `sphere_count` balls (bisection); then every radius grows by one amount to match the
+// volume. Throws InputError when the count needs balls finer than the grid.
+SphereTemplate fill_rigid(const SignedDistance& shape, const RigidFillOptions& options,
+                          RigidFillInfo* info = nullptr);
+
+// Bumpiness of a union of spheres that should be a sphere of `radius` about `centre`: along
+// `directions` near-uniform rays, the union's outer surface (the farthest exit from any ball)
+// against the radius. Metres.
+struct RadialDeviation {
+  double max_abs = 0.0, rms = 0.0;
+  double max_inward = 0.0;   // deepest dip below the sphere (>= 0)
+  double max_outward = 0.0;  // highest bump above it (>= 0)
+};
+RadialDeviation radial_deviation(const std::vector<Vec3>& centres, const std::vector<double>& radii,
+                                 const Vec3& centre, double radius, int directions = 20000);
 
 // Pairs i < j with |x_i - x_j| < (r_i + r_j) * multiplier (Eq. 10), in lexicographic order.
 std::vector<Bond> pairs_within(const std::vector<Vec3>& centres, const std::vector<double>& radii,

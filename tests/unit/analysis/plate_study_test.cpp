@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "analysis/plate_study.hpp"
+#include "common/error.hpp"
 
 namespace shapepress::analysis {
 namespace {
@@ -61,6 +62,92 @@ TEST(PlateStudy, NeedsTwoRunsWithSubSphereCounts) {
   const std::vector<LoadedRun> ladder = {run("hertz", 1, 1.0, 0.1), run("n100", 100, 1.0, 1.0),
                                          run("n250", 250, 1.0, 2.0)};
   EXPECT_TRUE(plate_study(ladder, std::nullopt));
+}
+
+// A run of one method (particle kind) whose force is scale · Hertz, with a dropout row.
+LoadedRun method_run(const std::string& label, const std::string& particle, int sub_spheres,
+                     double scale) {
+  LoadedRun r = run(label, sub_spheres, scale, 1.0);
+  r.plate->particle = particle;
+  for (std::size_t i = 0; i < r.plate->deformation.size(); ++i)
+    r.plate->contacts.push_back(static_cast<double>(10 + i));
+  return r;
+}
+
+TEST(ConvergenceStudy, SpreadPerMethodOverTheGivenCountsAndDropouts) {
+  std::vector<LoadedRun> runs = {
+      method_run("cms-50", "cms", 50, 3.0),     method_run("cms-150", "cms", 150, 1.2),
+      method_run("cms-750", "cms", 750, 1.5),   method_run("cms-3000", "cms", 3000, 1.0),
+      method_run("bms-545", "bms", 545, 0.9),   method_run("bms-819", "bms", 819, 1.02),
+      method_run("bms-1322", "bms", 1322, 1.0), method_run("hertz", "sphere", 1, 1.0)};
+  // One dropout in cms-150: the force falls by 5 % and two contacts are lost at row 20.
+  runs[1].plate->top_force[20] = 0.95 * runs[1].plate->top_force[19];
+  runs[1].plate->contacts[20] = runs[1].plate->contacts[19] - 2;
+  const auto study = convergence_study(runs, {{"cms", 150}});
+  ASSERT_TRUE(study);
+  ASSERT_EQ(study->methods.size(), 2u);  // bms, cms; the single sphere is no method ladder
+  const MethodConvergence& bms = study->methods[0];
+  const MethodConvergence& cms = study->methods[1];
+  EXPECT_EQ(bms.method, "bms");
+  EXPECT_EQ(cms.method, "cms");
+  // Default: the two finest BMS runs (819, 1322): (1.02 − 1)/1.01 at every deformation.
+  EXPECT_EQ(bms.spread_from, 819);
+  EXPECT_EQ(bms.spread_to, 1322);
+  EXPECT_EQ(bms.spread_runs, 2);
+  for (double s : bms.spread)
+    EXPECT_NEAR(s, 0.02 / 1.01, 1e-9);
+  // CMS from 150: scales 1.2, 1.5, 1.0 → (1.5 − 1.0)/(3.7/3).
+  EXPECT_EQ(cms.spread_from, 150);
+  EXPECT_EQ(cms.spread_runs, 3);
+  ASSERT_EQ(cms.spread.size(), 3u);
+  EXPECT_NEAR(cms.spread[0], 0.5 / (3.7 / 3.0), 1e-9);
+  // Ascending N; the change from the next coarser N: 50 → 150 is (3 − 1.2)/2.1.
+  EXPECT_EQ(cms.runs[0].sub_spheres, 50);
+  EXPECT_TRUE(std::isnan(cms.runs[0].change[0]));
+  EXPECT_NEAR(cms.runs[1].change[1], 1.8 / 2.1, 1e-9);
+  EXPECT_EQ(cms.runs[1].force_drops, 1);
+  EXPECT_EQ(cms.runs[1].contact_drops, 1);
+  EXPECT_EQ(cms.runs[0].force_drops, 0);
+  EXPECT_TRUE(cms.runs[1].finite);
+  const std::vector<Chart> charts = convergence_charts(*study, runs, 0.46);
+  ASSERT_EQ(charts.size(), 4u);
+  // (a) four CMS curves, the finest BMS, Hertz and Tatara.
+  EXPECT_EQ(charts[0].series.size(), 4u + 1u + 2u);
+  EXPECT_EQ(charts[1].series.size(), 4u);  // contacts of the CMS runs
+  EXPECT_EQ(charts[2].series.size(), 6u);  // 3 deformations x 2 methods
+  EXPECT_EQ(charts[3].series[1].x, (std::vector<double>{20, 30, 40}));
+}
+
+TEST(ConvergenceStudy, NeedsTwoCmsRunsAndRejectsASpreadItCannotTake) {
+  const std::vector<LoadedRun> bms_only = {method_run("a", "bms", 100, 1.0),
+                                           method_run("b", "bms", 250, 1.0)};
+  EXPECT_FALSE(convergence_study(bms_only, {}));
+  const std::vector<LoadedRun> runs = {method_run("a", "cms", 50, 1.0),
+                                       method_run("b", "cms", 89, 1.0)};
+  EXPECT_TRUE(convergence_study(runs, {}));
+  EXPECT_THROW(convergence_study(runs, {{"cms", 150}}), InputError);  // one run or none above
+  EXPECT_THROW(convergence_study(runs, {{"bms", 819}}), InputError);  // no BMS runs at all
+  // A run short of 40 %: no force there, and the spread at 40 % is over the others.
+  std::vector<LoadedRun> short_run = {method_run("a", "cms", 50, 1.0),
+                                      method_run("b", "cms", 89, 1.1),
+                                      method_run("c", "cms", 150, 1.2)};
+  for (auto* column : {&short_run[2].plate->deformation, &short_run[2].plate->top_force,
+                       &short_run[2].plate->contacts})
+    column->resize(30);
+  const auto study = convergence_study(short_run, {{"cms", 50}});
+  ASSERT_TRUE(study);
+  EXPECT_TRUE(std::isnan(study->methods[0].runs[2].force[2]));
+  EXPECT_NEAR(study->methods[0].spread[2], 0.1 / 1.05, 1e-9);
+}
+
+TEST(PlateStudy, LeavesTheCmsRunsToTheConvergenceStudy) {
+  const std::vector<LoadedRun> runs = {method_run("bms-100", "bms", 100, 1.1),
+                                       method_run("bms-250", "bms", 250, 1.0),
+                                       method_run("cms-3000", "cms", 3000, 2.0)};
+  const auto study = plate_study(runs, std::nullopt);
+  ASSERT_TRUE(study);
+  EXPECT_EQ(study->finest, "bms-250");
+  EXPECT_EQ(study->rows.size(), 2u);
 }
 
 }  // namespace

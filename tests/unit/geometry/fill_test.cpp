@@ -151,5 +151,62 @@ TEST(MassProperties, OverlappingDumbbellInertiaMatchesTheAnalyticUnion) {
   EXPECT_GT(sum.principal_moments[2] / iyy, 1.015) << "the plain sum counts the lens twice";
 }
 
+// The capped cover (issue 6, paper Fig. 3): a ball that reaches the surface is no larger than the
+// cap, a larger one stays a cap below the surface; the interior is covered.
+TEST(RigidFill, CappedBallsDrawTheSurfaceAndTheCoreStaysBelowIt) {
+  const SignedDistance shape = sphere_distance(1.0);
+  RigidFillOptions options;
+  options.sphere_count = 100000;  // as many as the cover takes
+  options.max_radius = 0.3;
+  options.match_volume = false;
+  options.resolution = 32;
+  RigidFillInfo info;
+  const SphereTemplate t = fill_rigid(shape, options, &info);
+  EXPECT_TRUE(info.cover_complete);
+  EXPECT_EQ(info.radius_cap, 0.3);
+  const double h = info.grid_cell;  // the walk finds centres to a quarter cell
+  for (std::size_t i = 0; i < t.centres.size(); ++i) {
+    const double depth = 1.0 - t.centres[i].norm();
+    EXPECT_LE(t.radii[i], depth + 1e-12);  // inscribed
+    if (t.radii[i] > 0.3 + 1e-12) {
+      EXPECT_LE(t.radii[i], depth - 0.3 + 1e-12);
+    }
+  }
+  // Deepest first: the first ball is the core, 1 - cap about the centre.
+  EXPECT_NEAR(t.radii.front(), 0.7, h);
+  EXPECT_NEAR(t.centres.front().norm(), 0.0, h);
+}
+
+TEST(RigidFill, AskedCountOfASphereAndBadInput) {
+  const SignedDistance shape = sphere_distance(1.0);
+  RigidFillOptions options;
+  options.sphere_count = 40;
+  options.resolution = 32;
+  RigidFillInfo info;
+  const SphereTemplate t = fill_rigid(shape, options, &info);
+  EXPECT_EQ(t.centres.size(), 40u);
+  EXPECT_LT(info.radius_cap, 1.0);
+  const SphereTemplate again = fill_rigid(shape, options);
+  EXPECT_EQ(again.centres, t.centres);  // deterministic
+  EXPECT_EQ(again.radii, t.radii);
+  options.max_radius = -1.0;
+  EXPECT_THROW(options.check(), InputError);
+  // Far more balls than a 16-cell grid can place: InputError asking for a finer grid.
+  options = {};
+  options.resolution = 16;
+  options.sphere_count = 50000;
+  EXPECT_THROW(fill_rigid(shape, options), InputError);
+}
+
+TEST(RigidFill, RadialDeviationOfAnOffsetBall) {
+  // A ball of radius 1 moved by 0.1 along x, against the unit sphere at the origin: the union's
+  // surface lies between 0.9 and 1.1 from the origin, RMS about 0.1/√3.
+  const RadialDeviation d = radial_deviation({Vec3(0.1, 0, 0)}, {1.0}, Vec3::Zero(), 1.0, 4000);
+  EXPECT_NEAR(d.max_outward, 0.1, 1e-3);
+  EXPECT_NEAR(d.max_inward, 0.1, 1e-3);
+  EXPECT_NEAR(d.rms, 0.1 / std::sqrt(3.0), 2e-3);
+  EXPECT_EQ(d.max_abs, std::max(d.max_inward, d.max_outward));
+}
+
 }  // namespace
 }  // namespace shapepress::geometry

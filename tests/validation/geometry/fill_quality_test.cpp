@@ -4,7 +4,10 @@
 // the stage's closing note.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -67,32 +70,75 @@ void expect_decreasing(const std::vector<FillQuality>& s, double FillQuality::*m
 TEST(FillQuality, RigidEllipsoidUnionVolumeWithin3PercentAt150AndImprovesWithCount) {
   const SignedDistance shape = ellipsoid_distance(paper_ellipsoid);
   const MassProperties exact = ellipsoid_mass_properties(paper_ellipsoid);
-  const auto matched = rigid_series(shape, exact, {25, 50, 150, 400}, true, "cms ellipsoid");
+  // Up to 150 the medial-axis cover is still incomplete (it completes at about 130 balls on the
+  // 64-cell grid) and every added ball refines it.
+  const auto matched = rigid_series(shape, exact, {25, 50, 150}, true, "cms ellipsoid");
   EXPECT_LT(matched[2].volume_error, 0.03);  // the issue's acceptance: < 3 % at 150 spheres
   expect_decreasing(matched, &FillQuality::surface_rms_relative, "rms");
   expect_decreasing(matched, &FillQuality::hausdorff_relative, "hausdorff");
   expect_decreasing(matched, &FillQuality::inertia_error, "inertia");
   expect_decreasing(matched, &FillQuality::extent_error, "extent");
+  // Past that count the cap takes over (400 balls, smaller ones at the surface): the grid
+  // resolves nothing finer, so the template stays as good as at 150, within a grid cell's worth
+  // (cell / d_eq = 0.018 for distances; 1 % for volume and inertia).
+  const FillQuality more = rigid_series(shape, exact, {400}, true, "cms ellipsoid").front();
+  EXPECT_EQ(more.sphere_count, 400);
+  EXPECT_LT(more.volume_error, 0.03);
+  EXPECT_LT(more.surface_rms_relative, matched[2].surface_rms_relative + 0.018);
+  EXPECT_LT(more.hausdorff_relative, matched[2].hausdorff_relative + 0.018);
+  EXPECT_LT(more.inertia_error, matched[2].inertia_error + 0.01);
+  EXPECT_LT(more.extent_error, matched[2].extent_error + 0.018);
   // Without the common radius growth the inscribed balls' deficit is the volume error, and it
-  // shrinks as the count grows.
+  // shrinks as the count grows to the complete cover.
   const auto inscribed = rigid_series(shape, exact, {25, 50, 150, 400}, false, "cms inscribed");
-  expect_decreasing(inscribed, &FillQuality::volume_error, "volume error (inscribed)", 0.0);
+  expect_decreasing({inscribed.begin(), inscribed.begin() + 3}, &FillQuality::volume_error,
+                    "volume error (inscribed)", 0.0);
+  EXPECT_LT(inscribed[3].volume_error, inscribed[2].volume_error + 0.01);
   for (const FillQuality& q : inscribed)
     EXPECT_LT(q.volume_fraction, 1.0);
 }
 
-TEST(FillQuality, RigidSphereIsOneSphere) {
-  const SignedDistance shape = sphere_distance(1e-4);
-  const MassProperties exact = ellipsoid_mass_properties(Vec3::Constant(1e-4));
-  RigidFillOptions options;
-  options.sphere_count = 150;
-  const SphereTemplate t = fill_rigid(shape, options);
-  // The deepest point's maximal ball is the sphere itself; what remains uncovered are voxel
-  // slivers thinner than half a cell, which the filler skips.
-  EXPECT_EQ(t.centres.size(), 1u);
-  const FillQuality q = assess_fill(t, shape, exact);
-  print("cms sphere", 150, q);
-  EXPECT_LT(q.volume_error, 0.01);  // one ball of radius within a voxel of 1e-4
+// The paper's Fig. 3 representations of a sphere (issue 6): one ball would cover it, so the cap
+// on the surface balls makes the cover take exactly N. CI fills 50, 89 and 150;
+// SHAPEPRESS_FULL_VALIDATION=1 adds 750, 1500 and 3000.
+TEST(FillQuality, RigidSphereTakesThePapersCounts) {
+  const double radius = 0.01;
+  const SignedDistance shape = sphere_distance(radius);
+  const MassProperties exact = ellipsoid_mass_properties(Vec3::Constant(radius));
+  std::vector<int> counts = {50, 89, 150};
+  const char* full = std::getenv("SHAPEPRESS_FULL_VALIDATION");
+  if (full != nullptr && std::string(full) == "1") counts.insert(counts.end(), {750, 1500, 3000});
+  double previous_cap = HUGE_VAL;
+  for (int n : counts) {
+    RigidFillOptions options;
+    options.sphere_count = n;
+    RigidFillInfo info;
+    const SphereTemplate t = fill_rigid(shape, options, &info);
+    const MassProperties u = union_mass_properties(t.centres, t.radii, 256);
+    const RadialDeviation bumps = radial_deviation(t.centres, t.radii, Vec3::Zero(), radius);
+    std::printf(
+        "cms sphere N=%5d cap/R=%.4f Verr=%+.4f bump max/R=%.4f rms/R=%.4f (in %.4f, out %.4f) "
+        "radii/R %.3f-%.3f %.2f s\n",
+        n, info.radius_cap / radius, u.volume / exact.volume - 1.0, bumps.max_abs / radius,
+        bumps.rms / radius, bumps.max_inward / radius, bumps.max_outward / radius,
+        *std::min_element(t.radii.begin(), t.radii.end()) / radius,
+        *std::max_element(t.radii.begin(), t.radii.end()) / radius, info.seconds);
+    EXPECT_EQ(t.centres.size(), static_cast<std::size_t>(n));
+    // More balls need smaller surface balls: the cap falls with N.
+    EXPECT_LT(info.radius_cap, previous_cap);
+    previous_cap = info.radius_cap;
+    // Volume matched on the fill grid (64 cells across), measured here on a finer one: the
+    // difference is the two grids' discretisation, well under 1 %.
+    EXPECT_LT(std::fabs(u.volume / exact.volume - 1.0), 0.01);
+    // The cover is complete to the grid: no dip or bump deeper than two cells (2 x 2R/64).
+    EXPECT_LT(bumps.max_abs, 2.0 * info.grid_cell);
+    EXPECT_GT(bumps.rms, 0.0);  // and it is bumpy, as a union of balls must be
+    // Every ball lies in the sphere up to the common growth of match_volume (< one cell).
+    for (std::size_t i = 0; i < t.centres.size(); ++i)
+      EXPECT_LE(t.centres[i].norm() + t.radii[i], radius + info.grid_cell);
+    // One rigid body: the overlap graph of the balls is connected.
+    EXPECT_TRUE(is_connected(t.centres.size(), pairs_within(t.centres, t.radii, 1.0)));
+  }
 }
 
 TEST(FillQuality, BondedFractionAndTrendOnSphereAndEllipsoid) {
