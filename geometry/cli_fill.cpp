@@ -100,7 +100,9 @@ int run(const FillCli& cli, const RunContext& context) {
       options.target_count = cli.count > 0 ? cli.count : 350;
       options.sub_sphere_radius =
           cli.radius.empty() ? 0.0 : parse_quantity(cli.radius, dim::length, "radius");
-      options.lattice = cli.lattice == "hcp" ? Lattice::hcp : Lattice::fcc;
+      options.lattice = cli.lattice == "hcp"      ? Lattice::hcp
+                        : cli.lattice == "random" ? Lattice::random
+                                                  : Lattice::fcc;
       options.placement = cli.placement == "centre" ? Placement::centre : Placement::inside;
       options.bond_multiplier = cli.bond_multiplier;
       options.seed = seed;
@@ -145,8 +147,9 @@ StageRunner setup_fill_cli(CLI::App& app) {
   app.add_option("--count", cli->count, "sub-spheres per template (default 350 bms, 150 cms)")
       ->check(CLI::Range(1, 1000000));
   app.add_option("--radius", cli->radius, "bms: fixed sub-sphere radius instead of a count");
-  app.add_option("--lattice", cli->lattice, "bms lattice")
-      ->check(CLI::IsMember({"fcc", "hcp"}))
+  app.add_option("--lattice", cli->lattice,
+                 "bms: fcc or hcp lattice, or random (a jammed dense random packing)")
+      ->check(CLI::IsMember({"fcc", "hcp", "random"}))
       ->capture_default_str();
   app.add_option("--placement", cli->placement,
                  "bms: 'inside' (spheres wholly inside) or 'centre' (centres inside)")

@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "geometry/random.hpp"
+#include "geometry/random_packing.hpp"
 
 namespace shapepress::geometry {
 namespace {
@@ -100,6 +101,11 @@ void BondedFillOptions::check() const {
         "bond multiplier m_b = {} must be in [1, 1.414): below 1 touching spheres do not bond, "
         "from sqrt(2) second lattice neighbours would bond too",
         bond_multiplier));
+  if (lattice == Lattice::random && sub_sphere_radius > 0.0)
+    throw InputError(fmt::format(
+        "sub-sphere radius {} m: the random fill takes a count, not a radius (the packing's "
+        "radius is where it jams); use the fcc or hcp lattice for a fixed radius",
+        sub_sphere_radius));
 }
 
 void RigidFillOptions::check() const {
@@ -130,7 +136,16 @@ SphereTemplate fill_bonded(const SignedDistance& shape, const BondedFillOptions&
 
   double r = options.sub_sphere_radius;
   std::vector<Vec3> sites;
-  if (r > 0.0) {
+  if (options.lattice == Lattice::random) {
+    RandomPackingOptions packing;
+    packing.count = options.target_count;
+    packing.wholly_inside = options.placement == Placement::inside;
+    packing.seed = options.seed;
+    packing.contact_gap = options.bond_multiplier - 1.0;
+    RandomPacking packed = dense_random_packing(shape, packing);
+    r = packed.radius;
+    sites = largest_cluster(packed.centres, r, options.bond_multiplier);
+  } else if (r > 0.0) {
     sites = sites_for(r);
   } else {
     // Bisection in log r for the smallest radius that still gives >= N spheres: the count

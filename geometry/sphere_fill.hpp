@@ -1,7 +1,8 @@
 #pragma once
 // Sub-sphere templates from any SignedDistance (one mechanism for analytic shapes and meshes):
 //  - bonded multi-sphere (BMS): equal, touching, non-overlapping spheres on a randomly oriented
-//    FCC or HCP lattice, bonded by Eq. 10 of Giannis et al. 2023, |x_i - x_j| < (r_i + r_j) m_b;
+//    FCC or HCP lattice, or in a jammed dense random packing (random_packing.hpp), bonded by
+//    Eq. 10 of Giannis et al. 2023, |x_i - x_j| < (r_i + r_j) m_b;
 //  - conventional multi-sphere (CMS): overlapping spheres, each the largest ball inscribed in the
 //    shape that covers the deepest still-uncovered interior point (a distance-transform greedy
 //    cover, in the spirit of OpenVDB's fillWithSpheres), with a cap on the balls that reach the
@@ -27,7 +28,9 @@ struct SphereTemplate {
   std::vector<Bond> bonds;    // BMS only, i < j
 };
 
-enum class Lattice { fcc, hcp };
+// fcc, hcp: a lattice at a random orientation and offset; random: no lattice, a jammed dense
+// random packing of exactly the target count (random_packing.hpp; a count, not a radius).
+enum class Lattice { fcc, hcp, random };
 enum class Placement {
   inside,  // every sub-sphere lies wholly inside the shape
   centre   // every sub-sphere centre lies inside (spheres may cross the surface by < r)
@@ -39,7 +42,7 @@ struct BondedFillOptions {
   Lattice lattice = Lattice::fcc;
   Placement placement = Placement::inside;
   double bond_multiplier = 1.15;  // m_b of Eq. 10 (Giannis et al. 2023 use 1.15)
-  std::uint64_t seed = 1;         // lattice orientation and offset
+  std::uint64_t seed = 1;         // lattice orientation and offset, or the random packing
   void check() const;             // InputError naming the bad field
 };
 

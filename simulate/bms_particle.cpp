@@ -10,7 +10,9 @@ PlateParticle bms_sphere(const MaterialTable& materials, double radius, const Bm
   config.bond.check();
   geometry::BondedFillOptions options;
   options.target_count = config.count;
-  options.lattice = config.lattice == "hcp" ? geometry::Lattice::hcp : geometry::Lattice::fcc;
+  options.lattice = config.lattice == "hcp"      ? geometry::Lattice::hcp
+                    : config.lattice == "random" ? geometry::Lattice::random
+                                                 : geometry::Lattice::fcc;
   options.placement =
       config.placement == "centre" ? geometry::Placement::centre : geometry::Placement::inside;
   // The filler bonds by Eq. 10 too, only to keep one connected cluster; m_b is checked by

@@ -195,7 +195,7 @@ PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> 
     const ConfigTable t = root.table("bms");
     BmsConfig b;
     b.count = static_cast<int>(t.integer("count", 545, Range::closed(1, 1000000)));
-    b.lattice = t.choice("lattice", {"fcc", "hcp"}, "fcc");
+    b.lattice = t.choice("lattice", {"fcc", "hcp", "random"}, "fcc");
     b.placement = t.choice("placement", {"inside", "centre"}, "inside");
     b.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
     // m_b <= 1 is refused by create_bonds with the reason; read it unchecked here.

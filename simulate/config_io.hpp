@@ -33,7 +33,7 @@
 // plate only:
 //   [sphere]         radius, material; [plate] material, speed, max_deformation = 0.01,
 //                    records = 50
-//   [bms]            (plate --particle bms) count = 545, lattice = "fcc" | "hcp",
+//   [bms]            (plate --particle bms) count = 545, lattice = "fcc" | "hcp" | "random",
 //                    placement = "inside" | "centre", seed = 1, bond_multiplier = 1.15 (m_b,
 //                    Eq. 10), material = the sphere's (the sub-spheres' contact material)
 //   [bond]           normal_stiffness, shear_stiffness (k̄n, k̄s, N/m^3) | modulus (Ē, Pa) with
@@ -109,7 +109,7 @@ CompactConfig read_compact_config(const ConfigTable& root);
 // A bonded multi-sphere particle filling the plate rig's sphere (plate --particle bms).
 struct BmsConfig {
   int count = 545;
-  std::string lattice = "fcc";
+  std::string lattice = "fcc";  // or "hcp", or "random" (a dense random packing)
   std::string placement = "inside";
   std::uint64_t seed = 1;
   double bond_multiplier = 1.15;

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 #include "common/error.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -61,6 +63,71 @@ TEST(BondedFill, SameSeedSameTemplateOtherSeedOtherOrientation) {
   options.seed = 2;
   const SphereTemplate c = fill_bonded(shape, options);
   EXPECT_NE(a.centres.front(), c.centres.front());
+}
+
+TEST(BondedFill, RandomPackingIsDenseTouchingConnectedAndWithoutSlipPlanes) {
+  const SignedDistance shape = sphere_distance(1.0);
+  BondedFillOptions options;
+  options.lattice = Lattice::random;
+  options.target_count = 300;
+  const SphereTemplate t = fill_bonded(shape, options);
+  ASSERT_EQ(t.centres.size(), 300u);  // exactly the count: no rattler was dropped
+  const double r = t.radii.front();
+  std::vector<int> touching(t.centres.size(), 0);
+  double closest = 1e9;
+  for (std::size_t i = 0; i < t.centres.size(); ++i) {
+    EXPECT_LE(shape(t.centres[i]), -r + 1e-12);  // wholly inside
+    for (std::size_t j = i + 1; j < t.centres.size(); ++j) {
+      const double d = (t.centres[i] - t.centres[j]).norm();
+      closest = std::min(closest, d);
+      // Within 1 % of touching: what the jammed growth leaves between contacting spheres.
+      if (d < 2.02 * r) ++touching[i], ++touching[j];
+    }
+  }
+  EXPECT_GE(closest, 2.0 * r * (1.0 - 1e-12));  // none overlap
+  EXPECT_TRUE(is_connected(t.centres.size(), t.bonds));
+  // Jammed: the solid fraction is far above a loose random packing's (random sequential
+  // addition jams at 0.38) and most spheres touch several others. A random packing of 300
+  // spheres in a sphere reaches about 0.5 (the wall layer is looser than the bulk's 0.64).
+  const double solid = 300.0 * r * r * r;  // (4/3 π r³ N) / (4/3 π R³), R = 1
+  EXPECT_GT(solid, 0.45);
+  int well_held = 0;
+  for (int c : touching)
+    well_held += c >= 3;
+  EXPECT_GT(well_held, 240);  // >= 80 % of the spheres touch three or more neighbours
+  // No lattice: bond directions spread over the sphere (an FCC has only 6 axes, so its bonds
+  // fall into 6 direction classes); count distinct directions on a coarse 5-degree grid.
+  std::vector<std::array<int, 2>> seen;
+  for (const Bond& b : t.bonds) {
+    Vec3 n = (t.centres[static_cast<std::size_t>(b[1])] - t.centres[static_cast<std::size_t>(b[0])])
+                 .normalized();
+    if (n.z() < 0.0) n = -n;
+    const std::array<int, 2> cell = {static_cast<int>(std::acos(n.z()) * 36.0),
+                                     static_cast<int>((std::atan2(n.y(), n.x()) + 3.2) * 36.0)};
+    if (std::find(seen.begin(), seen.end(), cell) == seen.end()) seen.push_back(cell);
+  }
+  EXPECT_GT(seen.size(), 100u);
+  // The same seed gives the same packing bit for bit; a fixed radius is refused (the packing's
+  // radius is where it jams).
+  const SphereTemplate again = fill_bonded(shape, options);
+  EXPECT_EQ(again.centres, t.centres);
+  options.sub_sphere_radius = 0.1;
+  EXPECT_THROW(fill_bonded(shape, options), InputError);
+}
+
+TEST(BondedFill, RandomPackingFollowsAMeshLikeShape) {
+  // An ellipsoid through the same SignedDistance interface (meshes plug in the same way).
+  const SignedDistance shape = ellipsoid_distance(Vec3(1.0, 0.6, 0.5));
+  BondedFillOptions options;
+  options.lattice = Lattice::random;
+  options.target_count = 80;
+  options.seed = 3;
+  const SphereTemplate t = fill_bonded(shape, options);
+  ASSERT_EQ(t.centres.size(), 80u);
+  const double r = t.radii.front();
+  for (const Vec3& c : t.centres)
+    EXPECT_LE(shape(c), -r + 1e-9);
+  EXPECT_TRUE(is_connected(t.centres.size(), t.bonds));
 }
 
 TEST(BondedFill, RejectsBadOptions) {

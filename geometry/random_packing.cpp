@@ -1,0 +1,227 @@
+#include "geometry/random_packing.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "geometry/random.hpp"
+
+namespace shapepress::geometry {
+namespace {
+
+// Volume of the shape from a grid of `cells` per longest side (cell centres inside).
+double grid_volume(const SignedDistance& shape, int cells) {
+  const Vec3 size = shape.bounds.size();
+  const double h = size.maxCoeff() / cells;
+  const Eigen::Vector3i n = (size / h).array().ceil().cast<int>().max(1);
+  std::int64_t inside = 0;
+  for (int i = 0; i < n.x(); ++i)
+    for (int j = 0; j < n.y(); ++j)
+      for (int k = 0; k < n.z(); ++k)
+        if (shape(shape.bounds.lower + h * (Vec3(i, j, k) + Vec3::Constant(0.5))) < 0.0) ++inside;
+  return static_cast<double>(inside) * h * h * h;
+}
+
+// Linked cells over the shape's box (cells of side `cell`), rebuilt for each sweep: O(N).
+class CellGrid {
+ public:
+  CellGrid(const Aabb& bounds, double cell) : cell_(cell) {
+    lower_ = bounds.lower - Vec3::Constant(cell);
+    dims_ = ((bounds.size() + Vec3::Constant(2.0 * cell)) / cell).array().ceil().cast<int>().max(1);
+  }
+  void build(const std::vector<Vec3>& x) {
+    head_.assign(static_cast<std::size_t>(dims_.prod()), -1);
+    next_.assign(x.size(), -1);
+    for (std::size_t i = x.size(); i-- > 0;) {  // reversed so each cell lists in index order
+      const std::int64_t c = index(cell_of(x[i]));
+      next_[i] = head_[static_cast<std::size_t>(c)];
+      head_[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(i);
+    }
+  }
+  // Calls f(j) for every sphere j in the 27 cells around p.
+  template <class F>
+  void for_each_near(const Vec3& p, F&& f) const {
+    const Eigen::Vector3i c = cell_of(p);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const Eigen::Vector3i q = c + Eigen::Vector3i(dx, dy, dz);
+          if ((q.array() < 0).any() || (q.array() >= dims_.array()).any()) continue;
+          for (std::int32_t j = head_[static_cast<std::size_t>(index(q))]; j >= 0;
+               j = next_[static_cast<std::size_t>(j)])
+            f(static_cast<std::size_t>(j));
+        }
+  }
+
+ private:
+  Eigen::Vector3i cell_of(const Vec3& p) const {
+    const Eigen::Vector3i c = ((p - lower_) / cell_).array().floor().cast<int>();
+    return c.cwiseMax(0).cwiseMin(dims_ - Eigen::Vector3i::Ones());
+  }
+  std::int64_t index(const Eigen::Vector3i& c) const {
+    return (std::int64_t{c.x()} * dims_.y() + c.y()) * dims_.z() + c.z();
+  }
+  double cell_;
+  Vec3 lower_;
+  Eigen::Vector3i dims_;
+  std::vector<std::int32_t> head_, next_;
+};
+
+// How far sphere centre p lies outside where it may be (> 0: outside), for radius r.
+double excursion(const SignedDistance& shape, const Vec3& p, double r, bool wholly_inside) {
+  return shape(p) + (wholly_inside ? r : 0.0);
+}
+
+// Relaxes overlaps at radius r: each sweep moves both spheres of every overlapping pair apart by
+// half their overlap and every sphere that left the shape back along the distance gradient,
+// updating positions at once (Gauss–Seidel sweeps over the pairs in a fixed order, so the result
+// is deterministic). Pairs come from a Verlet list of reach 2r + skin, rebuilt when a sphere has
+// moved half the skin since the last build. True when the largest overlap or excursion of a
+// sweep fell below `tolerance` within `steps` sweeps.
+bool relax(std::vector<Vec3>& x, double r, const SignedDistance& shape, bool wholly_inside,
+           double tolerance, int steps) {
+  const double skin = 0.2 * r;
+  const double reach = 2.0 * r + skin;
+  CellGrid grid(shape.bounds, reach);
+  std::vector<std::array<std::int32_t, 2>> pairs;
+  std::vector<std::int32_t> near_surface;
+  std::vector<Vec3> at_build;
+  const auto build = [&] {
+    grid.build(x);
+    pairs.clear();
+    near_surface.clear();
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      grid.for_each_near(x[i], [&](std::size_t j) {
+        if (j > i && (x[j] - x[i]).squaredNorm() < reach * reach)
+          pairs.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(j)});
+      });
+      if (excursion(shape, x[i], r, wholly_inside) > -skin)
+        near_surface.push_back(static_cast<std::int32_t>(i));
+    }
+    at_build = x;
+  };
+  build();
+  const double contact2 = 4.0 * r * r;
+  for (int step = 0; step < steps; ++step) {
+    double worst = 0.0;
+    for (const auto& [a, b] : pairs) {
+      Vec3& xi = x[static_cast<std::size_t>(a)];
+      Vec3& xj = x[static_cast<std::size_t>(b)];
+      const Vec3 d = xj - xi;
+      const double d2 = d.squaredNorm();
+      if (d2 >= contact2) continue;
+      const double length = std::sqrt(d2);
+      // Coincident centres (only from the random start): part them along a fixed axis.
+      const Vec3 n = length > 0.0 ? Vec3(d / length) : Vec3::UnitX();
+      const double overlap = 2.0 * r - length;
+      worst = std::max(worst, overlap);
+      xi -= 0.5 * overlap * n;
+      xj += 0.5 * overlap * n;
+    }
+    for (std::int32_t i : near_surface) {
+      Vec3& xi = x[static_cast<std::size_t>(i)];
+      const double out = excursion(shape, xi, r, wholly_inside);
+      if (out <= 0.0) continue;
+      worst = std::max(worst, out);
+      const Vec3 g = shape.gradient(xi, 0.05 * r);
+      const double g2 = g.squaredNorm();
+      if (g2 > 0.0) xi -= out * g / std::sqrt(g2);
+    }
+    if (worst <= tolerance) return true;
+    double moved2 = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      moved2 = std::max(moved2, (x[i] - at_build[i]).squaredNorm());
+    if (moved2 > 0.25 * skin * skin) build();
+  }
+  return false;
+}
+
+}  // namespace
+
+RandomPacking dense_random_packing(const SignedDistance& shape,
+                                   const RandomPackingOptions& options) {
+  const auto n = static_cast<std::size_t>(std::max(options.count, 1));
+  const double volume = grid_volume(shape, 48);
+  if (!(volume > 0.0))
+    throw ComputationError(fmt::format("{} has no inside to fill", shape.description));
+  const double sphere_volume_per_r3 = 4.0 / 3.0 * std::numbers::pi;
+  // Start loose (solid fraction 0.3): random centres, overlaps allowed, relaxed first.
+  double r = std::cbrt(0.3 * volume / (static_cast<double>(n) * sphere_volume_per_r3));
+  Rng rng(options.seed);
+  std::vector<Vec3> x;
+  x.reserve(n);
+  const Vec3 size = shape.bounds.size();
+  for (std::int64_t tries = 0; x.size() < n; ++tries) {
+    if (tries > 1000 * static_cast<std::int64_t>(n) + 100000)
+      throw ComputationError(
+          fmt::format("could not place {} sub-sphere centres inside {}", n, shape.description));
+    const Vec3 p = shape.bounds.lower +
+                   Vec3(uniform01(rng), uniform01(rng), uniform01(rng)).cwiseProduct(size);
+    if (excursion(shape, p, r, options.wholly_inside) <= 0.0) x.push_back(p);
+  }
+  RandomPacking result;
+  const double tolerance = 1e-3;  // of the radius: what the final exact radius gives up
+  relax(x, r, shape, options.wholly_inside, tolerance * r, 10 * options.relaxation_steps);
+  // Grow until jammed (see the header). A failed growth is undone, so the accepted state is
+  // always relaxed at its radius.
+  double factor = 0.02;
+  while (factor >= options.jam_tolerance) {
+    std::vector<Vec3> trial = x;
+    const double grown = r * (1.0 + factor);
+    if (relax(trial, grown, shape, options.wholly_inside, tolerance * grown,
+              options.relaxation_steps)) {
+      x = std::move(trial);
+      r = grown;
+      ++result.growth_steps;
+      factor = std::min(1.5 * factor, 0.02);
+    } else {
+      factor *= 0.5;
+    }
+  }
+  // Rattlers: onto their nearest neighbour (every other distance shrinks by at most the move,
+  // and the nearest was the closest, so none falls below 2r).
+  const double reach = 2.0 * r * (1.0 + options.contact_gap);
+  CellGrid grid(shape.bounds, reach);
+  grid.build(x);
+  for (std::size_t i = 0; i < n; ++i) {
+    bool bonded = false;
+    grid.for_each_near(x[i], [&](std::size_t j) {
+      bonded = bonded || (j != i && (x[j] - x[i]).squaredNorm() < reach * reach);
+    });
+    if (bonded) continue;
+    std::size_t nearest = i;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < n; ++j)
+      if (j != i && (x[j] - x[i]).squaredNorm() < best)
+        best = (x[j] - x[i]).squaredNorm(), nearest = j;
+    if (nearest == i) continue;
+    const double d = std::sqrt(best);
+    const Vec3 moved = x[i] + (d - 2.0 * r) * (x[nearest] - x[i]) / d;
+    if (excursion(shape, moved, r, options.wholly_inside) > 0.0) continue;  // left to the caller
+    x[i] = moved;
+    grid.build(x);
+    ++result.rattlers_moved;
+  }
+  // The exact overlap-free radius of the final centres.
+  CellGrid final_grid(shape.bounds, 2.0 * r);
+  final_grid.build(x);
+  double exact = r;
+  for (std::size_t i = 0; i < n; ++i) {
+    final_grid.for_each_near(x[i], [&](std::size_t j) {
+      if (j > i) exact = std::min(exact, 0.5 * (x[j] - x[i]).norm());
+    });
+    if (options.wholly_inside) exact = std::min(exact, -shape(x[i]));
+  }
+  result.radius = exact;
+  result.centres = std::move(x);
+  result.solid_fraction =
+      static_cast<double>(n) * sphere_volume_per_r3 * exact * exact * exact / volume;
+  return result;
+}
+
+}  // namespace shapepress::geometry
