@@ -22,6 +22,7 @@ namespace shapepress::simulate {
 namespace {
 
 using testing::expect_same_bits;
+using testing::resume_through_snapshot;
 using testing::one_material;
 
 // A sphere of radius R as a clump by hand: a core ball of 0.6 R and `shell` balls of 0.4 R
@@ -376,20 +377,13 @@ TEST(Clump, RestartFromSnapshotContinuesWithTheSameBits) {
   ClumpScene first = clump_scene();
   first.setup.max_steps = clump_steps / 2 + 17;
   run_compaction(*first.engine, first.setup, first.punch, {});
-  const auto file = std::filesystem::temp_directory_path() / "shapepress_clump_restart_test.h5";
-  write_snapshot(file, *first.engine, first.punch, Provenance{"test", "", std::nullopt});
-  LoadedSnapshot loaded = read_snapshot(file);
-  std::filesystem::remove(file);
-  ASSERT_EQ(loaded.checkpoint.clumps.size(), first.engine->clumps().size());
-  Engine resumed(std::move(loaded.state), loaded.box, first.engine->materials(),
-                 first.engine->settings(), std::move(loaded.checkpoint));
-  PunchState punch = loaded.punch;
-  CompactionSetup setup = continuous.setup;
-  run_compaction(resumed, setup, punch, {});
+  const std::unique_ptr<Engine> resumed =
+      resume_through_snapshot(*first.engine, first.punch, continuous.setup, "clump");
+  EXPECT_EQ(resumed->clumps().size(), first.engine->clumps().size());
   omp_set_num_threads(threads);
-  EXPECT_GT(clumps_in_contact(resumed), 5);
-  expect_same_bits(*continuous.engine, resumed);
-  expect_same_clumps(*continuous.engine, resumed);
+  EXPECT_GT(clumps_in_contact(*resumed), 5);
+  expect_same_bits(*continuous.engine, *resumed);
+  expect_same_clumps(*continuous.engine, *resumed);
 }
 
 }  // namespace

@@ -18,6 +18,7 @@ namespace {
 
 using testing::default_time_step;
 using testing::expect_same_bits;
+using testing::resume_through_snapshot;
 using testing::full_validation;
 using testing::one_material;
 using testing::random_gas;
@@ -86,17 +87,10 @@ TEST(Determinism, RestartFromSnapshotContinuesWithTheSameBits) {
   Scene first = compaction_scene();
   first.setup.max_steps = compaction_steps / 2 + 17;  // mid-way between list builds
   run_compaction(*first.engine, first.setup, first.punch, {});
-  const auto file = std::filesystem::temp_directory_path() / "shapepress_restart_test.h5";
-  write_snapshot(file, *first.engine, first.punch, Provenance{"test", "", std::nullopt});
-  LoadedSnapshot loaded = read_snapshot(file);
-  std::filesystem::remove(file);
-  Engine resumed(std::move(loaded.state), loaded.box, first.engine->materials(),
-                 first.engine->settings(), std::move(loaded.checkpoint));
-  PunchState punch = loaded.punch;
-  CompactionSetup setup = continuous.setup;
-  run_compaction(resumed, setup, punch, {});
+  const std::unique_ptr<Engine> resumed =
+      resume_through_snapshot(*first.engine, first.punch, continuous.setup, "compaction");
   omp_set_num_threads(threads);
-  expect_same_bits(*continuous.engine, resumed);
+  expect_same_bits(*continuous.engine, *resumed);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@ namespace {
 
 using testing::default_time_step;
 using testing::expect_same_bits;
+using testing::resume_through_snapshot;
 
 MaterialTable multicontact_material() {
   MulticontactParameters m;
@@ -67,17 +68,10 @@ TEST(MulticontactDeterminism, RestartFromSnapshotContinuesWithTheSameBits) {
   Scene first = scene();
   first.setup.max_steps = steps / 2 + 17;
   run_compaction(*first.engine, first.setup, first.punch, {});
-  const auto file = std::filesystem::temp_directory_path() / "shapepress_mc_restart_test.h5";
-  write_snapshot(file, *first.engine, first.punch, Provenance{"test", "", std::nullopt});
-  LoadedSnapshot loaded = read_snapshot(file);
-  std::filesystem::remove(file);
-  Engine resumed(std::move(loaded.state), loaded.box, first.engine->materials(),
-                 first.engine->settings(), std::move(loaded.checkpoint));
-  PunchState punch = loaded.punch;
-  CompactionSetup setup = continuous.setup;
-  run_compaction(resumed, setup, punch, {});
+  const std::unique_ptr<Engine> resumed =
+      resume_through_snapshot(*first.engine, first.punch, continuous.setup, "multicontact");
   omp_set_num_threads(threads);
-  expect_same_bits(*continuous.engine, resumed);
+  expect_same_bits(*continuous.engine, *resumed);
 }
 
 }  // namespace

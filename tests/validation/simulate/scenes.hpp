@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <random>
 #include <string>
@@ -12,6 +13,7 @@
 #include "simulate/compact.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/packing.hpp"
+#include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
 
 namespace shapepress::simulate::testing {
@@ -96,6 +98,23 @@ inline void expect_same_bits(const Engine& a, const Engine& b) {
       ASSERT_EQ(ca.history[k].tangential[c], cb.history[k].tangential[c]);
     ASSERT_EQ(ca.history[k].plastic_force, cb.history[k].plastic_force);
   }
+}
+
+// The restart half of the determinism checks: `first` (stopped part-way, with its punch) goes
+// through a snapshot file into a new engine, which then runs on to setup.max_steps.
+inline std::unique_ptr<Engine> resume_through_snapshot(const Engine& first, const PunchState& punch,
+                                                       CompactionSetup setup,
+                                                       const std::string& name) {
+  const auto file =
+      std::filesystem::temp_directory_path() / ("shapepress_" + name + "_restart_test.h5");
+  write_snapshot(file, first, punch, Provenance{"test", "", std::nullopt});
+  LoadedSnapshot loaded = read_snapshot(file);
+  std::filesystem::remove(file);
+  auto resumed = std::make_unique<Engine>(std::move(loaded.state), loaded.box, first.materials(),
+                                          first.settings(), std::move(loaded.checkpoint));
+  PunchState resumed_punch = loaded.punch;
+  run_compaction(*resumed, setup, resumed_punch, {});
+  return resumed;
 }
 
 }  // namespace shapepress::simulate::testing
