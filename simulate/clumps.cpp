@@ -9,6 +9,7 @@
 #include "common/error.hpp"
 #include "geometry/sphere_fill.hpp"
 #include "geometry/template_quality.hpp"
+#include "simulate/neighbor_list.hpp"
 
 namespace shapepress::simulate {
 namespace {
@@ -263,11 +264,6 @@ double clump_kinetic_energy(const ClumpSet& clumps) {
 }
 
 void wrap_clumps(ClumpSet& clumps, SphereState& s, const Box& box) {
-  const auto wrapped = [](double v, double length) {
-    if (length <= 0.0 || (v >= 0.0 && v < length)) return v;
-    v -= length * std::floor(v / length);
-    return v >= length ? v - length : v;
-  };
   for (std::size_t c = 0; c < clumps.size(); ++c) {
     clumps.centre.x[c] = wrapped(clumps.centre.x[c], box.length_x);
     clumps.centre.y[c] = wrapped(clumps.centre.y[c], box.length_y);

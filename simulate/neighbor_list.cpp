@@ -217,18 +217,17 @@ std::vector<ContactHistory> carry_history(const PairList& old_pairs,
   return history;
 }
 
+double wrapped(double v, double length) {
+  if (length <= 0.0 || (v >= 0.0 && v < length)) return v;
+  v -= length * std::floor(v / length);
+  return v >= length ? v - length : v;  // -1e-17 wraps to exactly L: bring it to 0
+}
+
 void wrap_positions(SphereState& state, const Box& box) {
-  const auto wrap = [](SphereArray<double>& values, double length) {
-    if (length <= 0.0) return;
-    for (double& v : values) {
-      if (v < 0.0 || v >= length) {
-        v -= length * std::floor(v / length);
-        if (v >= length) v -= length;  // -1e-17 wraps to exactly L: bring it to 0
-      }
-    }
-  };
-  wrap(state.position.x, box.length_x);
-  wrap(state.position.y, box.length_y);
+  for (double& v : state.position.x)
+    v = wrapped(v, box.length_x);
+  for (double& v : state.position.y)
+    v = wrapped(v, box.length_y);
 }
 
 }  // namespace shapepress::simulate

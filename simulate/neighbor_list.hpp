@@ -51,5 +51,7 @@ std::vector<ContactHistory> carry_history(const PairList& old_pairs,
 // Moves positions back into [0, L) in the periodic directions (only at list builds, so the
 // shifts stored in the list stay valid between builds).
 void wrap_positions(SphereState& state, const Box& box);
+// A coordinate brought into [0, length) (unchanged when length <= 0: not periodic).
+double wrapped(double v, double length);
 
 }  // namespace shapepress::simulate

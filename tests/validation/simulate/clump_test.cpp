@@ -22,8 +22,8 @@ namespace shapepress::simulate {
 namespace {
 
 using testing::expect_same_bits;
-using testing::resume_through_snapshot;
 using testing::one_material;
+using testing::resume_through_snapshot;
 
 // A sphere of radius R as a clump by hand: a core ball of 0.6 R and `shell` balls of 0.4 R
 // centred 0.6 R out on Fibonacci directions (reach R), each overlapping the core. The geometry
@@ -57,6 +57,45 @@ ClumpTemplate arms_clump(double scale) {
 double distance(const SphereState& s, std::size_t i, std::size_t j) {
   return std::hypot(s.position.x[i] - s.position.x[j], s.position.y[i] - s.position.y[j],
                     s.position.z[i] - s.position.z[j]);
+}
+
+// The largest relative change of any sub-sphere distance from `start` to `now`.
+double worst_distance_change(const SphereState& start, const SphereState& now) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < now.size(); ++i)
+    for (std::size_t j = i + 1; j < now.size(); ++j) {
+      const double d0 = distance(start, i, j);
+      worst = std::max(worst, std::abs(distance(now, i, j) - d0) / d0);
+    }
+  return worst;
+}
+
+// The paper's rubber sphere (Table 1) and its 1 GPa plates.
+MaterialTable rubber_and_plates() {
+  return MaterialTable({{"rubber", 18.5e6, 0.46, 2000.0}, {"wall", 1e9, 0.3, 7800.0}},
+                       {{"rubber", "rubber", 0.7, 0.5, 0.0}, {"rubber", "wall", 0.7, 0.5, 0.0}});
+}
+
+// `t` (centred at the origin) as the rubber sphere of `radius` resting on the bottom plate,
+// pressed to 40 % in 40 rows at the CLI's step: 0.2 × min(Rayleigh time, the clump's contact
+// period on the plates at 40 %).
+struct ClumpOnPlates {
+  PlateParticle particle;
+  PlateSetup setup;
+};
+ClumpOnPlates clump_on_plates(const MaterialTable& table, const ClumpTemplate& t, double radius) {
+  ClumpOnPlates rig;
+  std::vector<Vector3> centres = t.centres;
+  for (Vector3& c : centres)
+    c[2] += radius;
+  add_clump(rig.particle.spheres, rig.particle.clumps, centres, t.radii, 2000.0, 0, t.name);
+  rig.setup.radius = radius;
+  rig.setup.plate_material = 1;
+  rig.setup.speed = 0.4;
+  rig.setup.max_deformation = 0.4;
+  rig.setup.records = 40;
+  rig.setup.time_step = plate_time_step(rig.particle, table, rig.setup, RunConfig{}).time_step;
+  return rig;
 }
 
 TEST(Clump, ComesToRestOnAPlateUnderGravityWithoutDrift) {
@@ -110,26 +149,11 @@ TEST(Clump, ComesToRestOnAPlateUnderGravityWithoutDrift) {
 
 TEST(Clump, SubSphereDistancesStayConstantThroughAFortyPercentPlateCompression) {
   // The paper's rubber sphere (Table 1) as a hand-made clump of 41 overlapping sub-spheres.
-  const MaterialTable table(
-      {{"rubber", 18.5e6, 0.46, 2000.0}, {"wall", 1e9, 0.3, 7800.0}},
-      {{"rubber", "rubber", 0.7, 0.5, 0.0}, {"rubber", "wall", 0.7, 0.5, 0.0}});
+  const MaterialTable table = rubber_and_plates();
   const double radius = 10e-3;
-  const ClumpTemplate ball = ball_clump(radius, 40);
-  PlateParticle particle;
-  std::vector<Vector3> centres = ball.centres;
-  for (Vector3& c : centres)
-    c[2] += radius;
-  add_clump(particle.spheres, particle.clumps, centres, ball.radii, 2000.0, 0, "ball");
+  auto [particle, setup] = clump_on_plates(table, ball_clump(radius, 40), radius);
   const SphereState start = particle.spheres;
-  PlateSetup setup;
-  setup.radius = radius;
-  setup.plate_material = 1;
-  setup.speed = 0.4;
-  setup.max_deformation = 0.4;
-  setup.records = 40;
-  // The CLI's step: 0.2 × min(Rayleigh time, the clump's contact period on the plates at 40 %).
   // 0.2 Rayleigh times alone is unstable here: 80 contacts act on one body.
-  setup.time_step = plate_time_step(particle, table, setup, RunConfig{}).time_step;
   EXPECT_LT(setup.time_step, testing::default_time_step(table, 0.4 * radius));
   // The plates pass 4 mm into the 4 mm outer sub-spheres: the rigid clump's failure, not a
   // divergence (plate_run.cpp widens the check the same way).
@@ -138,12 +162,7 @@ TEST(Clump, SubSphereDistancesStayConstantThroughAFortyPercentPlateCompression) 
   std::size_t rows = 0;
   const auto check = [&](const PlateRow&, const Engine& engine) {
     ++rows;
-    const SphereState& s = engine.state();
-    for (std::size_t i = 0; i < s.size(); ++i)
-      for (std::size_t j = i + 1; j < s.size(); ++j) {
-        const double d0 = distance(start, i, j);
-        worst = std::max(worst, std::abs(distance(s, i, j) - d0) / d0);
-      }
+    worst = std::max(worst, worst_distance_change(start, engine.state()));
   };
   const std::vector<PlateRow> curve = run_plate(table, setup, particle, check);
   std::printf(
@@ -160,9 +179,8 @@ TEST(Clump, SubSphereDistancesStayConstantThroughAFortyPercentPlateCompression) 
 }
 
 // A fill in the manner of the CMS filler (maximal inscribed balls): centres at random in the
-// inner 0.85 R of the sphere, each ball reaching the surface (r = R − |c|). The geometry stage's
-// filler gives one ball for a sphere until it learns to give N (issue 6, cms-study), so the
-// many-sphere case is made here by hand.
+// inner 0.85 R of the sphere, each ball reaching the surface (r = R − |c|). Made here by hand,
+// independent of the geometry stage's filler: this test is about the engine.
 ClumpTemplate inscribed_fill(double radius, int count, std::uint64_t seed) {
   ClumpTemplate t;
   t.name = "inscribed";
@@ -182,34 +200,15 @@ ClumpTemplate inscribed_fill(double radius, int count, std::uint64_t seed) {
 TEST(Clump, ManySubSphereClumpStaysRigidThroughFortyPercentAndItsContactsJump) {
   // The rubber sphere (Table 1) as a clump of 300 inscribed balls (3000 with
   // SHAPEPRESS_FULL_VALIDATION=1, the paper's largest N), at the CLI's time step.
-  const MaterialTable table(
-      {{"rubber", 18.5e6, 0.46, 2000.0}, {"wall", 1e9, 0.3, 7800.0}},
-      {{"rubber", "rubber", 0.7, 0.5, 0.0}, {"rubber", "wall", 0.7, 0.5, 0.0}});
+  const MaterialTable table = rubber_and_plates();
   const double radius = 10e-3;
   const int count = testing::full_validation() ? 3000 : 300;
-  const ClumpTemplate fill = inscribed_fill(radius, count, 11);
-  PlateParticle particle;
-  std::vector<Vector3> centres = fill.centres;
-  for (Vector3& c : centres)
-    c[2] += radius;
-  add_clump(particle.spheres, particle.clumps, centres, fill.radii, 2000.0, 0, "inscribed");
+  auto [particle, setup] = clump_on_plates(table, inscribed_fill(radius, count, 11), radius);
   const SphereState start = particle.spheres;
-  PlateSetup setup;
-  setup.radius = radius;
-  setup.plate_material = 1;
-  setup.speed = 0.4;
-  setup.max_deformation = 0.4;
-  setup.records = 40;
-  setup.time_step = plate_time_step(particle, table, setup, RunConfig{}).time_step;
   setup.max_overlap_fraction = 1e3;  // the plates pass through the small outer balls
   double worst = 0.0;
   const auto check = [&](const PlateRow&, const Engine& engine) {
-    const SphereState& s = engine.state();
-    for (std::size_t i = 0; i < s.size(); ++i)
-      for (std::size_t j = i + 1; j < s.size(); ++j) {
-        const double d0 = distance(start, i, j);
-        worst = std::max(worst, std::abs(distance(s, i, j) - d0) / d0);
-      }
+    worst = std::max(worst, worst_distance_change(start, engine.state()));
   };
   const std::vector<PlateRow> curve = run_plate(table, setup, particle, check);
   int drops = 0;  // rows where the contact count fell while the plates went on pressing
@@ -233,9 +232,7 @@ TEST(Clump, OneSphereClumpBetweenPlatesIsTheHertzSphere) {
   // The clump path (body mass, sub-sphere placement, force sum) against the plain sphere: a
   // clump of one ball follows Hertz as a sphere does (its voxel mass is 0.1 % off, which a
   // quasi-static curve does not see).
-  const MaterialTable table(
-      {{"rubber", 18.5e6, 0.46, 2000.0}, {"wall", 1e9, 0.3, 7800.0}},
-      {{"rubber", "rubber", 0.7, 0.5, 0.0}, {"rubber", "wall", 0.7, 0.5, 0.0}});
+  const MaterialTable table = rubber_and_plates();
   PlateSetup setup;
   setup.radius = 1e-3;
   setup.plate_material = 1;
