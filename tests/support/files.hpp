@@ -15,6 +15,17 @@ inline std::filesystem::path fresh_directory(const std::string& name) {
   return dir;
 }
 
+// The repository's root (SHAPEPRESS_TEST_DATA is its tests/data), for shipped configs and
+// pipelines.
+inline std::filesystem::path repository_root() {
+  return std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+}
+
+// A path in single quotes, for a shell command line.
+inline std::string shell_quoted(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
+
 inline void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }

@@ -23,8 +23,7 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 const std::filesystem::path data = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis";
-const std::filesystem::path repo =
-    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+const std::filesystem::path repo = shapepress::testing::repository_root();
 
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -20,11 +20,11 @@ namespace {
 
 using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::shell_quoted;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
-const std::filesystem::path repo =
-    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+const std::filesystem::path repo = shapepress::testing::repository_root();
 const std::filesystem::path shipped = repo / "pipelines/configs/rubber-sphere.toml";
 
 std::string shipped_text() {
@@ -45,15 +45,12 @@ std::filesystem::path variant(const std::filesystem::path& dir, const std::strin
   return path;
 }
 
-std::string q(const std::filesystem::path& p) {
-  return "'" + p.string() + "'";
-}
-
 TEST(BmsPlateCli, WritesForceCsvWithBondsAndParaViewLines) {
   const auto dir = fresh_directory("bms_plate");
   // 40 % with 100 sub-spheres: a second of work.
-  const auto r = run_shapepress("--quiet plate --config " + q(shipped) +
-                                " --particle bms --count 100 --snapshot --out " + q(dir / "run"));
+  const auto r =
+      run_shapepress("--quiet plate --config " + shell_quoted(shipped) +
+                     " --particle bms --count 100 --snapshot --out " + shell_quoted(dir / "run"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const CsvTable t = read_csv(dir / "run" / "force.csv");
   for (const char* column : {"deformation", "approach_m", "top_force_N", "bottom_force_N",
@@ -74,22 +71,23 @@ TEST(BmsPlateCli, WritesForceCsvWithBondsAndParaViewLines) {
 
 TEST(BmsPlateCli, BadInputExitsTwoNamingTheCause) {
   const auto dir = fresh_directory("bms_bad");
-  auto r = run_shapepress("--quiet plate --particle bms --count 100 --out " + q(dir / "a") +
-                          " --config " +
-                          q(variant(dir, "bond_multiplier = 1.15", "bond_multiplier = 1.0")));
+  auto r = run_shapepress(
+      "--quiet plate --particle bms --count 100 --out " + shell_quoted(dir / "a") + " --config " +
+      shell_quoted(variant(dir, "bond_multiplier = 1.15", "bond_multiplier = 1.0")));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("m_b = 1 must be > 1"));
-  r = run_shapepress("--quiet plate --particle bms --count 100 --out " + q(dir / "b") +
+  r = run_shapepress("--quiet plate --particle bms --count 100 --out " + shell_quoted(dir / "b") +
                      " --config " +
-                     q(variant(dir, "normal_stiffness = \"1.15e6 N/m\\^3\"",
-                               "normal_stiffness = \"-1.15e6 N/m^3\"")));
+                     shell_quoted(variant(dir, "normal_stiffness = \"1.15e6 N/m\\^3\"",
+                                          "normal_stiffness = \"-1.15e6 N/m^3\"")));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("normal stiffness"));
-  r = run_shapepress("--quiet plate --config " + q(shipped) + " --particle bms --count 4 --out " +
-                     q(dir / "c"));
+  r = run_shapepress("--quiet plate --config " + shell_quoted(shipped) +
+                     " --particle bms --count 4 --out " + shell_quoted(dir / "c"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("too few"));
-  r = run_shapepress("--quiet plate --config " + q(shipped) + " --count 100 --out " + q(dir / "d"));
+  r = run_shapepress("--quiet plate --config " + shell_quoted(shipped) + " --count 100 --out " +
+                     shell_quoted(dir / "d"));
   EXPECT_EQ(r.exit_code, 2) << r.output;  // --count without --particle bms
 }
 
@@ -98,9 +96,10 @@ TEST(CalibrateCli, FitsTheBondModulusAndWritesAConfigThatRuns) {
   const auto reference = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis" /
                          "tatara_hertz_R10mm_E18.5MPa_nu0.46.csv";
   // Few sub-spheres and runs: the mechanics of calibrate, not the study (validation does that).
-  auto r =
-      run_shapepress("--quiet calibrate --config " + q(shipped) + " --reference " + q(reference) +
-                     " --count 60 --fit modulus --max-evaluations 12 --out " + q(dir / "cal"));
+  auto r = run_shapepress("--quiet calibrate --config " + shell_quoted(shipped) + " --reference " +
+                          shell_quoted(reference) +
+                          " --count 60 --fit modulus --max-evaluations 12 --out " +
+                          shell_quoted(dir / "cal"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("paper: 1.15e+06"));
   const CsvTable evaluations = read_csv(dir / "cal" / "evaluations.csv");
@@ -108,11 +107,12 @@ TEST(CalibrateCli, FitsTheBondModulusAndWritesAConfigThatRuns) {
   EXPECT_GE(rms.size(), 5u);
   const double best = *std::min_element(rms.begin(), rms.end());
   EXPECT_LT(best, rms.front());  // the optimiser improved on the start
-  r = run_shapepress("--quiet plate --config " + q(dir / "cal" / "calibrated.toml") +
-                     " --particle bms --out " + q(dir / "run"));
+  r = run_shapepress("--quiet plate --config " + shell_quoted(dir / "cal" / "calibrated.toml") +
+                     " --particle bms --out " + shell_quoted(dir / "run"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  r = run_shapepress("--quiet calibrate --config " + q(shipped) + " --reference " + q(reference) +
-                     " --fit stiffness --out " + q(dir / "bad"));
+  r = run_shapepress("--quiet calibrate --config " + shell_quoted(shipped) + " --reference " +
+                     shell_quoted(reference) + " --fit stiffness --out " +
+                     shell_quoted(dir / "bad"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("unknown parameter 'stiffness'"));
 }

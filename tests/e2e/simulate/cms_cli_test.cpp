@@ -19,16 +19,12 @@ namespace {
 
 using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::shell_quoted;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
-const std::filesystem::path repo =
-    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+const std::filesystem::path repo = shapepress::testing::repository_root();
 const std::filesystem::path shipped = repo / "pipelines/configs/rubber-sphere.toml";
-
-std::string q(const std::filesystem::path& p) {
-  return "'" + p.string() + "'";
-}
 
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream in(path);
@@ -39,8 +35,9 @@ std::string read_text(const std::filesystem::path& path) {
 
 TEST(CmsPlateCli, WritesTheBmsForceColumnsAndClumpAxes) {
   const auto dir = fresh_directory("cms_plate");
-  const auto r = run_shapepress("--quiet plate --config " + q(shipped) +
-                                " --particle cms --spheres 50 --snapshot --out " + q(dir / "run"));
+  const auto r =
+      run_shapepress("--quiet plate --config " + shell_quoted(shipped) +
+                     " --particle cms --spheres 50 --snapshot --out " + shell_quoted(dir / "run"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const CsvTable t = read_csv(dir / "run" / "force.csv");
   for (const char* column :
@@ -66,8 +63,9 @@ TEST(CmsPlateCli, WritesTheBmsForceColumnsAndClumpAxes) {
 
 TEST(CmsPlateCli, SpheresIsForCmsOnly) {
   const auto dir = fresh_directory("cms_plate_usage");
-  const auto r = run_shapepress("--quiet plate --config " + q(shipped) +
-                                " --particle sphere --spheres 50 --out " + q(dir / "run"));
+  const auto r =
+      run_shapepress("--quiet plate --config " + shell_quoted(shipped) +
+                     " --particle sphere --spheres 50 --out " + shell_quoted(dir / "run"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("--spheres"));
 }
@@ -129,8 +127,8 @@ const std::string three_spheres =
 TEST(CmsCompactCli, CompactsClumpsSnapshotsAndRestarts) {
   const auto dir = fresh_directory("cms_compact");
   write_text(dir / "compact.toml", clump_compact_config(three_spheres));
-  const auto r = run_shapepress("--quiet compact --config " + q(dir / "compact.toml") + " --out " +
-                                q(dir / "run"));
+  const auto r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") +
+                                " --out " + shell_quoted(dir / "run"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const CsvTable t = read_csv(dir / "run" / "punch.csv");
   EXPECT_GT(t.column("top_force_N").back(), 0.0);
@@ -148,8 +146,9 @@ TEST(CmsCompactCli, CompactsClumpsSnapshotsAndRestarts) {
   H5Reader h5(snapshot);
   EXPECT_EQ(h5.doubles("/clumps/mass").size(), 6u);
   EXPECT_EQ(h5.int32s("/particles/body").size(), 40u + 6u * 3u);
-  const auto again = run_shapepress("--quiet compact --config " + q(dir / "compact.toml") +
-                                    " --restart " + q(snapshot) + " --out " + q(dir / "again"));
+  const auto again = run_shapepress(
+      "--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --restart " +
+      shell_quoted(snapshot) + " --out " + shell_quoted(dir / "again"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
   // The restarted run ends where the first one did (same bits: the validation tests).
   const CsvTable u = read_csv(dir / "again" / "punch.csv");
@@ -161,15 +160,15 @@ TEST(CmsCompactCli, TakesClumpsFromATemplatesFile) {
   const auto dir = fresh_directory("cms_compact_templates");
   auto r =
       run_shapepress("--quiet fill --ellipsoid 0.6mm,0.4mm,0.3mm --kind cms --count 20 --out " +
-                     q(dir / "templates.h5"));
+                     shell_quoted(dir / "templates.h5"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::string config = clump_compact_config(three_spheres);
   const std::size_t key = config.find("spheres = ");
   config.replace(key, config.find('\n', key) - key,
                  "templates = \"" + (dir / "templates.h5").string() + "\"");
   write_text(dir / "compact.toml", config);
-  r = run_shapepress("--quiet compact --config " + q(dir / "compact.toml") + " --out " +
-                     q(dir / "run"));
+  r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                     shell_quoted(dir / "run"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const CsvTable t = read_csv(dir / "run" / "punch.csv");
   EXPECT_GT(t.column("top_force_N").back(), 0.0);
@@ -181,23 +180,24 @@ TEST(CmsCompactCli, BadClumpsExitTwoNamingTheCause) {
   // Zero volume: a sub-sphere of radius 0.
   write_text(dir / "zero.toml",
              clump_compact_config("[0.0, 0.0, 0.0, 0.5e-3,  0.6e-3, 0.0, 0.0, 0.0]"));
-  auto r =
-      run_shapepress("--quiet compact --config " + q(dir / "zero.toml") + " --out " + q(dir / "a"));
+  auto r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "zero.toml") +
+                          " --out " + shell_quoted(dir / "a"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("zero volume"));
   // An overlapping fill that is not connected: the third sphere is 2 mm from the others.
   write_text(dir / "apart.toml",
              clump_compact_config(
                  "[0.0, 0.0, 0.0, 0.5e-3,  0.6e-3, 0.0, 0.0, 0.4e-3,  2.6e-3, 0.0, 0.0, 0.4e-3]"));
-  r = run_shapepress("--quiet compact --config " + q(dir / "apart.toml") + " --out " +
-                     q(dir / "b"));
+  r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "apart.toml") + " --out " +
+                     shell_quoted(dir / "b"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("separate groups"));
   // Neither a templates file nor inline spheres.
   std::string none = clump_compact_config(three_spheres);
   none.replace(none.find("spheres = "), std::string("spheres = ").size(), "sphere_list = ");
   write_text(dir / "none.toml", none);
-  r = run_shapepress("--quiet compact --config " + q(dir / "none.toml") + " --out " + q(dir / "c"));
+  r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "none.toml") + " --out " +
+                     shell_quoted(dir / "c"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("[clumps]"));
 }

@@ -27,7 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path repo = fs::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+const fs::path repo = shapepress::testing::repository_root();
 
 bool full_validation() {
   const char* value = std::getenv("SHAPEPRESS_FULL_VALIDATION");

@@ -19,6 +19,7 @@
 #include "simulate/plate_run.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
+#include "tests/support/files.hpp"
 #include "tests/validation/simulate/scenes.hpp"
 
 namespace shapepress::simulate {
@@ -26,8 +27,7 @@ namespace {
 
 using testing::full_validation;
 
-const std::filesystem::path repo =
-    std::filesystem::path(SHAPEPRESS_TEST_DATA).parent_path().parent_path();
+const std::filesystem::path repo = shapepress::testing::repository_root();
 
 PlateConfig shipped_config() {
   const ConfigTable root = ConfigTable::load_file(repo / "pipelines/configs/rubber-sphere.toml");
