@@ -18,10 +18,10 @@ namespace {
 
 using testing::default_time_step;
 using testing::expect_same_bits;
-using testing::resume_through_snapshot;
 using testing::full_validation;
 using testing::one_material;
 using testing::random_gas;
+using testing::resume_through_snapshot;
 
 // Spheres of 0.8–1.2 mm at random in a periodic box between two plates, moving at random.
 TEST(Energy, ElasticFrictionlessBoxConservesTotalEnergy) {
