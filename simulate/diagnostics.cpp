@@ -201,6 +201,7 @@ EngineCheckpoint Engine::checkpoint() const {
   c.time = time_;
   c.walls = walls_;
   c.build_reference = build_reference_;
+  c.build_wall_position = build_wall_position_;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     const double* xi = history_[p].tangential;
     if (pair_touching_[p] || xi[0] != 0.0 || xi[1] != 0.0 || xi[2] != 0.0 ||

@@ -71,7 +71,8 @@ struct EngineCheckpoint {
   std::int64_t step = 0;
   double time = 0.0;
   std::vector<PlaneWall> walls;
-  Vec3Array build_reference;  // positions at the last list build
+  Vec3Array build_reference;                // positions at the last list build
+  std::vector<double> build_wall_position;  // [wall] positions at the last list build
   // Touching contacts with their history, sorted by (first, second).
   std::vector<std::int32_t> first, second;
   std::vector<ContactHistory> history;
@@ -149,6 +150,11 @@ class Engine {
 
  private:
   void build_list(bool wrap);
+  // The displacement field z -> offset + strain (z - origin) the rebuild test measures against.
+  struct AffineDrift {
+    double offset = 0.0, strain = 0.0, origin = 0.0;
+  };
+  AffineDrift list_affine_drift() const;
   // Forces and torques of the current positions; `kick` > 0 also adds kick × F/m to the
   // velocities (the second half kick of velocity Verlet, fused into the gather).
   void compute_forces(double kick);
@@ -175,6 +181,8 @@ class Engine {
   PairList pairs_;
   std::vector<ContactHistory> history_;
   Vec3Array build_reference_;
+  std::vector<double> build_wall_position_;  // wall positions at the last list build
+  double list_reach_ = 0.0;                  // 2 r_max + skin of the last build
   struct PairResult {
     double force[3];  // on second
     double torque_first[3];

@@ -274,6 +274,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   file.attribute("/engine", "box_x", engine.box().length_x);
   file.attribute("/engine", "box_y", engine.box().length_y);
   write_vec3(file, "/engine/build_reference", c.build_reference, "m");
+  write_with_unit(file, "/engine/build_wall_position", c.build_wall_position, "m");
   file.write("/engine/contact_first", c.first);
   file.write("/engine/contact_second", c.second);
   file.write("/engine/contact_tangential", history_values(c.history), {c.history.size(), 3});
@@ -370,6 +371,14 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
     c.walls.push_back(PlaneWall{position[k], facing[k], velocity[k], material[k]});
     c.wall_history.emplace_back(wall_history.begin() + static_cast<std::ptrdiff_t>(k * n),
                                 wall_history.begin() + static_cast<std::ptrdiff_t>((k + 1) * n));
+  }
+  // The rebuild test measures against the walls' motion since the last build (Engine::step);
+  // snapshots written before it was stored fall back to "no wall motion", the plain test.
+  if (file.has("/engine/build_wall_position")) {
+    c.build_wall_position = file.doubles("/engine/build_wall_position");
+    if (c.build_wall_position.size() != c.walls.size())
+      throw InputError("'" + path.string() +
+                       "': /engine/build_wall_position must have one value per wall");
   }
   c.bonds = read_bonds(file);
   for (std::size_t k = 0; k < c.bonds.size(); ++k)
