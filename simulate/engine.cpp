@@ -10,6 +10,16 @@ namespace shapepress::simulate {
 
 namespace {
 
+// Chunks of the pair loop (engine.hpp, SphereSums): a power of two, so that two or four threads
+// share them evenly, of at least 1024 spheres, so that few contacts cross a chunk boundary in a
+// bed ordered in space, at most 16.
+std::int64_t force_chunk_count(std::size_t spheres) {
+  std::int64_t chunks = 1;
+  while (chunks < 16 && static_cast<std::int64_t>(spheres) >= 2 * 1024 * chunks)
+    chunks *= 2;
+  return chunks;
+}
+
 // 1 for the pairs of `list` that appear in `touching` (both sorted by (first, second)).
 std::vector<std::uint8_t> touching_flags(const PairList& list, const PairList& touching) {
   std::vector<std::uint8_t> flags(list.size(), 0);
@@ -41,6 +51,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<
   require_material_pairs();
   enable_particle_stress();
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
+  force_chunks_ = force_chunk_count(state_.size());
   if (!bonds_.empty()) bonds_.index(state_);
   const double half = 0.5 * settings_.time_step;
   if (!clumps_.empty()) {
@@ -73,6 +84,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
       clumps_(std::move(checkpoint.clumps)) {
   require_material_pairs();
   enable_particle_stress();
+  force_chunks_ = force_chunk_count(state_.size());
   if (!clumps_.empty()) index_clumps();
   if (particle_stress_on_ && !checkpoint.particle_pressure.empty()) {
     // The next pair loop reads p of the step the checkpoint was taken at: restore it bit for bit.
@@ -180,6 +192,7 @@ void Engine::build_list(bool wrap) {
   pair_slot_.assign(pairs_.size(), 0);
   if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   index_bonded_pairs();
+  index_cross_chunk_pairs();
   build_reference_ = state_.position;
   build_wall_position_.resize(walls_.size());
   for (std::size_t k = 0; k < walls_.size(); ++k)
@@ -317,6 +330,20 @@ void Engine::compute_forces(double kick) {
                         !bond_increments_);
   gather_forces(kick);
   if (!clumps_.empty()) gather_clump_forces(clumps_, state_, settings_.gravity, kick);
+}
+
+void Engine::index_cross_chunk_pairs() {
+  const std::int64_t n = static_cast<std::int64_t>(state_.size());
+  cross_second_end_.resize(static_cast<std::size_t>(n));
+  for (std::int64_t chunk = 0; chunk < force_chunks_; ++chunk) {
+    const std::int64_t begin = n * chunk / force_chunks_, end = n * (chunk + 1) / force_chunks_;
+    for (std::int64_t i = begin; i < end; ++i) {
+      std::int32_t e = pairs_.second_offset[i];
+      while (e < pairs_.second_offset[i + 1] && pairs_.first[pairs_.second_pairs[e]] < begin)
+        ++e;
+      cross_second_end_[i] = e;
+    }
+  }
 }
 
 void Engine::index_bonded_pairs() {

@@ -161,6 +161,7 @@ class Engine {
   void pack_spheres();  // geometry_ and motion_ from the state (step() fuses this into its drift)
   void pair_forces();
   void index_bonded_pairs();        // pair_bond_ for the current list
+  void index_cross_chunk_pairs();   // cross_second_end_ for the current list
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
   template <bool stress_on>
   void pair_forces_with();
@@ -199,12 +200,25 @@ class Engine {
   // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
   std::vector<std::uint8_t> pair_touching_;
   std::vector<std::int32_t> touching_index_;  // per thread chunk: its touching pairs (pair loop)
-  // Per sphere: the slots [begin, end) of its touching "first" pairs in pair_results_.
-  std::vector<std::int32_t> first_touching_;
+  // The pair loop adds each contact's force and torques to both spheres directly when both lie
+  // in one chunk of force_chunks_ consecutive sphere ranges (set by the sphere count, never by
+  // the thread count, so every sum runs in the same order on any number of threads); a thread
+  // owns whole chunks. A partner in a later chunk reads the pair's result in the gather:
+  // cross_second_end_[i] ends the prefix of i's "second" pairs whose first lies in an earlier
+  // chunk. Without particle stress only: the Love–Weber gather reads every pair's result.
+  struct alignas(64) SphereSums {
+    double force[3] = {0.0, 0.0, 0.0};
+    double torque[3] = {0.0, 0.0, 0.0};
+  };
+  std::vector<SphereSums> sphere_sums_;
+  std::vector<std::int32_t> cross_second_end_;
+  std::int64_t force_chunks_ = 1;
   std::vector<std::vector<ContactHistory>> wall_history_;
   std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
   std::vector<std::vector<std::uint8_t>> wall_touching_;
   std::vector<double> wall_force_;
+  std::vector<double> wall_chunk_force_;           // [chunk][wall], the gather's partial sums
+  std::vector<std::int64_t> wall_chunk_contacts_;  // [chunk]
   // Love–Weber stress (header comment): per pair Fn and δ/2 of the last pair loop, per sphere
   // p (read by the next pair loop), per wall and sphere the tangential wall force (x, y).
   bool particle_stress_on_ = false;

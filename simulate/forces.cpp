@@ -67,12 +67,6 @@ void Engine::pair_forces_with() {
   const double dt = settings_.time_step;
   const double* __restrict geometry = geometry_.data();
   const double* __restrict motion = motion_.data();
-  // Two passes per thread over its own static chunk of the list. The first selects the touching
-  // pairs without a branch on the outcome (about half the list pairs touch in a dense bed, so a
-  // branch there mispredicts all the time) and releases the contacts that just opened; the
-  // second computes the law for the selected pairs only, into a compact result array. Every
-  // non-touching pair's slot points at the one zero result, so the gather sums every pair
-  // without testing it.
   touching_index_.resize(static_cast<std::size_t>(count));
   std::int32_t* __restrict selected = touching_index_.data();
   std::int32_t* __restrict slot = pair_slot_.data();
@@ -91,26 +85,27 @@ void Engine::pair_forces_with() {
   const std::uint8_t* bond_intact = bonds_.intact.data();
   const std::int32_t* __restrict first_offset = pairs_.first_offset.data();
   const std::int64_t spheres = static_cast<std::int64_t>(s.size());
-  first_touching_.resize(2 * static_cast<std::size_t>(spheres));
-  std::int32_t* __restrict first_touching = first_touching_.data();
+  const std::int64_t chunks = force_chunks_;
+  sphere_sums_.resize(static_cast<std::size_t>(spheres));
+  SphereSums* __restrict sums = sphere_sums_.data();
+  PairResult* __restrict results = pair_results_.data();
   const int threads = count >= parallel_min_pairs ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads) reduction(+ : touching)
   {
-    // Chunks of about count / team pairs, cut at sphere boundaries: a sphere's "first" pairs
-    // then get consecutive compact slots, and the gather reads them as one range.
+    // Each thread takes whole chunks of spheres (force_chunks_, fixed by the sphere count):
+    // the order of every sum is then the same for any number of threads.
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
-    const auto sphere_at = [&](std::int64_t pair) {  // the first sphere whose pairs start there
-      return std::lower_bound(first_offset, first_offset + spheres, pair) - first_offset;
-    };
-    const std::int64_t sphere_begin = sphere_at(count * rank / team);
-    const std::int64_t sphere_end =
-        rank + 1 == team ? spheres : sphere_at(count * (rank + 1) / team);
-    const std::int64_t begin = first_offset[sphere_begin];
-    std::int64_t k = begin;
-    for (std::int64_t i = sphere_begin; i < sphere_end; ++i) {
-      first_touching[2 * i] = static_cast<std::int32_t>(k + 1);
-      const double* gi = geometry + 4 * i;
-      for (std::int64_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
+    for (std::int64_t chunk = chunks * rank / team; chunk < chunks * (rank + 1) / team; ++chunk) {
+      const std::int64_t sphere_begin = spheres * chunk / chunks;
+      const std::int64_t sphere_end = spheres * (chunk + 1) / chunks;
+      // Two passes over the chunk's pairs. The first selects the touching pairs without a
+      // branch on the outcome (about half the list pairs touch in a dense bed, so a branch
+      // there mispredicts all the time) and releases the contacts that just opened; the second
+      // computes the law for the selected pairs only.
+      const std::int64_t begin = first_offset[sphere_begin];
+      std::int64_t k = begin;
+      for (std::int64_t p = begin; p < first_offset[sphere_end]; ++p) {
+        const double* gi = geometry + 4 * first[p];
         const double* gj = geometry + 4 * second[p];
         const double* shift = image_shift + 2 * image[p];
         const double dx = gj[0] - gi[0] + shift[0];
@@ -125,82 +120,102 @@ void Engine::pair_forces_with() {
           if constexpr (stress_on) virial[2 * p] = virial[2 * p + 1] = 0.0;
         }
         was_touching[p] = now;
-        // A touching pair's result goes to slot 1 + k of the compact result array; the others
+        // A touching pair's result slot is 1 + its rank among the touching pairs; the others
         // point at slot 0, which holds zeros.
         slot[p] = static_cast<std::int32_t>(now) * static_cast<std::int32_t>(k + 1);
         selected[k] = static_cast<std::int32_t>(p);
         k += now;
       }
-      first_touching[2 * i + 1] = static_cast<std::int32_t>(k + 1);
-    }
-    touching += k - begin;
-    for (std::int64_t q = begin; q < k; ++q) {
-      const std::int64_t p = selected[q];
-      const int i = first[p], j = second[p];
-      PairResult& out = pair_results_[q + 1];
-      const double* gi = geometry + 4 * i;
-      const double* gj = geometry + 4 * j;
-      const double* shift = image_shift + 2 * image[p];
-      const double dx = gj[0] - gi[0] + shift[0];
-      const double dy = gj[1] - gi[1] + shift[1];
-      const double dz = gj[2] - gi[2];
-      const double ri = gi[3], rj = gj[3];
-      const double reach = ri + rj;
-      const double d2 = dx * dx + dy * dy + dz * dz;
-      const double d = std::sqrt(d2);
-      ContactKinematics c;
-      const double inv_d = 1.0 / d;
-      c.normal[0] = dx * inv_d;
-      c.normal[1] = dy * inv_d;
-      c.normal[2] = dz * inv_d;
-      c.overlap = std::max(reach - d, 0.0);  // > 0 as selected; guards a contracted d2
-      const double* nn = c.normal;
-      const double rci = ri - 0.5 * c.overlap, rcj = rj - 0.5 * c.overlap;
-      const double* mi_ = motion + 8 * i;
-      const double* mj_ = motion + 8 * j;
-      const double wix = mi_[3], wiy = mi_[4], wiz = mi_[5];
-      const double wjx = mj_[3], wjy = mj_[4], wjz = mj_[5];
-      // Contact point velocities: v + ω × (arm), arm = +rci n for i, -rcj n for j.
-      const double vcix = mi_[0] + rci * (wiy * nn[2] - wiz * nn[1]);
-      const double vciy = mi_[1] + rci * (wiz * nn[0] - wix * nn[2]);
-      const double vciz = mi_[2] + rci * (wix * nn[1] - wiy * nn[0]);
-      const double vcjx = mj_[0] - rcj * (wjy * nn[2] - wjz * nn[1]);
-      const double vcjy = mj_[1] - rcj * (wjz * nn[0] - wjx * nn[2]);
-      const double vcjz = mj_[2] - rcj * (wjx * nn[1] - wjy * nn[0]);
-      c.relative_velocity[0] = vcjx - vcix;
-      c.relative_velocity[1] = vcjy - vciy;
-      c.relative_velocity[2] = vcjz - vciz;
-      c.relative_rotation[0] = wix - wjx;
-      c.relative_rotation[1] = wiy - wjy;
-      c.relative_rotation[2] = wiz - wjz;
-      // R* = ri rj / (ri + rj) and m* = mi mj / (mi + mj) with one division.
-      const double mi = mi_[6], mj = mj_[6];
-      const double mass_sum = mi + mj;
-      const double inverse = 1.0 / (reach * mass_sum);
-      c.effective_radius = ri * rj * mass_sum * inverse;
-      c.effective_mass = mi * mj * reach * inverse;
-      c.inverse_inertia_sum = mi_[7] + mj_[7];
-      c.pair_pressure = 0.0;  // P_ij of Eq. 6 from the last gather
-      if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
-      const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
-      const ContactForce f = contact_force(c, pc, history_[p], dt);
-      if constexpr (stress_on) {  // for this step's gather of p = Σ rc Fn / (3V)
-        virial[2 * p] = f.normal_force;
-        virial[2 * p + 1] = 0.5 * c.overlap;
+      touching += k - begin;
+      if constexpr (!stress_on)
+        for (std::int64_t i = sphere_begin; i < sphere_end; ++i)
+          sums[i] = SphereSums{};
+      for (std::int64_t q = begin; q < k; ++q) {
+        const std::int64_t p = selected[q];
+        const int i = first[p], j = second[p];
+        const double* gi = geometry + 4 * i;
+        const double* gj = geometry + 4 * j;
+        const double* shift = image_shift + 2 * image[p];
+        const double dx = gj[0] - gi[0] + shift[0];
+        const double dy = gj[1] - gi[1] + shift[1];
+        const double dz = gj[2] - gi[2];
+        const double ri = gi[3], rj = gj[3];
+        const double reach = ri + rj;
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        const double d = std::sqrt(d2);
+        ContactKinematics c;
+        const double inv_d = 1.0 / d;
+        c.normal[0] = dx * inv_d;
+        c.normal[1] = dy * inv_d;
+        c.normal[2] = dz * inv_d;
+        c.overlap = std::max(reach - d, 0.0);  // > 0 as selected; guards a contracted d2
+        const double* nn = c.normal;
+        const double rci = ri - 0.5 * c.overlap, rcj = rj - 0.5 * c.overlap;
+        const double* mi_ = motion + 8 * i;
+        const double* mj_ = motion + 8 * j;
+        const double wix = mi_[3], wiy = mi_[4], wiz = mi_[5];
+        const double wjx = mj_[3], wjy = mj_[4], wjz = mj_[5];
+        // Contact point velocities: v + ω × (arm), arm = +rci n for i, -rcj n for j.
+        const double vcix = mi_[0] + rci * (wiy * nn[2] - wiz * nn[1]);
+        const double vciy = mi_[1] + rci * (wiz * nn[0] - wix * nn[2]);
+        const double vciz = mi_[2] + rci * (wix * nn[1] - wiy * nn[0]);
+        const double vcjx = mj_[0] - rcj * (wjy * nn[2] - wjz * nn[1]);
+        const double vcjy = mj_[1] - rcj * (wjz * nn[0] - wjx * nn[2]);
+        const double vcjz = mj_[2] - rcj * (wjx * nn[1] - wjy * nn[0]);
+        c.relative_velocity[0] = vcjx - vcix;
+        c.relative_velocity[1] = vcjy - vciy;
+        c.relative_velocity[2] = vcjz - vciz;
+        c.relative_rotation[0] = wix - wjx;
+        c.relative_rotation[1] = wiy - wjy;
+        c.relative_rotation[2] = wiz - wjz;
+        // R* = ri rj / (ri + rj) and m* = mi mj / (mi + mj) with one division.
+        const double mi = mi_[6], mj = mj_[6];
+        const double mass_sum = mi + mj;
+        const double inverse = 1.0 / (reach * mass_sum);
+        c.effective_radius = ri * rj * mass_sum * inverse;
+        c.effective_mass = mi * mj * reach * inverse;
+        c.inverse_inertia_sum = mi_[7] + mj_[7];
+        c.pair_pressure = 0.0;  // P_ij of Eq. 6 from the last gather
+        if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
+        const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
+        const ContactForce f = contact_force(c, pc, history_[p], dt);
+        if constexpr (stress_on) {  // for this step's gather of p = Σ rc Fn / (3V)
+          virial[2 * p] = f.normal_force;
+          virial[2 * p + 1] = 0.5 * c.overlap;
+        }
+        // Torques: τi = (rci n) × Fi = -rci (n × F), τj = (-rcj n) × F = -rcj (n × F).
+        const double cx = nn[1] * f.force[2] - nn[2] * f.force[1];
+        const double cy = nn[2] * f.force[0] - nn[0] * f.force[2];
+        const double cz = nn[0] * f.force[1] - nn[1] * f.force[0];
+        const double torque_first[3] = {-rci * cx + f.rolling_torque[0],
+                                        -rci * cy + f.rolling_torque[1],
+                                        -rci * cz + f.rolling_torque[2]};
+        const double torque_second[3] = {-rcj * cx - f.rolling_torque[0],
+                                         -rcj * cy - f.rolling_torque[1],
+                                         -rcj * cz - f.rolling_torque[2]};
+        if constexpr (!stress_on) {
+          // Added to both ends here, in list order: a sphere of the chunk receives its partners
+          // below it (i second) in increasing order, then those above (i first). A partner in a
+          // later chunk belongs to another thread: it reads the result in the gather instead.
+          SphereSums& a = sums[i];
+          a.force[0] -= f.force[0], a.force[1] -= f.force[1], a.force[2] -= f.force[2];
+          a.torque[0] += torque_first[0], a.torque[1] += torque_first[1];
+          a.torque[2] += torque_first[2];
+          if (j < sphere_end) {
+            SphereSums& b = sums[j];
+            b.force[0] += f.force[0], b.force[1] += f.force[1], b.force[2] += f.force[2];
+            b.torque[0] += torque_second[0], b.torque[1] += torque_second[1];
+            b.torque[2] += torque_second[2];
+            continue;
+          }
+        }
+        PairResult& out = results[q + 1];
+        for (int axis = 0; axis < 3; ++axis) {
+          out.force[axis] = f.force[axis];
+          out.torque_first[axis] = torque_first[axis];
+          out.torque_second[axis] = torque_second[axis];
+        }
       }
-      // Torques: τi = (rci n) × Fi = -rci (n × F), τj = (-rcj n) × F = -rcj (n × F).
-      const double cx = nn[1] * f.force[2] - nn[2] * f.force[1];
-      const double cy = nn[2] * f.force[0] - nn[0] * f.force[2];
-      const double cz = nn[0] * f.force[1] - nn[1] * f.force[0];
-      out.force[0] = f.force[0];
-      out.force[1] = f.force[1];
-      out.force[2] = f.force[2];
-      out.torque_first[0] = -rci * cx + f.rolling_torque[0];
-      out.torque_first[1] = -rci * cy + f.rolling_torque[1];
-      out.torque_first[2] = -rci * cz + f.rolling_torque[2];
-      out.torque_second[0] = -rcj * cx - f.rolling_torque[0];
-      out.torque_second[1] = -rcj * cy - f.rolling_torque[1];
-      out.torque_second[2] = -rcj * cz - f.rolling_torque[2];
     }
   }
   sphere_contacts_ = touching;
@@ -213,9 +228,9 @@ void Engine::gather_forces_with(double kick) {
   const std::size_t wall_count = walls_.size();
   wall_force_per_sphere_.resize(wall_count);
   wall_touching_.resize(wall_count);
-  for (std::size_t k = 0; k < wall_count; ++k) {  // every entry is written below, each step
-    wall_force_per_sphere_[k].resize(static_cast<std::size_t>(n));
-    wall_touching_[k].resize(static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < wall_count; ++k) {  // zero while a sphere does not touch wall k
+    wall_force_per_sphere_[k].resize(static_cast<std::size_t>(n), 0.0);
+    wall_touching_[k].resize(static_cast<std::size_t>(n), 0);
   }
   const double dt = settings_.time_step;
   const auto& g = settings_.gravity;
@@ -224,7 +239,8 @@ void Engine::gather_forces_with(double kick) {
   const std::int32_t* __restrict second_pairs = pairs_.second_pairs.data();
   const PairResult* __restrict results = pair_results_.data();
   const std::int32_t* __restrict slot = pair_slot_.data();
-  const std::int32_t* __restrict first_touching = first_touching_.data();
+  const std::int32_t* __restrict cross_second_end = cross_second_end_.data();
+  const SphereSums* __restrict sums = sphere_sums_.data();
   // Raw pointers hoisted out of the loop: through the containers the compiler reloads every
   // array's address after each store.
   const double* __restrict geometry = geometry_.data();
@@ -243,7 +259,6 @@ void Engine::gather_forces_with(double kick) {
   double* __restrict wx = s.angular_velocity.x.data();
   double* __restrict wy = s.angular_velocity.y.data();
   double* __restrict wz = s.angular_velocity.z.data();
-  const PlaneWall* walls = walls_.data();
   // Love–Weber pressure p = -tr σ / 3 = Σ rc Fn / (3V): l · f = -rc Fn at either end of a
   // contact (rc the centre-to-contact distance, Fn > 0 repulsive), V the sphere's volume. The
   // tensor itself is summed on demand (Engine::particle_stress, diagnostics.cpp): the law needs
@@ -260,108 +275,138 @@ void Engine::gather_forces_with(double kick) {
     wall_force_per_sphere[k] = wall_force_per_sphere_[k].data();
     wall_touching[k] = wall_touching_[k].data();
   }
+  // Wall constants copied out of walls_: the byte stores to the touching flags below may alias
+  // anything, and the loop would reload each wall's fields after every one.
+  struct WallView {
+    double position, facing, velocity;
+    int material;
+  };
+  std::vector<WallView> wall_views(wall_count);
+  for (std::size_t k = 0; k < wall_count; ++k)
+    wall_views[k] = {walls_[k].position, static_cast<double>(walls_[k].facing), walls_[k].velocity,
+                     walls_[k].material};
+  const WallView* walls = wall_views.data();
+  // Wall totals per chunk, then over the chunks in order: the same bits for any thread count.
+  const std::int64_t chunks = force_chunks_;
+  wall_chunk_force_.assign(static_cast<std::size_t>(chunks) * wall_count, 0.0);
+  wall_chunk_contacts_.assign(static_cast<std::size_t>(chunks), 0);
+  double* __restrict chunk_force = wall_chunk_force_.data();
+  std::int64_t* __restrict chunk_contacts = wall_chunk_contacts_.data();
   const bool has_bonds = !bonds_.empty();
-#pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
-    double arm_force = 0.0;  // Σ rc Fn
-    const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
-    // Partners below i (i is second), then above (i is first): increasing partner order.
-    // Non-touching pairs point at the zero result, so every pair is summed without a test.
-    for (std::int32_t e = second_offset[i]; e < second_offset[i + 1]; ++e) {
-      const PairResult& r = results[slot[second_pairs[e]]];
-      if constexpr (stress_on) {
-        const double* v = virial + 2 * second_pairs[e];
-        arm_force += (ri - v[1]) * v[0];
+  const int threads = n >= parallel_min_spheres ? omp_get_max_threads() : 1;
+#pragma omp parallel num_threads(threads)
+  {
+    // The pair loop's chunks, on the same threads: each thread gathers the sums it wrote.
+    const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
+    for (std::int64_t chunk = chunks * rank / team; chunk < chunks * (rank + 1) / team; ++chunk) {
+      double* __restrict wall_sum = chunk_force + chunk * static_cast<std::int64_t>(wall_count);
+      std::int64_t wall_contact_count = 0;
+      for (std::int64_t i = n * chunk / chunks; i < n * (chunk + 1) / chunks; ++i) {
+        double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
+        double arm_force = 0.0;  // Σ rc Fn
+        const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
+        if constexpr (stress_on) {
+          // Partners below i (i is second), then above (i is first): increasing partner order.
+          // Non-touching pairs point at the zero result, so every pair is summed without a test.
+          for (std::int32_t e = second_offset[i]; e < second_offset[i + 1]; ++e) {
+            const PairResult& r = results[slot[second_pairs[e]]];
+            const double* v = virial + 2 * second_pairs[e];
+            arm_force += (ri - v[1]) * v[0];
+            f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
+            t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
+          }
+          for (std::int32_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
+            const PairResult& r = results[slot[p]];
+            const double* v = virial + 2 * p;
+            arm_force += (ri - v[1]) * v[0];
+            f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
+            t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
+          }
+        } else {
+          // The pair loop's sums over the contacts within i's chunk, then the partners in earlier
+          // chunks (a prefix of i's "second" pairs, in increasing partner order).
+          const SphereSums& own = sums[i];
+          f[0] = own.force[0], f[1] = own.force[1], f[2] = own.force[2];
+          t[0] = own.torque[0], t[1] = own.torque[1], t[2] = own.torque[2];
+          for (std::int32_t e = second_offset[i]; e < cross_second_end[i]; ++e) {
+            const PairResult& r = results[slot[second_pairs[e]]];
+            f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
+            t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
+          }
+        }
+        if (has_bonds) gather_bond_forces(bonds_, i, f, t);
+        // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
+        for (std::size_t k = 0; k < wall_count; ++k) {
+          const WallView& w = walls[k];
+          const double gap = w.facing * (zi - w.position);
+          if (gap >= ri) {  // most spheres, most steps: nothing to write
+            if (wall_touching[k][i]) {
+              wall_history_[k][i] = ContactHistory{};
+              wall_touching[k][i] = 0;
+              wall_force_per_sphere[k][i] = 0.0;
+            }
+            continue;
+          }
+          ContactKinematics c;
+          c.normal[0] = c.normal[1] = 0.0;
+          c.normal[2] = -w.facing;
+          c.overlap = ri - gap;
+          const double rc = gap;  // the contact point lies on the plane
+          const double* nn = c.normal;
+          // Predicted end-of-step velocities, as for sphere pairs (pack_spheres()).
+          const double* mi = motion + 8 * i;
+          const double vx = mi[0], vy = mi[1], vz = mi[2], wx = mi[3], wy = mi[4], wz = mi[5];
+          c.relative_velocity[0] = -(vx + rc * (wy * nn[2] - wz * nn[1]));
+          c.relative_velocity[1] = -(vy + rc * (wz * nn[0] - wx * nn[2]));
+          c.relative_velocity[2] = w.velocity - (vz + rc * (wx * nn[1] - wy * nn[0]));
+          c.relative_rotation[0] = wx;
+          c.relative_rotation[1] = wy;
+          c.relative_rotation[2] = wz;
+          c.effective_radius = ri;
+          c.effective_mass = mi[6];
+          c.inverse_inertia_sum = mi[7];
+          // A wall has p = 0 (models.md): P_ij = p_i / 2, p_i of the last step (overwritten below).
+          c.pair_pressure = 0.0;
+          if constexpr (stress_on) c.pair_pressure = 0.5 * pressure[i];
+          const PairConstants& pc = materials_.pair(material[i], w.material);
+          const ContactForce cf = contact_force(c, pc, wall_history_[k][i], dt);
+          const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
+          const double cy = nn[2] * cf.force[0] - nn[0] * cf.force[2];
+          const double cz = nn[0] * cf.force[1] - nn[1] * cf.force[0];
+          f[0] -= cf.force[0], f[1] -= cf.force[1], f[2] -= cf.force[2];
+          t[0] += -rc * cx + cf.rolling_torque[0];
+          t[1] += -rc * cy + cf.rolling_torque[1];
+          t[2] += -rc * cz + cf.rolling_torque[2];
+          wall_force_per_sphere[k][i] = cf.force[2];
+          wall_touching[k][i] = 1;
+          wall_sum[k] += cf.force[2];
+          ++wall_contact_count;
+          if constexpr (stress_on) {
+            arm_force += rc * cf.normal_force;
+            wall_tangential_[k][2 * i] = cf.force[0];  // for the tensor on demand
+            wall_tangential_[k][2 * i + 1] = cf.force[1];
+          }
+        }
+        if constexpr (stress_on) pressure[i] = arm_force / (4.0 * std::numbers::pi * ri * ri * ri);
+        const double m = motion[8 * i + 6];
+        f[0] += m * g[0], f[1] += m * g[1], f[2] += m * g[2];
+        fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
+        tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
+        if (kick > 0.0) {
+          const double im = kick * inverse_mass[i], ii = kick * motion[8 * i + 7];
+          vx[i] += f[0] * im, vy[i] += f[1] * im, vz[i] += f[2] * im;
+          wx[i] += t[0] * ii, wy[i] += t[1] * ii, wz[i] += t[2] * ii;
+        }
       }
-      f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
-      t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
-    }
-    if constexpr (stress_on) {
-      for (std::int32_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
-        const PairResult& r = results[slot[p]];
-        const double* v = virial + 2 * p;
-        arm_force += (ri - v[1]) * v[0];
-        f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
-        t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
-      }
-    } else {  // only the touching ones: they hold consecutive slots (pair_forces_with)
-      for (std::int32_t q = first_touching[2 * i]; q < first_touching[2 * i + 1]; ++q) {
-        const PairResult& r = results[q];
-        f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
-        t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
-      }
-    }
-    if (has_bonds) gather_bond_forces(bonds_, i, f, t);
-    // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
-    for (std::size_t k = 0; k < wall_count; ++k) {
-      const PlaneWall& w = walls[k];
-      const double gap = w.facing * (zi - w.position);
-      if (gap >= ri) {
-        if (wall_touching[k][i]) wall_history_[k][i] = ContactHistory{};
-        wall_touching[k][i] = 0;
-        wall_force_per_sphere[k][i] = 0.0;
-        continue;
-      }
-      ContactKinematics c;
-      c.normal[0] = c.normal[1] = 0.0;
-      c.normal[2] = -w.facing;
-      c.overlap = ri - gap;
-      const double rc = gap;  // the contact point lies on the plane
-      const double* nn = c.normal;
-      // Predicted end-of-step velocities, as for sphere pairs (pack_spheres()).
-      const double* mi = motion + 8 * i;
-      const double vx = mi[0], vy = mi[1], vz = mi[2], wx = mi[3], wy = mi[4], wz = mi[5];
-      c.relative_velocity[0] = -(vx + rc * (wy * nn[2] - wz * nn[1]));
-      c.relative_velocity[1] = -(vy + rc * (wz * nn[0] - wx * nn[2]));
-      c.relative_velocity[2] = w.velocity - (vz + rc * (wx * nn[1] - wy * nn[0]));
-      c.relative_rotation[0] = wx;
-      c.relative_rotation[1] = wy;
-      c.relative_rotation[2] = wz;
-      c.effective_radius = ri;
-      c.effective_mass = mi[6];
-      c.inverse_inertia_sum = mi[7];
-      // A wall has p = 0 (models.md): P_ij = p_i / 2, p_i of the last step (overwritten below).
-      c.pair_pressure = 0.0;
-      if constexpr (stress_on) c.pair_pressure = 0.5 * pressure[i];
-      const PairConstants& pc = materials_.pair(material[i], w.material);
-      const ContactForce cf = contact_force(c, pc, wall_history_[k][i], dt);
-      const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
-      const double cy = nn[2] * cf.force[0] - nn[0] * cf.force[2];
-      const double cz = nn[0] * cf.force[1] - nn[1] * cf.force[0];
-      f[0] -= cf.force[0], f[1] -= cf.force[1], f[2] -= cf.force[2];
-      t[0] += -rc * cx + cf.rolling_torque[0];
-      t[1] += -rc * cy + cf.rolling_torque[1];
-      t[2] += -rc * cz + cf.rolling_torque[2];
-      wall_force_per_sphere[k][i] = cf.force[2];
-      wall_touching[k][i] = 1;
-      if constexpr (stress_on) {
-        arm_force += rc * cf.normal_force;
-        wall_tangential_[k][2 * i] = cf.force[0];  // for the tensor on demand
-        wall_tangential_[k][2 * i + 1] = cf.force[1];
-      }
-    }
-    if constexpr (stress_on) pressure[i] = arm_force / (4.0 * std::numbers::pi * ri * ri * ri);
-    const double m = motion[8 * i + 6];
-    f[0] += m * g[0], f[1] += m * g[1], f[2] += m * g[2];
-    fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
-    tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
-    if (kick > 0.0) {
-      const double im = kick * inverse_mass[i], ii = kick * motion[8 * i + 7];
-      vx[i] += f[0] * im, vy[i] += f[1] * im, vz[i] += f[2] * im;
-      wx[i] += t[0] * ii, wy[i] += t[1] * ii, wz[i] += t[2] * ii;
+      chunk_contacts[chunk] = wall_contact_count;
     }
   }
-  // Wall totals summed in sphere order on one thread: the same bits for any thread count.
   wall_force_.assign(wall_count, 0.0);
   wall_contacts_ = 0;
-  for (std::size_t k = 0; k < wall_count; ++k) {
-    double sum = 0.0;
-    for (std::int64_t i = 0; i < n; ++i) {
-      sum += wall_force_per_sphere_[k][i];
-      wall_contacts_ += wall_touching_[k][i];
-    }
-    wall_force_[k] = sum;
+  for (std::int64_t chunk = 0; chunk < chunks; ++chunk) {
+    for (std::size_t k = 0; k < wall_count; ++k)
+      wall_force_[k] += wall_chunk_force_[static_cast<std::size_t>(chunk) * wall_count + k];
+    wall_contacts_ += wall_chunk_contacts_[static_cast<std::size_t>(chunk)];
   }
 }
 
