@@ -100,11 +100,20 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin,
   }
   for (int c = 0; c < cells; ++c)
     cell_start[c + 1] += cell_start[c];
+  // Members of each cell in cell order, with packed copies of their x, y, z, r: a cell's
+  // candidates are then read as one stream instead of four scattered arrays.
   std::vector<std::int32_t> members(count);
+  std::vector<double> packed(4 * static_cast<std::size_t>(count));
   {
     std::vector<std::int32_t> fill(cell_start.begin(), cell_start.end() - 1);
-    for (int i = 0; i < count; ++i)
-      members[fill[cell_of[i]]++] = i;
+    for (int i = 0; i < count; ++i) {
+      const int m = fill[cell_of[i]]++;
+      members[m] = i;
+      packed[4 * m] = state.position.x[i];
+      packed[4 * m + 1] = state.position.y[i];
+      packed[4 * m + 2] = state.position.z[i];
+      packed[4 * m + 3] = state.radius[i];
+    }
   }
 
   // Offsets -1..last per axis: with fewer than three periodic cells, -1 and +1 (and 0) name the
@@ -131,11 +140,16 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin,
 #pragma omp parallel num_threads(threads) if (count >= 1024)
   {
     PairList& part = parts[omp_get_thread_num()];
-    std::vector<std::int32_t> partners;
+    struct Partner {
+      std::int32_t sphere;
+      std::uint8_t image;
+    };
+    std::vector<Partner> partners;
 #pragma omp for schedule(static)
     for (int i = 0; i < count; ++i) {
       partners.clear();
       const int ci[3] = {cell_x[i], cell_y[i], cell_z[i]};
+      const double xi = x[i], yi = y[i], zi = z[i], ri_skin = state.radius[i] + skin;
       for (int dz = -1; dz <= 1; ++dz) {
         const int cz = ci[2] + dz;
         if (cz < 0 || cz >= g.n[2]) continue;
@@ -155,24 +169,26 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin,
             for (int m = cell_start[c]; m < cell_start[c + 1]; ++m) {
               const int j = members[m];
               if (j <= i) continue;
-              double ddx = x[j] - x[i], ddy = y[j] - y[i];
-              ddx += minimum_image(ddx, box.length_x) * box.length_x;
-              ddy += minimum_image(ddy, box.length_y) * box.length_y;
-              const double ddz = z[j] - z[i];
-              const double reach = state.radius[i] + state.radius[j] + skin;
+              const double* pj = &packed[4 * static_cast<std::size_t>(m)];
+              const int image_x = minimum_image(pj[0] - xi, box.length_x);
+              const int image_y = minimum_image(pj[1] - yi, box.length_y);
+              const double ddx = pj[0] - xi + image_x * box.length_x;
+              const double ddy = pj[1] - yi + image_y * box.length_y;
+              const double ddz = pj[2] - zi;
+              const double reach = ri_skin + pj[3];
               if (ddx * ddx + ddy * ddy + ddz * ddz < reach * reach &&
                   (rigid_group.empty() || rigid_group[i] < 0 || rigid_group[i] != rigid_group[j]))
-                partners.push_back(j);
+                partners.push_back({j, image_code(image_x, image_y)});
             }
           }
         }
       }
-      std::sort(partners.begin(), partners.end());
-      for (int j : partners) {
+      std::sort(partners.begin(), partners.end(),
+                [](const Partner& a, const Partner& b) { return a.sphere < b.sphere; });
+      for (const Partner& partner : partners) {
         part.first.push_back(i);
-        part.second.push_back(j);
-        part.image.push_back(image_code(minimum_image(x[j] - x[i], box.length_x),
-                                        minimum_image(y[j] - y[i], box.length_y)));
+        part.second.push_back(partner.sphere);
+        part.image.push_back(partner.image);
       }
     }
   }
