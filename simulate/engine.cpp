@@ -193,6 +193,7 @@ void Engine::build_list(bool wrap) {
   if (particle_stress_on_) pair_virial_.assign(2 * pairs_.size(), 0.0);
   index_bonded_pairs();
   index_cross_chunk_pairs();
+  find_wall_candidates();
   build_reference_ = state_.position;
   build_wall_position_.resize(walls_.size());
   for (std::size_t k = 0; k < walls_.size(); ++k)
@@ -284,7 +285,19 @@ void Engine::step() {
   }
   time_ += dt;
   ++step_;
-  if (2.0 * std::sqrt(largest) + std::fabs(drift_strain) * list_reach_ > settings_.skin) {
+  // The walls' own test (list_affine_drift()): a sphere outside its wall's candidates cannot
+  // reach it while e + σ + |strain| (r_max + skin) < skin, σ the wall's offset from the field.
+  double wall_slack = 0.0;
+  for (std::size_t k = 0; k < walls_.size() && k < build_wall_position_.size(); ++k) {
+    const double field = drift_offset + drift_strain * (build_wall_position_[k] - drift_origin);
+    wall_slack =
+        std::max(wall_slack, std::fabs(walls_[k].position - build_wall_position_[k] - field));
+  }
+  const double deviation = std::sqrt(largest);
+  const double strain_reach = std::fabs(drift_strain) * list_reach_;
+  const double wall_reach = std::fabs(drift_strain) * (0.5 * (list_reach_ + settings_.skin));
+  if (2.0 * deviation + strain_reach > settings_.skin ||
+      (!walls_.empty() && deviation + wall_slack + wall_reach > settings_.skin)) {
     build_list(true);
     for (std::int64_t i = 0; i < n; ++i)  // the build wrapped positions into the box
       geometry[4 * i] = px[i], geometry[4 * i + 1] = py[i];
@@ -342,6 +355,29 @@ void Engine::index_cross_chunk_pairs() {
       while (e < pairs_.second_offset[i + 1] && pairs_.first[pairs_.second_pairs[e]] < begin)
         ++e;
       cross_second_end_[i] = e;
+    }
+  }
+}
+
+void Engine::find_wall_candidates() {
+  const std::size_t n = state_.size();
+  wall_candidates_.resize(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    const PlaneWall& w = walls_[k];
+    std::vector<std::int32_t>& near = wall_candidates_[k];
+    near.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double gap = w.facing * (state_.position.z[i] - w.position);
+      if (gap < state_.radius[i] + settings_.skin) {
+        near.push_back(static_cast<std::int32_t>(i));
+      } else if (k < wall_touching_.size() && i < wall_touching_[k].size() &&
+                 wall_touching_[k][i]) {
+        // Its contact opened since the last evaluation: released as the gather would.
+        wall_history_[k][i] = ContactHistory{};
+        wall_touching_[k][i] = 0;
+        if (k < wall_force_per_sphere_.size() && i < wall_force_per_sphere_[k].size())
+          wall_force_per_sphere_[k][i] = 0.0;
+      }
     }
   }
 }

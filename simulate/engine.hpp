@@ -162,6 +162,7 @@ class Engine {
   void pair_forces();
   void index_bonded_pairs();        // pair_bond_ for the current list
   void index_cross_chunk_pairs();   // cross_second_end_ for the current list
+  void find_wall_candidates();      // wall_candidates_ at a list build
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
   template <bool stress_on>
   void pair_forces_with();
@@ -217,6 +218,9 @@ class Engine {
   std::vector<std::vector<double>> wall_force_per_sphere_;  // [wall][sphere], z on the wall
   std::vector<std::vector<std::uint8_t>> wall_touching_;
   std::vector<double> wall_force_;
+  // [wall]: the spheres, in index order, within r + skin of the wall at the last list build:
+  // the only ones that can touch it before the next (Engine::step's rebuild test).
+  std::vector<std::vector<std::int32_t>> wall_candidates_;
   std::vector<double> wall_chunk_force_;           // [chunk][wall], the gather's partial sums
   std::vector<std::int64_t> wall_chunk_contacts_;  // [chunk]
   // Love–Weber stress (header comment): per pair Fn and δ/2 of the last pair loop, per sphere

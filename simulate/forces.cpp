@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "simulate/engine.hpp"
@@ -298,10 +299,20 @@ void Engine::gather_forces_with(double kick) {
   {
     // The pair loop's chunks, on the same threads: each thread gathers the sums it wrote.
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
+    constexpr std::int64_t no_sphere = std::numeric_limits<std::int64_t>::max();
+    std::vector<const std::int32_t*> cursor(wall_count), stop(wall_count);
     for (std::int64_t chunk = chunks * rank / team; chunk < chunks * (rank + 1) / team; ++chunk) {
       double* __restrict wall_sum = chunk_force + chunk * static_cast<std::int64_t>(wall_count);
       std::int64_t wall_contact_count = 0;
-      for (std::int64_t i = n * chunk / chunks; i < n * (chunk + 1) / chunks; ++i) {
+      const std::int64_t chunk_begin = n * chunk / chunks;
+      std::int64_t next_near = no_sphere;
+      for (std::size_t k = 0; k < wall_count; ++k) {
+        const std::vector<std::int32_t>& near = wall_candidates_[k];
+        cursor[k] = std::lower_bound(near.data(), near.data() + near.size(), chunk_begin);
+        stop[k] = near.data() + near.size();
+        if (cursor[k] != stop[k]) next_near = std::min<std::int64_t>(next_near, *cursor[k]);
+      }
+      for (std::int64_t i = chunk_begin; i < n * (chunk + 1) / chunks; ++i) {
         double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
         double arm_force = 0.0;  // Σ rc Fn
         const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
@@ -336,55 +347,66 @@ void Engine::gather_forces_with(double kick) {
         }
         if (has_bonds) gather_bond_forces(bonds_, i, f, t);
         // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
-        for (std::size_t k = 0; k < wall_count; ++k) {
-          const WallView& w = walls[k];
-          const double gap = w.facing * (zi - w.position);
-          if (gap >= ri) {  // most spheres, most steps: nothing to write
-            if (wall_touching[k][i]) {
-              wall_history_[k][i] = ContactHistory{};
-              wall_touching[k][i] = 0;
-              wall_force_per_sphere[k][i] = 0.0;
+        // Only the spheres near a wall at the last list build can touch it (build_list), and
+        // next_near is the lowest of them still ahead.
+        if (i == next_near) {
+          next_near = no_sphere;
+          for (std::size_t k = 0; k < wall_count; ++k) {
+            if (cursor[k] == stop[k] || *cursor[k] != i) {
+              if (cursor[k] != stop[k]) next_near = std::min<std::int64_t>(next_near, *cursor[k]);
+              continue;
             }
-            continue;
-          }
-          ContactKinematics c;
-          c.normal[0] = c.normal[1] = 0.0;
-          c.normal[2] = -w.facing;
-          c.overlap = ri - gap;
-          const double rc = gap;  // the contact point lies on the plane
-          const double* nn = c.normal;
-          // Predicted end-of-step velocities, as for sphere pairs (pack_spheres()).
-          const double* mi = motion + 8 * i;
-          const double vx = mi[0], vy = mi[1], vz = mi[2], wx = mi[3], wy = mi[4], wz = mi[5];
-          c.relative_velocity[0] = -(vx + rc * (wy * nn[2] - wz * nn[1]));
-          c.relative_velocity[1] = -(vy + rc * (wz * nn[0] - wx * nn[2]));
-          c.relative_velocity[2] = w.velocity - (vz + rc * (wx * nn[1] - wy * nn[0]));
-          c.relative_rotation[0] = wx;
-          c.relative_rotation[1] = wy;
-          c.relative_rotation[2] = wz;
-          c.effective_radius = ri;
-          c.effective_mass = mi[6];
-          c.inverse_inertia_sum = mi[7];
-          // A wall has p = 0 (models.md): P_ij = p_i / 2, p_i of the last step (overwritten below).
-          c.pair_pressure = 0.0;
-          if constexpr (stress_on) c.pair_pressure = 0.5 * pressure[i];
-          const PairConstants& pc = materials_.pair(material[i], w.material);
-          const ContactForce cf = contact_force(c, pc, wall_history_[k][i], dt);
-          const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
-          const double cy = nn[2] * cf.force[0] - nn[0] * cf.force[2];
-          const double cz = nn[0] * cf.force[1] - nn[1] * cf.force[0];
-          f[0] -= cf.force[0], f[1] -= cf.force[1], f[2] -= cf.force[2];
-          t[0] += -rc * cx + cf.rolling_torque[0];
-          t[1] += -rc * cy + cf.rolling_torque[1];
-          t[2] += -rc * cz + cf.rolling_torque[2];
-          wall_force_per_sphere[k][i] = cf.force[2];
-          wall_touching[k][i] = 1;
-          wall_sum[k] += cf.force[2];
-          ++wall_contact_count;
-          if constexpr (stress_on) {
-            arm_force += rc * cf.normal_force;
-            wall_tangential_[k][2 * i] = cf.force[0];  // for the tensor on demand
-            wall_tangential_[k][2 * i + 1] = cf.force[1];
+            if (++cursor[k] != stop[k]) next_near = std::min<std::int64_t>(next_near, *cursor[k]);
+            const WallView& w = walls[k];
+            const double gap = w.facing * (zi - w.position);
+            if (gap >= ri) {  // most spheres, most steps: nothing to write
+              if (wall_touching[k][i]) {
+                wall_history_[k][i] = ContactHistory{};
+                wall_touching[k][i] = 0;
+                wall_force_per_sphere[k][i] = 0.0;
+              }
+              continue;
+            }
+            ContactKinematics c;
+            c.normal[0] = c.normal[1] = 0.0;
+            c.normal[2] = -w.facing;
+            c.overlap = ri - gap;
+            const double rc = gap;  // the contact point lies on the plane
+            const double* nn = c.normal;
+            // Predicted end-of-step velocities, as for sphere pairs (pack_spheres()).
+            const double* mi = motion + 8 * i;
+            const double vx = mi[0], vy = mi[1], vz = mi[2], wx = mi[3], wy = mi[4], wz = mi[5];
+            c.relative_velocity[0] = -(vx + rc * (wy * nn[2] - wz * nn[1]));
+            c.relative_velocity[1] = -(vy + rc * (wz * nn[0] - wx * nn[2]));
+            c.relative_velocity[2] = w.velocity - (vz + rc * (wx * nn[1] - wy * nn[0]));
+            c.relative_rotation[0] = wx;
+            c.relative_rotation[1] = wy;
+            c.relative_rotation[2] = wz;
+            c.effective_radius = ri;
+            c.effective_mass = mi[6];
+            c.inverse_inertia_sum = mi[7];
+            // A wall has p = 0 (models.md): P_ij = p_i / 2, p_i of the last step (overwritten
+            // below).
+            c.pair_pressure = 0.0;
+            if constexpr (stress_on) c.pair_pressure = 0.5 * pressure[i];
+            const PairConstants& pc = materials_.pair(material[i], w.material);
+            const ContactForce cf = contact_force(c, pc, wall_history_[k][i], dt);
+            const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
+            const double cy = nn[2] * cf.force[0] - nn[0] * cf.force[2];
+            const double cz = nn[0] * cf.force[1] - nn[1] * cf.force[0];
+            f[0] -= cf.force[0], f[1] -= cf.force[1], f[2] -= cf.force[2];
+            t[0] += -rc * cx + cf.rolling_torque[0];
+            t[1] += -rc * cy + cf.rolling_torque[1];
+            t[2] += -rc * cz + cf.rolling_torque[2];
+            wall_force_per_sphere[k][i] = cf.force[2];
+            wall_touching[k][i] = 1;
+            wall_sum[k] += cf.force[2];
+            ++wall_contact_count;
+            if constexpr (stress_on) {
+              arm_force += rc * cf.normal_force;
+              wall_tangential_[k][2 * i] = cf.force[0];  // for the tensor on demand
+              wall_tangential_[k][2 * i + 1] = cf.force[1];
+            }
           }
         }
         if constexpr (stress_on) pressure[i] = arm_force / (4.0 * std::numbers::pi * ri * ri * ri);
