@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <omp.h>
+
 #include "common/error.hpp"
 
 namespace shapepress::simulate {
@@ -174,16 +176,36 @@ void Engine::build_list(bool wrap) {
   } else {
     next = build_pair_list(state_, box_, settings_.skin, clumps_.clump_of);
   }
-  history_ = carry_history(pairs_, history_, next);
-  // Touching flags follow the pairs like the history does (a contact that stays closed must
-  // not be taken as newly opened and lose its spring).
-  PairList was_touching;
-  for (std::size_t p = 0; p < pairs_.size(); ++p)
-    if (pair_touching_[p]) {
-      was_touching.first.push_back(pairs_.first[p]);
-      was_touching.second.push_back(pairs_.second[p]);
+  // History and touching flags follow their pairs into the new list (a contact that stays
+  // closed must not be taken as newly opened and lose its spring): one merge of the two sorted
+  // lists, split by first sphere over the threads (a copy, the same for any split).
+  std::vector<ContactHistory> history(next.size());
+  std::vector<std::uint8_t> touching(next.size(), 0);
+  const auto n = static_cast<std::int64_t>(state_.size());
+  const bool had_list = pairs_.first_offset.size() == static_cast<std::size_t>(n) + 1;
+#pragma omp parallel if (next.size() >= static_cast <std::size_t>(parallel_min_pairs) && had_list)
+  {
+    const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
+    const std::int64_t sphere_begin = n * rank / team, sphere_end = n * (rank + 1) / team;
+    const auto key = [](const PairList& l, std::size_t k) {
+      return (static_cast<std::int64_t>(l.first[k]) << 32) | l.second[k];
+    };
+    std::size_t a = had_list ? static_cast<std::size_t>(pairs_.first_offset[sphere_begin]) : 0;
+    const std::size_t a_end =
+        had_list ? static_cast<std::size_t>(pairs_.first_offset[sphere_end]) : 0;
+    for (auto b = static_cast<std::size_t>(next.first_offset[sphere_begin]);
+         b < static_cast<std::size_t>(next.first_offset[sphere_end]); ++b) {
+      const std::int64_t wanted = key(next, b);
+      while (a < a_end && key(pairs_, a) < wanted)
+        ++a;
+      if (a < a_end && key(pairs_, a) == wanted) {
+        history[b] = history_[a];
+        touching[b] = pair_touching_[a];
+      }
     }
-  pair_touching_ = touching_flags(next, was_touching);
+  }
+  history_ = std::move(history);
+  pair_touching_ = std::move(touching);
   pairs_ = std::move(next);
   // Zero for every pair: the force pass rewrites the touching ones before they are gathered.
   // Slot 0 is the zero result; the others are written by the pair loop before any is read.
