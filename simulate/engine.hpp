@@ -1,9 +1,11 @@
 #pragma once
 // The DEM engine for spheres: velocity Verlet for translation and rotation, Hertz–Mindlin
 // contacts through a Verlet half list (neighbor_list.hpp), plane walls normal to z, gravity,
-// periodic x/y, divergence detection. Deterministic: each contact's force is computed once into
-// a per-contact array, then every sphere gathers its contacts in a fixed order (no atomics), so
-// results are bit-identical for any thread count.
+// periodic x/y, divergence detection. Deterministic: each contact's force is computed once and
+// added to its two spheres in list order within fixed chunks of spheres (set by the sphere
+// count, not the thread count); a contact whose partner lies in a later chunk goes through a
+// per-contact array that the partner gathers in a fixed order (no atomics), so results are
+// bit-identical for any thread count.
 //
 // Where the next models plug in (issues for bonds, clumps and the multi-contact law):
 // - Normal law per material pair: PairConstants::normal_law selects a branch of
