@@ -133,7 +133,9 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
     if (!c.generate && !c.clumps)
       throw InputError(
           "no packing: pass --packing FILE or add a [generate] (or [clumps]) table to the config");
-    spheres = c.generate ? insert_random_spheres(box, *c.generate) : SphereList{};
+    spheres = c.generate
+                  ? in_cell_order(insert_random_spheres(box, *c.generate), c.generate->diameter_max)
+                  : SphereList{};
   }
   const double density = table.material(particle).density;
   SphereState state = make_state(*spheres, density, particle);

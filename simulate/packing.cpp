@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <string>
@@ -222,6 +223,35 @@ SphereList insert_random_spheres(const Box& box, const InsertionRequest& request
                        " without overlap: make the box taller or the count smaller");
   }
   return list;
+}
+
+SphereList in_cell_order(const SphereList& list, double cell) {
+  if (list.size() == 0 || !(cell > 0.0)) return list;
+  const double x0 = *std::min_element(list.x.begin(), list.x.end());
+  const double y0 = *std::min_element(list.y.begin(), list.y.end());
+  const double z0 = *std::min_element(list.z.begin(), list.z.end());
+  const auto index = [&](double v, double origin) {
+    return static_cast<std::int64_t>((v - origin) / cell);  // >= 0 from the minimum
+  };
+  constexpr std::int64_t span = 1 << 20;  // cells per axis in the key, far beyond any bed
+  std::vector<std::int64_t> key(list.size());
+  for (std::size_t i = 0; i < list.size(); ++i)
+    key[i] = (std::min(index(list.z[i], z0), span - 1) * span +
+              std::min(index(list.y[i], y0), span - 1)) *
+                 span +
+             std::min(index(list.x[i], x0), span - 1);
+  std::vector<std::size_t> order(list.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  SphereList sorted;
+  for (std::size_t i : order) {
+    sorted.x.push_back(list.x[i]);
+    sorted.y.push_back(list.y[i]);
+    sorted.z.push_back(list.z[i]);
+    sorted.radius.push_back(list.radius[i]);
+  }
+  return sorted;
 }
 
 SphereState make_state(const SphereList& spheres, double density, int material) {

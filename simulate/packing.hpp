@@ -59,6 +59,12 @@ struct InsertionRequest {
 // placed in `attempts_per_sphere` tries (the region is too small for the count).
 SphereList insert_random_spheres(const Box& box, const InsertionRequest& request);
 
+// The same spheres numbered in cell order (z, then y, then x, cells of size `cell`): spheres that
+// touch then get nearby indices, which the engine's force loop wants (chunks of consecutive
+// spheres, engine.hpp SphereSums, and its caches); random insertion order scatters every
+// sphere's neighbours over the whole bed.
+SphereList in_cell_order(const SphereList& list, double cell);
+
 // Spheres into a state, all of one material and density.
 SphereState make_state(const SphereList& spheres, double density, int material);
 

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -103,6 +105,41 @@ TEST(TimeStep, RayleighAndHertzTimesOfTheReferenceScene) {
   const double slow = hertz_collision_time(4e-7, 2.5e-4, 5.5e7, 1.0);
   const double fast = hertz_collision_time(4e-7, 2.5e-4, 5.5e7, 32.0);
   EXPECT_NEAR(slow / fast, 2.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+namespace {
+
+TEST(Packing, CellOrderKeepsTheSpheresAndNumbersThemLayerByLayer) {
+  const Box box{16e-3, 16e-3};
+  const SphereList inserted =
+      insert_random_spheres(box, InsertionRequest{1200, 0.8e-3, 1.2e-3, 0.0, 12e-3, 3});
+  const double cell = 1.2e-3;
+  const SphereList ordered = in_cell_order(inserted, cell);
+  ASSERT_EQ(ordered.size(), inserted.size());
+  // The same spheres: every (x, y, z, r) once.
+  const auto rows = [](const SphereList& l) {
+    std::vector<std::array<double, 4>> r;
+    for (std::size_t i = 0; i < l.size(); ++i)
+      r.push_back({l.x[i], l.y[i], l.z[i], l.radius[i]});
+    std::sort(r.begin(), r.end());
+    return r;
+  };
+  EXPECT_EQ(rows(ordered), rows(inserted));
+  // Layer by layer: the z cell never decreases along the numbering, and in random insertion
+  // order it does about half the time.
+  const double z0 = *std::min_element(inserted.z.begin(), inserted.z.end());
+  const auto descents = [&](const SphereList& l) {
+    int count = 0;
+    for (std::size_t i = 1; i < l.size(); ++i)
+      count += static_cast<int>((l.z[i] - z0) / cell) < static_cast<int>((l.z[i - 1] - z0) / cell);
+    return count;
+  };
+  EXPECT_EQ(descents(ordered), 0);
+  EXPECT_GT(descents(inserted), 300);
 }
 
 }  // namespace
