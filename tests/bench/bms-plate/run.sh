@@ -8,10 +8,7 @@
 #   COUNTS="545" SHAPEPRESS=/path/to/shapepress BASELINE=/path/to/other/shapepress run.sh 2
 # BASELINE adds the other binary's run of each (N, threads) right after this one's (alternating,
 # so both see the same machine load), and the ratio of their CPU seconds.
-# The calibrated config: the shipped pipelines/configs/rubber-sphere.toml with the calibrated
-# values the study's Makefile starts from (its START: bond modulus Ē, the sub-spheres' contact
-# modulus, k̄s/k̄n), written the way `shapepress calibrate` writes calibrated.toml (a contact
-# material for the sub-spheres, the bond in modulus form).
+# The calibrated config: calibrated-config.sh beside this script.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
@@ -25,48 +22,10 @@ for t in "${threads[@]}"; do
 done
 read -r -a counts <<<"${COUNTS:-100 250 545 819 1322}"
 
-start=$(sed -nE 's/^START \?= *//p' "$root/pipelines/rubber-sphere/Makefile")
-value() {  # name → its value in START
-  tr ',' '\n' <<<"$start" | sed -nE "s/^$1=//p"
-}
-modulus=$(value modulus); contact_modulus=$(value contact_modulus); shear_ratio=$(value shear_ratio)
-[[ -n "$modulus" && -n "$contact_modulus" && -n "$shear_ratio" ]] ||
-  { echo "run.sh: no modulus, contact_modulus, shear_ratio in the Makefile's START='$start'" >&2; exit 2; }
-
 work=$(mktemp -d /tmp/shapepress-bms-bench.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 config=$work/calibrated.toml
-# [bond]: the modulus form replaces the k̄n, k̄s keys; [bms]: the sub-spheres' contact material.
-sed -E -e '/^(normal|shear)_stiffness *=/d' \
-       -e "s/^\[bond\]\$/[bond]\nmodulus = $modulus\nshear_ratio = $shear_ratio/" \
-       -e 's/^\[bms\]$/[bms]\nmaterial = "rubber-contact"/' \
-       "$root/pipelines/configs/rubber-sphere.toml" > "$config"
-cat >> "$config" <<TOML
-
-[[material]]
-name = "rubber-contact"
-youngs_modulus = $contact_modulus
-poisson_ratio = 0.46
-density = 2000
-
-[[interaction]]
-first = "rubber-contact"
-second = "rubber-contact"
-restitution = 0.7
-sliding_friction = 0.5
-
-[[interaction]]
-first = "rubber-contact"
-second = "wall"
-restitution = 0.7
-sliding_friction = 0.5
-
-[[interaction]]
-first = "rubber"
-second = "rubber-contact"
-restitution = 0.7
-sliding_friction = 0.5
-TOML
+source "$here/calibrated-config.sh"
 
 run() {  # binary threads N → "loop_wall_s loop_cpu_s force_N process_wall_s"
   local out=$work/run-$2-$3 t0 t1
