@@ -211,8 +211,12 @@ inline void relative_motion(const double vi[3], const double wi[3], const double
 // earlier form (pointer arrays into the history, the arrays reached through the BondSet inside
 // an OpenMP-outlined body, divisions for the normal and the arms) cost about 580 instructions
 // per bond and step, three quarters of a BMS plate run.
-void bond_forces_range(BondSet& bonds, const SphereState& s, const double* __restrict motion,
-                       const Box& box, double increment_dt, std::int64_t begin, std::int64_t end) {
+// An AVX2 clone is picked at load time where the CPU has it: the same scalar IEEE operations (no
+// FMA, so the same bits as the baseline x86-64 code), but three-operand instructions, which
+// spare the register copies of a loop this long (882 instructions of code down to 753).
+__attribute__((target_clones("avx2", "default"))) void bond_forces_range(
+    BondSet& bonds, const SphereState& s, const double* __restrict motion, const Box& box,
+    double increment_dt, std::int64_t begin, std::int64_t end) {
   const BondSet::Constants* __restrict constants = bonds.constants.data();
   const double* __restrict px = s.position.x.data();
   const double* __restrict py = s.position.y.data();
