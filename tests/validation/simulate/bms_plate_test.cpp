@@ -75,13 +75,14 @@ PlateConfig stiff_bonds(PlateConfig c) {
 }
 
 TEST(BmsDeterminism, OneAndTwoThreadsGiveTheSameBits) {
-  // 1200 sub-spheres: more than parallel_min_pairs bonds and list pairs, so both loops split
+  // 1200 sub-spheres: more than parallel_min_bonds bonds and parallel_min_pairs list pairs, so
+  // both loops split
   // (the random fill bonds about 3.7 per sphere).
   const PlateConfig config = stiff_bonds(shipped_config());
   const auto run = [&](int threads) {
     omp_set_num_threads(threads);
     Engine engine = bms_engine(config, 1200);
-    EXPECT_GT(engine.bonds().size(), static_cast<std::size_t>(parallel_min_pairs));
+    EXPECT_GT(engine.bonds().size(), static_cast<std::size_t>(parallel_min_bonds));
     for (int k = 0; k < 800; ++k)
       engine.step();
     return engine;
