@@ -59,12 +59,17 @@ struct BondSet {
   std::vector<double> tensile_strength;  // σc [Pa], +inf: unbreakable
   std::vector<double> shear_strength;    // τc [Pa]
   std::vector<double> damping_ratio;     // ζ
-  // History per bond (saved in snapshots).
-  std::vector<double> length;        // centre distance at the last evaluation [m]
-  std::vector<double> normal_force;  // Fn on `second` along n (i→j), > 0 compressive [N]
-  Vec3Array shear_force;             // Fs on `second` [N], world frame
-  std::vector<double> twist_moment;  // Mt on `second` along n [N m]
-  Vec3Array bend_moment;             // Mb on `second` [N m], world frame
+  // History per bond (saved in snapshots), one record per bond: the bond loop reads and writes
+  // it whole, one pointer instead of nine (with nine the loop ran out of registers).
+  struct History {
+    double length = 0.0;                      // centre distance at the last evaluation [m]
+    double normal_force = 0.0;                // Fn on `second` along n (i→j), > 0 compressive [N]
+    double shear_force[3] = {0.0, 0.0, 0.0};  // Fs on `second` [N], world frame
+    double twist_moment = 0.0;                // Mt on `second` along n [N m]
+    double bend_moment[3] = {0.0, 0.0, 0.0};  // Mb on `second` [N m], world frame
+    friend bool operator==(const History&, const History&) = default;
+  };
+  std::vector<History> history;
   std::vector<std::uint8_t> intact;
   bool contact_when_bonded = true;
 
@@ -75,10 +80,19 @@ struct BondSet {
     double torque_second[3];
   };
   std::vector<Result> result;
-  // Derived per bond by index() (not saved): damper coefficients 2ζ√(k m*) of the normal, shear,
-  // twist and bending modes, and whether any bond can break (skips the strength test).
-  std::vector<std::array<double, 4>> damping;
-  bool breakable = false;
+  // What the bond loop reads per bond, packed in one record (derived by index(), not saved): the
+  // ends, the bond centre's share of the centre distance at each end, ri/(ri + rj) and
+  // rj/(ri + rj) (so the arms cost a multiplication), the four springs and the damper
+  // coefficients 2ζ√(k m*) of the normal, shear, twist and bending modes (√(k I*) for the turns).
+  // One record instead of a dozen arrays and a division less per bond and step.
+  struct Constants {
+    std::int32_t first, second;
+    double arm_first, arm_second;
+    double normal_spring, shear_spring, twist_spring, bend_spring;
+    double damping[4];
+  };
+  std::vector<Constants> constants;
+  bool breakable = false;  // whether any bond can break (skips the strength test)
   // Per-sphere gather lists (CSR), as PairList: entries 2·bond + (0 first, 1 second) in
   // increasing bond index.
   std::vector<std::int32_t> gather_offset;
@@ -87,8 +101,8 @@ struct BondSet {
   std::size_t size() const { return first.size(); }
   bool empty() const { return first.empty(); }
   std::int64_t intact_count() const;
-  // Fills gather_offset/gather for the spheres of `state`, the dampers from their masses and
-  // inertias, and sizes `result`.
+  // Fills gather_offset/gather for the spheres of `state`, `constants` (the dampers from the
+  // masses and inertias), and sizes `result`. Call it again after changing a constant.
   void index(const SphereState& state);
 };
 
@@ -100,6 +114,16 @@ BondSet create_bonds(const SphereState& state, double bond_multiplier,
                      const BondParameters& parameters,
                      const std::vector<std::string>& body_names = {});
 
+// Below this many bonds the bond loop runs on one thread. A bond costs about 400 instructions,
+// so the 2009 bonds of the N = 545 plate rig are some 200 µs per step, and on two idle cores a
+// second thread would take up to 1.46× off the rig's step (the bond loop is 63 % of it; the
+// contacts and the gather stay below engine.hpp's thresholds). On the shared 2-core machine at
+// a load of 9 it cost 10× the wall time and 12× the CPU instead (N = 545 to 2 %: 6.9 s wall,
+// 1.6 s CPU on one thread; 65 s, 20 s on two: the team spins at every step's join while its
+// partner waits for a core). So the threshold is the engine's (engine.hpp: a parallel region's
+// barrier can cost a scheduler slice on a loaded machine); results are the same either way.
+inline constexpr std::int64_t parallel_min_bonds = 4096;
+
 // One evaluation of every intact bond (parallel over bonds, each written once). `motion` holds
 // per sphere the predicted end-of-step v, ω (8 doubles per sphere, as Engine::pair_forces packs
 // it) for the dampers; the spring increments use the half-step velocities in `state`, which are
@@ -107,12 +131,14 @@ BondSet create_bonds(const SphereState& state, double bond_multiplier,
 void compute_bond_forces(BondSet& bonds, const SphereState& state, const double* motion,
                          const Box& box, double dt, bool first_evaluation);
 
-// Adds the bond forces and torques of sphere i (its bonds in fixed order).
+// Adds the bond forces and torques of sphere i (its bonds in fixed order). A broken bond's
+// result is zero (compute_bond_forces clears it), so it adds nothing and needs no test.
 inline void gather_bond_forces(const BondSet& bonds, std::int64_t i, double f[3], double t[3]) {
+  const std::int32_t* __restrict gather = bonds.gather.data();
+  const BondSet::Result* __restrict result = bonds.result.data();
   for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
-    const std::int32_t entry = bonds.gather[e];
-    if (!bonds.intact[entry >> 1]) continue;
-    const BondSet::Result& r = bonds.result[entry >> 1];
+    const std::int32_t entry = gather[e];
+    const BondSet::Result& r = result[entry >> 1];
     if ((entry & 1) == 0) {
       f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
       t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];

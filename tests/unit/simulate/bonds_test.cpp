@@ -76,9 +76,9 @@ TEST(Bonds, ShearTwistAndBendingSpringsAct) {
   // The bond centre of sphere 1 moves at v_y + (ω × (-r n))_y = v + r ω_z... the shear
   // displacement of the bond centre: (v - r ωz·(+1)) since ω × (-r x̂) = -r (ω_z ŷ - ω_y ẑ).
   const double shear_velocity = v - r * w;
-  EXPECT_NEAR(bonds.shear_force.y[0], -ks_bar * area * shear_velocity * dt, 1e-15);
-  EXPECT_NEAR(bonds.twist_moment[0], -ks_bar * polar * w * dt, 1e-20);
-  EXPECT_NEAR(bonds.bend_moment.z[0], -kn_bar * 0.5 * polar * w * dt, 1e-20);
+  EXPECT_NEAR(bonds.history[0].shear_force[1], -ks_bar * area * shear_velocity * dt, 1e-15);
+  EXPECT_NEAR(bonds.history[0].twist_moment, -ks_bar * polar * w * dt, 1e-20);
+  EXPECT_NEAR(bonds.history[0].bend_moment[2], -kn_bar * 0.5 * polar * w * dt, 1e-20);
   // Equal and opposite forces; the torques balance the couple of the shear force about the
   // centres: τ1 + τ2 + (x2 - x1) × F2 = 0.
   const double couple_z = 2 * r * out.force[1];
@@ -90,15 +90,15 @@ TEST(Bonds, ShearForceTurnsWithTheBond) {
   SphereState s = pair_state();
   BondSet bonds = create_bonds(s, 1.15, stiff());
   const std::vector<double> motion = still_motion(s);
-  bonds.shear_force.y[0] = 3.0;
+  bonds.history[0].shear_force[1] = 3.0;
   // The pair turned by 2° about z: the shear force keeps its length and lies in the new plane
   // normal to the bond.
   const double angle = 2.0 * std::numbers::pi / 180.0;
   s.position.x[1] = 2 * r * std::cos(angle);
   s.position.y[1] = 2 * r * std::sin(angle);
   compute_bond_forces(bonds, s, motion.data(), Box{}, 1e-6, false);
-  const double fx = bonds.shear_force.x[0], fy = bonds.shear_force.y[0],
-               fz = bonds.shear_force.z[0];
+  const double fx = bonds.history[0].shear_force[0], fy = bonds.history[0].shear_force[1],
+               fz = bonds.history[0].shear_force[2];
   EXPECT_NEAR(std::sqrt(fx * fx + fy * fy + fz * fz), 3.0, 1e-12);
   EXPECT_NEAR(fx * std::cos(angle) + fy * std::sin(angle), 0.0, 1e-12);
   EXPECT_NEAR(fx, -3.0 * std::sin(angle), 1e-12);
@@ -120,7 +120,7 @@ TEST(Bonds, BreakForGoodAtTheTensileStrength) {
   s.position.x[1] -= 1.1 * breaking_stretch;  // back to the start: stays broken
   compute_bond_forces(bonds, s, motion.data(), Box{}, 1e-6, false);
   EXPECT_EQ(bonds.intact_count(), 0);
-  EXPECT_EQ(bonds.normal_force[0], 0.0);
+  EXPECT_EQ(bonds.history[0].normal_force, 0.0);
 }
 
 TEST(Bonds, FreeOscillationKeepsEnergyAndHasTheSpringPeriod) {

@@ -134,12 +134,11 @@ TEST(Clumps, ABondOnAClumpSubSphereIsRefused) {
   BondSet bonds;
   bonds.first = {0};
   bonds.second = {1};
-  for (auto* v : {&bonds.radius, &bonds.normal_spring, &bonds.shear_spring, &bonds.twist_spring,
-                  &bonds.bend_spring, &bonds.tensile_strength, &bonds.shear_strength,
-                  &bonds.damping_ratio, &bonds.length, &bonds.normal_force, &bonds.twist_moment})
+  for (auto* v :
+       {&bonds.radius, &bonds.normal_spring, &bonds.shear_spring, &bonds.twist_spring,
+        &bonds.bend_spring, &bonds.tensile_strength, &bonds.shear_strength, &bonds.damping_ratio})
     v->assign(1, 1.0);
-  bonds.shear_force.resize(1);
-  bonds.bend_moment.resize(1);
+  bonds.history.resize(1);
   bonds.intact = {1};
   EXPECT_THROW(Engine(s, Box{}, rubber(), {}, EngineSettings{1e-6, {0, 0, 0}, 1e-4}, bonds, k),
                InputError);
