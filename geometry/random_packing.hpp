@@ -71,6 +71,9 @@ RandomPacking dense_random_packing(const SignedDistance& shape,
 // (plain 0.53), 6.7 bonds per sphere at N = 545 (plain 7.4). A larger shell (area fraction
 // 0.84) spreads evener (8.6 % at 545) but jams first and leaves the interior loose (r −6 %,
 // 5.3 bonds per sphere); a spacing of 1.1 spreads it a little evener at r −1.5…2.6 %.
+// Not the plate rig's default: its sub-spheres have few bonds into the interior, so the plate
+// first presses a compliant skin, and the BMS force then depends on N more, not less
+// (docs/models.md, "A surface-conforming fill").
 struct ShellPackingOptions {
   RandomPackingOptions packing;
   double shell_area_fraction = 0.6;
