@@ -102,6 +102,7 @@ int run(const FillCli& cli, const RunContext& context) {
           cli.radius.empty() ? 0.0 : parse_quantity(cli.radius, dim::length, "radius");
       options.lattice = cli.lattice == "hcp"      ? Lattice::hcp
                         : cli.lattice == "random" ? Lattice::random
+                        : cli.lattice == "shell"  ? Lattice::shell
                                                   : Lattice::fcc;
       options.placement = cli.placement == "centre" ? Placement::centre : Placement::inside;
       options.bond_multiplier = cli.bond_multiplier;
@@ -148,8 +149,9 @@ StageRunner setup_fill_cli(CLI::App& app) {
       ->check(CLI::Range(1, 1000000));
   app.add_option("--radius", cli->radius, "bms: fixed sub-sphere radius instead of a count");
   app.add_option("--lattice", cli->lattice,
-                 "bms: fcc or hcp lattice, or random (a jammed dense random packing)")
-      ->check(CLI::IsMember({"fcc", "hcp", "random"}))
+                 "bms: fcc or hcp lattice, random (a jammed dense random packing) or shell "
+                 "(random, with an outer layer of sub-spheres touching the surface)")
+      ->check(CLI::IsMember({"fcc", "hcp", "random", "shell"}))
       ->capture_default_str();
   app.add_option("--placement", cli->placement,
                  "bms: 'inside' (spheres wholly inside) or 'centre' (centres inside)")

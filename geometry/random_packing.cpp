@@ -77,16 +77,48 @@ double excursion(const SignedDistance& shape, const Vec3& p, double r, bool whol
   return shape(p) + (wholly_inside ? r : 0.0);
 }
 
+// Moves p onto the offset surface sdf = -level along the distance gradient (Newton steps).
+void onto_offset_surface(const SignedDistance& shape, Vec3& p, double level, double r) {
+  for (int k = 0; k < 20; ++k) {
+    const double off = shape(p) + level;
+    if (std::abs(off) < 1e-9 * r) return;
+    const Vec3 g = shape.gradient(p, 0.05 * r);
+    const double g2 = g.squaredNorm();
+    if (!(g2 > 0.0)) return;
+    p -= off * g / g2;
+  }
+}
+
+// Area of the level set sdf = level, as the volume of the band |sdf - level| < h over 2h, on a
+// grid of `cells` per longest side (h = 2 cells).
+double level_set_area(const SignedDistance& shape, double level, int cells) {
+  const Vec3 size = shape.bounds.size();
+  const double c = size.maxCoeff() / cells;
+  const double h = 2.0 * c;
+  const Eigen::Vector3i n = (size / c).array().ceil().cast<int>().max(1);
+  std::int64_t band = 0;
+  for (int i = 0; i < n.x(); ++i)
+    for (int j = 0; j < n.y(); ++j)
+      for (int k = 0; k < n.z(); ++k)
+        if (std::abs(shape(shape.bounds.lower + c * (Vec3(i, j, k) + Vec3::Constant(0.5))) -
+                     level) < h)
+          ++band;
+  return static_cast<double>(band) * c * c * c / (2.0 * h);
+}
+
 // Relaxes overlaps at radius r: each sweep moves both spheres of every overlapping pair apart by
 // half their overlap and every sphere that left the shape back along the distance gradient,
 // updating positions at once (Gauss–Seidel sweeps over the pairs in a fixed order, so the result
 // is deterministic). Pairs come from a Verlet list of reach 2r + skin, rebuilt when a sphere has
 // moved half the skin since the last build. True when the largest overlap or excursion of a
 // sweep fell below `tolerance` within `steps` sweeps.
+// Spheres i < shell (the surface-conforming layer) are instead held on the offset surface
+// sdf = -r, pulled back onto it from either side, and keep `shell_spacing` × 2r apart from
+// each other.
 bool relax(std::vector<Vec3>& x, double r, const SignedDistance& shape, bool wholly_inside,
-           double tolerance, int steps) {
+           double tolerance, int steps, std::size_t shell = 0, double shell_spacing = 1.0) {
   const double skin = 0.2 * r;
-  const double reach = 2.0 * r + skin;
+  const double reach = 2.0 * r * (shell > 0 ? std::max(1.0, shell_spacing) : 1.0) + skin;
   CellGrid grid(shape.bounds, reach);
   std::vector<std::array<std::int32_t, 2>> pairs;
   std::vector<std::int32_t> near_surface;
@@ -100,34 +132,37 @@ bool relax(std::vector<Vec3>& x, double r, const SignedDistance& shape, bool who
         if (j > i && (x[j] - x[i]).squaredNorm() < reach * reach)
           pairs.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(j)});
       });
-      if (excursion(shape, x[i], r, wholly_inside) > -skin)
+      if (i < shell || excursion(shape, x[i], r, wholly_inside) > -skin)
         near_surface.push_back(static_cast<std::int32_t>(i));
     }
     at_build = x;
   };
   build();
-  const double contact2 = 4.0 * r * r;
+  const double shell_contact = 2.0 * r * shell_spacing;
   for (int step = 0; step < steps; ++step) {
     double worst = 0.0;
     for (const auto& [a, b] : pairs) {
       Vec3& xi = x[static_cast<std::size_t>(a)];
       Vec3& xj = x[static_cast<std::size_t>(b)];
+      const double contact =
+          static_cast<std::size_t>(b) < shell ? shell_contact : 2.0 * r;  // a < b
       const Vec3 d = xj - xi;
       const double d2 = d.squaredNorm();
-      if (d2 >= contact2) continue;
+      if (d2 >= contact * contact) continue;
       const double length = std::sqrt(d2);
       // Coincident centres (only from the random start): part them along a fixed axis.
       const Vec3 n = length > 0.0 ? Vec3(d / length) : Vec3::UnitX();
-      const double overlap = 2.0 * r - length;
+      const double overlap = contact - length;
       worst = std::max(worst, overlap);
       xi -= 0.5 * overlap * n;
       xj += 0.5 * overlap * n;
     }
     for (std::int32_t i : near_surface) {
       Vec3& xi = x[static_cast<std::size_t>(i)];
+      // A shell sphere is pulled back from inside too; the others only from outside.
       const double out = excursion(shape, xi, r, wholly_inside);
-      if (out <= 0.0) continue;
-      worst = std::max(worst, out);
+      if (out == 0.0 || (out < 0.0 && static_cast<std::size_t>(i) >= shell)) continue;
+      worst = std::max(worst, std::abs(out));
       const Vec3 g = shape.gradient(xi, 0.05 * r);
       const double g2 = g.squaredNorm();
       if (g2 > 0.0) xi -= out * g / std::sqrt(g2);
@@ -164,9 +199,13 @@ RandomPacking dense_random_packing(const SignedDistance& shape,
                    Vec3(uniform01(rng), uniform01(rng), uniform01(rng)).cwiseProduct(size);
     if (excursion(shape, p, r, options.wholly_inside) <= 0.0) x.push_back(p);
   }
+  const auto shell = static_cast<std::size_t>(std::clamp(options.shell_count, 0, options.count));
+  for (std::size_t i = 0; i < shell; ++i)
+    onto_offset_surface(shape, x[i], options.wholly_inside ? r : 0.0, r);
   RandomPacking result;
   const double tolerance = 1e-3;  // of the radius: what the final exact radius gives up
-  relax(x, r, shape, options.wholly_inside, tolerance * r, 10 * options.relaxation_steps);
+  relax(x, r, shape, options.wholly_inside, tolerance * r, 10 * options.relaxation_steps, shell,
+        options.shell_spacing);
   // Grow until jammed (see the header). A failed growth is undone, so the accepted state is
   // always relaxed at its radius.
   double factor = 0.02;
@@ -174,7 +213,7 @@ RandomPacking dense_random_packing(const SignedDistance& shape,
     std::vector<Vec3> trial = x;
     const double grown = r * (1.0 + factor);
     if (relax(trial, grown, shape, options.wholly_inside, tolerance * grown,
-              options.relaxation_steps)) {
+              options.relaxation_steps, shell, options.shell_spacing)) {
       x = std::move(trial);
       r = grown;
       ++result.growth_steps;
@@ -221,6 +260,28 @@ RandomPacking dense_random_packing(const SignedDistance& shape,
   result.centres = std::move(x);
   result.solid_fraction =
       static_cast<double>(n) * sphere_volume_per_r3 * exact * exact * exact / volume;
+  return result;
+}
+
+ShellPacking surface_conforming_packing(const SignedDistance& shape,
+                                        const ShellPackingOptions& options) {
+  ShellPacking result;
+  RandomPackingOptions plain = options.packing;
+  plain.shell_count = 0;
+  const RandomPacking reference = dense_random_packing(shape, plain);
+  result.plain_radius = reference.radius;
+  // The offset surface the shell's centres lie on (sdf = -r; the centres of wholly inside
+  // spheres, or the surface itself when only centres must be inside).
+  const double level = options.packing.wholly_inside ? -reference.radius : 0.0;
+  result.offset_area = level_set_area(shape, level, 96);
+  const double disk = std::numbers::pi * reference.radius * reference.radius;
+  result.shell_count = std::clamp(
+      static_cast<int>(std::lround(options.shell_area_fraction * result.offset_area / disk)), 0,
+      options.packing.count);
+  RandomPackingOptions shelled = options.packing;
+  shelled.shell_count = result.shell_count;
+  shelled.shell_spacing = options.shell_spacing;
+  result.packing = dense_random_packing(shape, shelled);
   return result;
 }
 

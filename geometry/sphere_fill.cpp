@@ -101,7 +101,7 @@ void BondedFillOptions::check() const {
         "bond multiplier m_b = {} must be in [1, 1.414): below 1 touching spheres do not bond, "
         "from sqrt(2) second lattice neighbours would bond too",
         bond_multiplier));
-  if (lattice == Lattice::random && sub_sphere_radius > 0.0)
+  if ((lattice == Lattice::random || lattice == Lattice::shell) && sub_sphere_radius > 0.0)
     throw InputError(fmt::format(
         "sub-sphere radius {} m: the random fill takes a count, not a radius (the packing's "
         "radius is where it jams); use the fcc or hcp lattice for a fixed radius",
@@ -136,13 +136,15 @@ SphereTemplate fill_bonded(const SignedDistance& shape, const BondedFillOptions&
 
   double r = options.sub_sphere_radius;
   std::vector<Vec3> sites;
-  if (options.lattice == Lattice::random) {
+  if (options.lattice == Lattice::random || options.lattice == Lattice::shell) {
     RandomPackingOptions packing;
     packing.count = options.target_count;
     packing.wholly_inside = options.placement == Placement::inside;
     packing.seed = options.seed;
     packing.contact_gap = options.bond_multiplier - 1.0;
-    RandomPacking packed = dense_random_packing(shape, packing);
+    RandomPacking packed = options.lattice == Lattice::shell
+                               ? surface_conforming_packing(shape, {packing}).packing
+                               : dense_random_packing(shape, packing);
     r = packed.radius;
     sites = largest_cluster(packed.centres, r, options.bond_multiplier);
   } else if (r > 0.0) {

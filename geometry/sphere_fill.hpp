@@ -29,8 +29,9 @@ struct SphereTemplate {
 };
 
 // fcc, hcp: a lattice at a random orientation and offset; random: no lattice, a jammed dense
-// random packing of exactly the target count (random_packing.hpp; a count, not a radius).
-enum class Lattice { fcc, hcp, random };
+// random packing of exactly the target count (random_packing.hpp; a count, not a radius);
+// shell: the same with a surface-conforming outer layer (surface_conforming_packing).
+enum class Lattice { fcc, hcp, random, shell };
 enum class Placement {
   inside,  // every sub-sphere lies wholly inside the shape
   centre   // every sub-sphere centre lies inside (spheres may cross the surface by < r)

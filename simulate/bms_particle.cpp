@@ -12,6 +12,7 @@ PlateParticle bms_sphere(const MaterialTable& materials, double radius, const Bm
   options.target_count = config.count;
   options.lattice = config.lattice == "hcp"      ? geometry::Lattice::hcp
                     : config.lattice == "random" ? geometry::Lattice::random
+                    : config.lattice == "shell"  ? geometry::Lattice::shell
                                                  : geometry::Lattice::fcc;
   options.placement =
       config.placement == "centre" ? geometry::Placement::centre : geometry::Placement::inside;

@@ -27,6 +27,7 @@ struct CalibrateCli {
   double from = 0.05;
   double to = 0.40;
   int max_evaluations = 40;
+  double initial_factor = 4.0;
   std::string out;
 };
 
@@ -66,6 +67,7 @@ int run(const CalibrateCli& cli) {
   options.from = cli.from;
   options.to = cli.to;
   options.max_evaluations = cli.max_evaluations;
+  options.initial_factor = cli.initial_factor;
   const std::filesystem::path out(cli.out);
   std::filesystem::create_directories(out);
   std::vector<std::string> columns = {"evaluation"};
@@ -151,6 +153,11 @@ StageRunner setup_calibrate_cli(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--to", cli->to, "objective window: highest deformation")->capture_default_str();
   app.add_option("--max-evaluations", cli->max_evaluations, "plate runs at most")
+      ->capture_default_str();
+  app.add_option("--initial-factor", cli->initial_factor,
+                 "first simplex: each parameter times this factor (smaller when the start is "
+                 "already close)")
+      ->check(CLI::Range(1.01, 100.0))
       ->capture_default_str();
   app.add_option("--out", cli->out,
                  "output folder (calibrated.toml, calibration.csv, evaluations.csv, force.csv)")

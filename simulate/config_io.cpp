@@ -190,12 +190,14 @@ PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> 
   c.setup.speed = plate.quantity("speed", dim::velocity, std::nullopt, Range::positive());
   c.setup.max_deformation = plate.number("max_deformation", 0.01, Range{0.0, 0.5, false, false});
   c.setup.records = static_cast<int>(plate.integer("records", 50, Range::closed(1, 100000)));
+  c.setup.ramp = plate.number("ramp", 0.0, Range{0.0, c.setup.max_deformation, true, false});
+  c.setup.symmetric = plate.boolean("symmetric", false);
   c.setup.max_overlap_fraction = c.run.max_overlap_fraction;
   if (root.has("bms")) {
     const ConfigTable t = root.table("bms");
     BmsConfig b;
     b.count = static_cast<int>(t.integer("count", 545, Range::closed(1, 1000000)));
-    b.lattice = t.choice("lattice", {"fcc", "hcp", "random"}, "fcc");
+    b.lattice = t.choice("lattice", {"fcc", "hcp", "random", "shell"}, "fcc");
     b.placement = t.choice("placement", {"inside", "centre"}, "inside");
     b.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
     // m_b <= 1 is refused by create_bonds with the reason; read it unchecked here.
@@ -268,9 +270,12 @@ std::string plate_config_toml(const PlateConfig& c) {
   const auto& names = c.materials.materials;
   out += fmt::format("[sphere]\nradius = {}\nmaterial = \"{}\"\n\n", number(c.setup.radius),
                      names[static_cast<std::size_t>(c.setup.sphere_material)].name);
-  out += fmt::format("[plate]\nmaterial = \"{}\"\nspeed = {}\nmax_deformation = {}\nrecords = {}\n",
-                     names[static_cast<std::size_t>(c.setup.plate_material)].name,
-                     number(c.setup.speed), number(c.setup.max_deformation), c.setup.records);
+  out += fmt::format(
+      "[plate]\nmaterial = \"{}\"\nspeed = {}\nramp = {}\nsymmetric = {}\nmax_deformation = {}\n"
+      "records = {}\n",
+      names[static_cast<std::size_t>(c.setup.plate_material)].name, number(c.setup.speed),
+      number(c.setup.ramp), c.setup.symmetric ? "true" : "false", number(c.setup.max_deformation),
+      c.setup.records);
   if (c.cms) {
     const CmsConfig& m = *c.cms;
     out += fmt::format(

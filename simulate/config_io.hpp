@@ -31,11 +31,12 @@
 //                    at random where they overlap nothing, in the [generate] region (else the
 //                    box), of the particles' material
 // plate only:
-//   [sphere]         radius, material; [plate] material, speed, max_deformation = 0.01,
-//                    records = 50
-//   [bms]            (plate --particle bms) count = 545, lattice = "fcc" | "hcp" | "random",
-//                    placement = "inside" | "centre", seed = 1, bond_multiplier = 1.15 (m_b,
-//                    Eq. 10), material = the sphere's (the sub-spheres' contact material)
+//   [sphere]         radius, material; [plate] material, speed, ramp = 0 (deformation over which
+//                    the top plate speeds up from rest), max_deformation = 0.01, records = 50
+//   [bms]            (plate --particle bms) count = 545,
+//                    lattice = "fcc" | "hcp" | "random" | "shell", placement = "inside" |
+//                    "centre", seed = 1, bond_multiplier = 1.15 (m_b, Eq. 10),
+//                    material = the sphere's (the sub-spheres' contact material)
 //   [bond]           normal_stiffness, shear_stiffness (k̄n, k̄s, N/m^3) | modulus (Ē, Pa) with
 //                    shear_ratio = 1 (k̄s/k̄n); radius_multiplier = 1 (λ̄),
 //                    tensile_strength, shear_strength (Pa, default unbreakable),
@@ -109,7 +110,9 @@ CompactConfig read_compact_config(const ConfigTable& root);
 // A bonded multi-sphere particle filling the plate rig's sphere (plate --particle bms).
 struct BmsConfig {
   int count = 545;
-  std::string lattice = "fcc";  // or "hcp", or "random" (a dense random packing)
+  // or "hcp", "random" (a dense random packing), "shell" (the same with a surface-conforming
+  // outer layer, geometry/random_packing.hpp)
+  std::string lattice = "fcc";
   std::string placement = "inside";
   std::uint64_t seed = 1;
   double bond_multiplier = 1.15;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <numbers>
 
 #include "common/error.hpp"
 #include "simulate/engine.hpp"
@@ -32,6 +33,8 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   if (!(setup.max_deformation > 0.0 && setup.max_deformation < 0.5))
     throw InputError("plate: max_deformation must be in (0, 0.5)");
   if (setup.records < 1) throw InputError("plate: records must be >= 1");
+  if (!(setup.ramp >= 0.0 && setup.ramp < setup.max_deformation))
+    throw InputError("plate: ramp must be in [0, max_deformation)");
   SphereState& s = particle.spheres;
   if (s.size() == 0) throw InputError("plate: no sphere to press");
   // Plates touch the particle's lowest and highest points: a BMS agglomerate is a little
@@ -46,8 +49,17 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
     r_min = std::min(r_min, s.radius[i]);
   }
   const double gap0 = high - low;
-  std::vector<PlaneWall> walls = {PlaneWall{low, 1, 0.0, setup.plate_material},
-                                  PlaneWall{high, -1, -setup.speed, setup.plate_material}};
+  // The sin² ramp covers approach speed t_ramp / 2 (the mean of sin² is 1/2).
+  const double ramp_time = 2.0 * setup.ramp * 2.0 * setup.radius / setup.speed;
+  const auto plate_speed = [&](double t) {
+    if (t >= ramp_time) return setup.speed;
+    const double s = std::sin(0.5 * std::numbers::pi * t / ramp_time);
+    return setup.speed * s * s;
+  };
+  const double top_share = setup.symmetric ? 0.5 : 1.0;
+  std::vector<PlaneWall> walls = {
+      PlaneWall{low, 1, (1.0 - top_share) * plate_speed(0.0), setup.plate_material},
+      PlaneWall{high, -1, -top_share * plate_speed(0.0), setup.plate_material}};
   EngineSettings settings{setup.time_step, {0.0, 0.0, 0.0}, 0.1 * r_min};
   settings.check_every = 1000;
   settings.max_overlap_fraction = setup.max_overlap_fraction;
@@ -66,6 +78,10 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   const auto wall_start = std::chrono::steady_clock::now();
   int next = 1;
   while (next <= setup.records) {
+    // The speed at the step's midpoint: the wall moves by it over the step.
+    const double speed = plate_speed(engine.time() + 0.5 * setup.time_step);
+    engine.walls()[0].velocity = (1.0 - top_share) * speed;
+    engine.walls()[1].velocity = -top_share * speed;
     engine.step();
     const double approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
     if (approach >= final_approach * next / setup.records) {

@@ -22,7 +22,15 @@ struct PlateSetup {
   double radius = 0.0;  // m, of the sphere (of the shape a BMS particle fills)
   int sphere_material = 0;
   int plate_material = 0;
-  double speed = 0.0;                 // m/s, top plate approach speed
+  double speed = 0.0;  // m/s, top plate approach speed
+  // Deformation (approach / 2R) over which the top plate speeds up from rest to `speed`, with
+  // v = speed sin²(π t / 2 t_ramp) (no jump in velocity or acceleration at the touch, so the
+  // first sub-spheres are not knocked in and no wave is launched); 0: full speed at the touch.
+  double ramp = 0.0;
+  // Both plates approach, each at speed/2 (same approach rate, so the same cost): the particle's
+  // centre stays at rest instead of being carried at speed/2, which takes the rigid-body share
+  // out of the kinetic energy and halves every plate–sub-sphere impact speed.
+  bool symmetric = false;
   double max_deformation = 0.01;      // total approach / 2R at the end
   int records = 50;                   // rows, evenly spaced in approach
   double time_step = 0.0;             // s

@@ -78,8 +78,14 @@ TEST(BmsPlateCli, BadInputExitsTwoNamingTheCause) {
   EXPECT_THAT(r.output, HasSubstr("m_b = 1 must be > 1"));
   r = run_shapepress("--quiet plate --particle bms --count 100 --out " + shell_quoted(dir / "b") +
                      " --config " +
-                     shell_quoted(variant(dir, "normal_stiffness = \"1.15e6 N/m\\^3\"",
-                                          "normal_stiffness = \"-1.15e6 N/m^3\"")));
+                     shell_quoted(variant(dir, "\nmodulus = \"", "\nmodulus = \"-")));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("bond modulus"));
+  r = run_shapepress(
+      "--quiet plate --particle bms --count 100 --out " + shell_quoted(dir / "b2") + " --config " +
+      shell_quoted(
+          variant(dir, "\nmodulus = \"[^\"]*\"\nshear_ratio = [^\n]*\n",
+                  "\nnormal_stiffness = \"-1.15e6 N/m^3\"\nshear_stiffness = \"1.25e6 N/m^3\"\n")));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("normal stiffness"));
   r = run_shapepress("--quiet plate --config " + shell_quoted(shipped) +

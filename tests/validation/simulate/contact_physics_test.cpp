@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/error.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/plate.hpp"
 #include "simulate/timestep.hpp"
@@ -56,6 +57,37 @@ TEST(Hertz, SphereBetweenPlatesWithinHalfAPercentUpToOnePercentDeformation) {
       EXPECT_NEAR(row.bottom_force / row.hertz_force, 1.0, 0.005) << c.sphere.name;
     }
   }
+}
+
+TEST(Hertz, RampedSymmetricPlatesPressTheSameCurveInTheExpectedTime) {
+  // [plate] ramp and symmetric: both plates approach at speed/2 after a sin² start. The curve
+  // is Hertz's as with one plate, both plates carry it, and the run takes the ramp's extra time
+  // (the ramp covers its deformation in twice the full-speed time).
+  const Material rubber{"rubber", 18.5e6, 0.46, 1100.0}, steel{"steel", 210e9, 0.3, 7800.0};
+  const MaterialTable table({rubber, steel}, {{"rubber", "steel", 0.9, 0.5, 0.0}});
+  PlateSetup setup;
+  setup.radius = 10e-3;
+  setup.sphere_material = 0;
+  setup.plate_material = 1;
+  const double t_r =
+      rayleigh_time(setup.radius, rubber.density, rubber.youngs_modulus, rubber.poisson_ratio);
+  setup.speed = 0.02 * setup.radius / (400.0 * t_r);
+  setup.time_step = 0.2 * t_r;
+  setup.max_deformation = 0.01;
+  setup.ramp = 0.004;
+  setup.symmetric = true;
+  setup.records = 20;
+  const std::vector<PlateRow> rows = run_plate(table, setup);
+  ASSERT_EQ(rows.size(), 20u);
+  for (const PlateRow& row : rows) {
+    if (row.deformation < 0.002) continue;
+    EXPECT_NEAR(row.top_force / row.hertz_force, 1.0, 0.005) << "at " << row.deformation;
+    EXPECT_NEAR(row.bottom_force / row.hertz_force, 1.0, 0.005) << "at " << row.deformation;
+  }
+  const double expected = (setup.max_deformation + setup.ramp) * 2.0 * setup.radius / setup.speed;
+  EXPECT_NEAR(rows.back().time, expected, 2.0 * setup.time_step);
+  setup.ramp = setup.max_deformation;  // the ramp must end before the run does
+  EXPECT_THROW(run_plate(table, setup), InputError);
 }
 
 // Measured restitution of a head-on impact: relative normal speed after / before.
