@@ -102,12 +102,25 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   // contact that opens, as the continuous run does (a spring is non-zero only while touching).
   wall_touching_.assign(walls_.size(), std::vector<std::uint8_t>(state_.size(), 1));
   wall_force_ = std::move(checkpoint.wall_force);
-  // Rebuild without wrapping: the continuous run wraps only at its own builds, and the shifts
-  // come from the current (possibly unwrapped) positions, so the same pairs see the same
-  // geometry. Non-touching pairs add exact zeros, so the list's extra pairs change no sum.
+  // The continuous run's list and wall candidates: built, without wrapping, from the positions
+  // of its last build (and the walls then), so the rebuild test, which measures from there,
+  // holds for them exactly as it does in the continuous run. Snapshots without the walls'
+  // build positions use the current ones (the test still holds: it needs the list's positions,
+  // whichever they are).
+  if (checkpoint.build_reference.size() != state_.size())
+    throw InputError("checkpoint: build reference does not match the spheres");
+  const Vec3Array current = state_.position;
+  std::vector<double> current_walls(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    current_walls[k] = walls_[k].position;
+    if (checkpoint.build_wall_position.size() == walls_.size())
+      walls_[k].position = checkpoint.build_wall_position[k];
+  }
+  state_.position = checkpoint.build_reference;
   build_list(false);
-  build_reference_ = std::move(checkpoint.build_reference);
-  build_wall_position_ = std::move(checkpoint.build_wall_position);
+  state_.position = current;
+  for (std::size_t k = 0; k < walls_.size(); ++k)
+    walls_[k].position = current_walls[k];
   PairList touching;
   touching.first = std::move(checkpoint.first);
   touching.second = std::move(checkpoint.second);
