@@ -196,7 +196,8 @@ void Engine::build_list(bool wrap) {
   std::vector<std::uint8_t> touching(next.size(), 0);
   const auto n = static_cast<std::int64_t>(state_.size());
   const bool had_list = pairs_.first_offset.size() == static_cast<std::size_t>(n) + 1;
-#pragma omp parallel if (next.size() >= static_cast <std::size_t>(parallel_min_pairs) && had_list)
+  const bool split = had_list && next.size() >= static_cast<std::size_t>(parallel_min_pairs);
+#pragma omp parallel if (split)
   {
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
     const std::int64_t sphere_begin = n * rank / team, sphere_end = n * (rank + 1) / team;
