@@ -2,6 +2,7 @@
 // Scratch folders and files for end-to-end tests.
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 namespace shapepress::testing {
@@ -28,6 +29,14 @@ inline std::string shell_quoted(const std::filesystem::path& p) {
 
 inline void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream(path) << text;
+}
+
+// A whole file as text (empty when it cannot be read: the caller's expectations then fail).
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace shapepress::testing

@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 
 #include "tests/support/command.hpp"
@@ -16,6 +15,7 @@ namespace shapepress {
 namespace {
 
 using shapepress::testing::fresh_directory;
+using shapepress::testing::read_text;
 using shapepress::testing::run_command;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::write_text;
@@ -24,13 +24,6 @@ using ::testing::Not;
 
 const std::filesystem::path data = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis";
 const std::filesystem::path repo = shapepress::testing::repository_root();
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // The values of a metric in metrics.json, one per run that has it, in run order.
 std::vector<double> metric(const std::string& json, const std::string& name) {

@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "common/csv.hpp"
@@ -18,6 +16,7 @@ namespace shapepress {
 namespace {
 
 using shapepress::testing::fresh_directory;
+using shapepress::testing::read_text;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
 using shapepress::testing::write_text;
@@ -25,13 +24,6 @@ using ::testing::HasSubstr;
 
 const std::filesystem::path repo = shapepress::testing::repository_root();
 const std::filesystem::path shipped = repo / "pipelines/configs/rubber-sphere.toml";
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 TEST(CmsPlateCli, WritesTheBmsForceColumnsAndClumpAxes) {
   const auto dir = fresh_directory("cms_plate");

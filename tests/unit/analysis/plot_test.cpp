@@ -6,14 +6,15 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::analysis {
 namespace {
+
+using shapepress::testing::read_text;
 
 Chart two_series() {
   return {"Test chart",
@@ -23,13 +24,6 @@ Chart two_series() {
           "stress_MPa",
           {{"load", {0.0, 0.1, 0.2}, {0.0, 1.0, 4.0}},
            {"unload, it's dashed", {0.2, 0.15}, {4.0, 0.0}, SeriesStyle::dashed}}};
-}
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 class PlotTest : public ::testing::Test {
