@@ -385,7 +385,7 @@ void Engine::index_cross_chunk_pairs() {
   const std::int64_t n = static_cast<std::int64_t>(state_.size());
   cross_second_end_.resize(static_cast<std::size_t>(n));
   for (std::int64_t chunk = 0; chunk < force_chunks_; ++chunk) {
-    const std::int64_t begin = n * chunk / force_chunks_, end = n * (chunk + 1) / force_chunks_;
+    const std::int64_t begin = chunk_start(chunk), end = chunk_start(chunk + 1);
     for (std::int64_t i = begin; i < end; ++i) {
       std::int32_t e = pairs_.second_offset[i];
       while (e < pairs_.second_offset[i + 1] && pairs_.first[pairs_.second_pairs[e]] < begin)
@@ -408,14 +408,18 @@ void Engine::find_wall_candidates() {
         near.push_back(static_cast<std::int32_t>(i));
       } else if (k < wall_touching_.size() && i < wall_touching_[k].size() &&
                  wall_touching_[k][i]) {
-        // Its contact opened since the last evaluation: released as the gather would.
-        wall_history_[k][i] = ContactHistory{};
-        wall_touching_[k][i] = 0;
-        if (k < wall_force_per_sphere_.size() && i < wall_force_per_sphere_[k].size())
-          wall_force_per_sphere_[k][i] = 0.0;
+        release_wall_contact(k, i);  // opened since the last evaluation, as the gather would
       }
     }
   }
+}
+
+void Engine::release_wall_contact(std::size_t wall, std::size_t sphere) {
+  wall_history_[wall][sphere] = ContactHistory{};
+  wall_touching_[wall][sphere] = 0;
+  // (a restarted engine has no per-sphere wall forces until its first gather)
+  if (wall < wall_force_per_sphere_.size() && sphere < wall_force_per_sphere_[wall].size())
+    wall_force_per_sphere_[wall][sphere] = 0.0;
 }
 
 void Engine::index_bonded_pairs() {

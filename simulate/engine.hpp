@@ -213,6 +213,17 @@ class Engine {
     double force[3] = {0.0, 0.0, 0.0};
     double torque[3] = {0.0, 0.0, 0.0};
   };
+  // Chunk c holds spheres [chunk_start(c), chunk_start(c + 1)); thread `rank` of `team` takes
+  // chunks [thread_chunk_start(rank, team), thread_chunk_start(rank + 1, team)) in both force
+  // loops, so the gather reads the sums its own thread wrote.
+  std::int64_t chunk_start(std::int64_t chunk) const {
+    return static_cast<std::int64_t>(state_.size()) * chunk / force_chunks_;
+  }
+  std::int64_t thread_chunk_start(std::int64_t rank, std::int64_t team) const {
+    return force_chunks_ * rank / team;
+  }
+  // A wall contact that opened: its spring, flag and force go back to zero.
+  void release_wall_contact(std::size_t wall, std::size_t sphere);
   std::vector<SphereSums> sphere_sums_;
   std::vector<std::int32_t> cross_second_end_;
   std::int64_t force_chunks_ = 1;

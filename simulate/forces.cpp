@@ -86,7 +86,6 @@ void Engine::pair_forces_with() {
   const std::uint8_t* bond_intact = bonds_.intact.data();
   const std::int32_t* __restrict first_offset = pairs_.first_offset.data();
   const std::int64_t spheres = static_cast<std::int64_t>(s.size());
-  const std::int64_t chunks = force_chunks_;
   sphere_sums_.resize(static_cast<std::size_t>(spheres));
   SphereSums* __restrict sums = sphere_sums_.data();
   PairResult* __restrict results = pair_results_.data();
@@ -96,9 +95,9 @@ void Engine::pair_forces_with() {
     // Each thread takes whole chunks of spheres (force_chunks_, fixed by the sphere count):
     // the order of every sum is then the same for any number of threads.
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
-    for (std::int64_t chunk = chunks * rank / team; chunk < chunks * (rank + 1) / team; ++chunk) {
-      const std::int64_t sphere_begin = spheres * chunk / chunks;
-      const std::int64_t sphere_end = spheres * (chunk + 1) / chunks;
+    for (std::int64_t chunk = thread_chunk_start(rank, team);
+         chunk < thread_chunk_start(rank + 1, team); ++chunk) {
+      const std::int64_t sphere_begin = chunk_start(chunk), sphere_end = chunk_start(chunk + 1);
       // Two passes over the chunk's pairs. The first selects the touching pairs without a
       // branch on the outcome (about half the list pairs touch in a dense bed, so a branch
       // there mispredicts all the time) and releases the contacts that just opened; the second
@@ -301,10 +300,11 @@ void Engine::gather_forces_with(double kick) {
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
     constexpr std::int64_t no_sphere = std::numeric_limits<std::int64_t>::max();
     std::vector<const std::int32_t*> cursor(wall_count), stop(wall_count);
-    for (std::int64_t chunk = chunks * rank / team; chunk < chunks * (rank + 1) / team; ++chunk) {
+    for (std::int64_t chunk = thread_chunk_start(rank, team);
+         chunk < thread_chunk_start(rank + 1, team); ++chunk) {
       double* __restrict wall_sum = chunk_force + chunk * static_cast<std::int64_t>(wall_count);
       std::int64_t wall_contact_count = 0;
-      const std::int64_t chunk_begin = n * chunk / chunks;
+      const std::int64_t chunk_begin = chunk_start(chunk), chunk_end = chunk_start(chunk + 1);
       std::int64_t next_near = no_sphere;
       for (std::size_t k = 0; k < wall_count; ++k) {
         const std::vector<std::int32_t>& near = wall_candidates_[k];
@@ -312,7 +312,7 @@ void Engine::gather_forces_with(double kick) {
         stop[k] = near.data() + near.size();
         if (cursor[k] != stop[k]) next_near = std::min<std::int64_t>(next_near, *cursor[k]);
       }
-      for (std::int64_t i = chunk_begin; i < n * (chunk + 1) / chunks; ++i) {
+      for (std::int64_t i = chunk_begin; i < chunk_end; ++i) {
         double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
         double arm_force = 0.0;  // Σ rc Fn
         const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
@@ -360,11 +360,7 @@ void Engine::gather_forces_with(double kick) {
             const WallView& w = walls[k];
             const double gap = w.facing * (zi - w.position);
             if (gap >= ri) {  // most spheres, most steps: nothing to write
-              if (wall_touching[k][i]) {
-                wall_history_[k][i] = ContactHistory{};
-                wall_touching[k][i] = 0;
-                wall_force_per_sphere[k][i] = 0.0;
-              }
+              if (wall_touching[k][i]) release_wall_contact(k, static_cast<std::size_t>(i));
               continue;
             }
             ContactKinematics c;

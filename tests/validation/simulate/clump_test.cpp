@@ -256,11 +256,7 @@ TEST(Clump, OneSphereClumpBetweenPlatesIsTheHertzSphere) {
 // Plain spheres and clumps poured into a periodic box under a moving punch: clumps collide
 // with spheres, each other and the walls, on enough spheres and pairs that both parallel loops
 // run on two threads.
-struct ClumpScene {
-  std::unique_ptr<Engine> engine;
-  CompactionSetup setup;
-  PunchState punch;
-};
+using ClumpScene = testing::CompactionScene;
 ClumpScene clump_scene() {
   const MaterialTable table = one_material(0.5, 0.5, 0.02);
   const double length = 14e-3, height = 30e-3;
@@ -305,18 +301,13 @@ ClumpScene clump_scene() {
                                            k.rotation[c].principal_inertia[1] * -100.0,
                                            k.rotation[c].principal_inertia[2] * 50.0};
   }
-  ClumpScene scene;
-  scene.engine = std::make_unique<Engine>(
-      std::move(s), box, table,
-      std::vector<PlaneWall>{PlaneWall{0.0, 1, 0.0, 0}, PlaneWall{height, -1, 0.0, 0}},
-      EngineSettings{testing::default_time_step(table, 0.25e-3), {0, 0, -9.81}, 0.1e-3}, BondSet{},
-      std::move(k));
-  scene.setup.program.speed = 2.0;
-  scene.setup.die_area = length * length;
-  scene.setup.reference_gap = height;
-  scene.setup.record_every = 0;
-  scene.punch.reference_gap = height;
-  return scene;
+  return testing::punch_at_two_metres_per_second(
+      std::make_unique<Engine>(
+          std::move(s), box, table,
+          std::vector<PlaneWall>{PlaneWall{0.0, 1, 0.0, 0}, PlaneWall{height, -1, 0.0, 0}},
+          EngineSettings{testing::default_time_step(table, 0.25e-3), {0, 0, -9.81}, 0.1e-3},
+          BondSet{}, std::move(k)),
+      length, height);
 }
 
 void expect_same_clumps(const Engine& a, const Engine& b) {

@@ -60,19 +60,27 @@ struct CompactionScene {
   CompactionSetup setup;
   PunchState punch;
 };
-inline CompactionScene compaction_scene(const MaterialTable& table) {
-  const double length = 14e-3, height = 30e-3;
+// `engine` in a length × length die whose punch starts at `height` and moves down at 2 m/s.
+inline CompactionScene punch_at_two_metres_per_second(std::unique_ptr<Engine> engine, double length,
+                                                      double height) {
   CompactionScene scene;
-  scene.engine = std::make_unique<Engine>(
-      random_gas(2500, length, height, 0.2, 5), Box{length, length}, table,
-      std::vector<PlaneWall>{PlaneWall{0.0, 1, 0.0, 0}, PlaneWall{height, -1, 0.0, 0}},
-      EngineSettings{default_time_step(table, 0.4e-3), {0, 0, -9.81}, 0.1e-3});
+  scene.engine = std::move(engine);
   scene.setup.program.speed = 2.0;
   scene.setup.die_area = length * length;
   scene.setup.reference_gap = height;
   scene.setup.record_every = 0;
   scene.punch.reference_gap = height;
   return scene;
+}
+
+inline CompactionScene compaction_scene(const MaterialTable& table) {
+  const double length = 14e-3, height = 30e-3;
+  return punch_at_two_metres_per_second(
+      std::make_unique<Engine>(
+          random_gas(2500, length, height, 0.2, 5), Box{length, length}, table,
+          std::vector<PlaneWall>{PlaneWall{0.0, 1, 0.0, 0}, PlaneWall{height, -1, 0.0, 0}},
+          EngineSettings{default_time_step(table, 0.4e-3), {0, 0, -9.81}, 0.1e-3}),
+      length, height);
 }
 
 // The determinism checks (1 vs 2 threads, restart vs continuous run): every quantity a later
