@@ -24,6 +24,7 @@ struct CalibrateCli {
   std::string fit = "modulus,shear_ratio";
   std::string start;  // "name=value,..."
   int count = 0;
+  int fills = 0;
   double from = 0.05;
   double to = 0.40;
   int max_evaluations = 40;
@@ -49,6 +50,7 @@ int run(const CalibrateCli& cli) {
   root.check_unknown_keys();
   if (!config.bms) throw InputError(cli.config + ": calibrate needs a [bms] particle and [bond]");
   if (cli.count > 0) config.bms->count = cli.count;
+  if (cli.fills > 0) config.bms->fills = cli.fills;
   const CsvTable reference = read_csv(cli.reference);
   CalibrationOptions options;
   options.parameters = split_names(cli.fit);
@@ -76,9 +78,12 @@ int run(const CalibrateCli& cli) {
   columns.insert(columns.end(), {"rms_relative", "wall_s"});
   CsvWriter log(out / "evaluations.csv", columns);
   log.comment(
-      fmt::format("shapepress calibrate: {} sub-spheres, RMS relative force error over "
-                  "deformation [{}, {}] against {}:{}",
-                  config.bms->count, cli.from, cli.to, cli.reference, cli.y_column));
+      fmt::format("shapepress calibrate: {} sub-spheres, {} (seed {}), RMS relative force "
+                  "error over deformation [{}, {}] against {}:{}",
+                  config.bms->count,
+                  config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
+                                        : std::string("one fill"),
+                  config.bms->seed, cli.from, cli.to, cli.reference, cli.y_column));
   int index = 0;
   const CalibrationResult result =
       calibrate_plate(config, options, [&](const CalibrationEvaluation& e) {
@@ -101,10 +106,10 @@ int run(const CalibrateCli& cli) {
   // Fitted values beside the start and the paper's (per unit area k̄n, k̄s at this fill).
   CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted", "paper"});
   summary.comment(fmt::format(
-      "N = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = {:.6g} over "
-      "[{}, {}]; converged = {}; evaluations = {}",
-      result.best.spheres, result.best.sub_sphere_radius, result.rms_relative, result.max_relative,
-      cli.from, cli.to, result.converged ? 1 : 0, result.evaluations.size()));
+      "N = {}, fills = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = "
+      "{:.6g} over [{}, {}]; converged = {}; evaluations = {}",
+      result.best.spheres, result.best.fills, result.best.sub_sphere_radius, result.rms_relative,
+      result.max_relative, cli.from, cli.to, result.converged ? 1 : 0, result.evaluations.size()));
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
     summary.row_text({options.parameters[k], format_number(result.start[k]),
                       format_number(result.values[k]), ""});
@@ -149,6 +154,10 @@ StageRunner setup_calibrate_cli(CLI::App& app) {
                  "(e.g. modulus=3e6,contact_modulus=1.85e9)");
   app.add_option("--count", cli->count, "sub-spheres (overrides bms.count)")
       ->check(CLI::Range(1, 1000000));
+  app.add_option("--fills", cli->fills,
+                 "fit the mean curve of this many fills (seeds seed, seed + 1, …; overrides "
+                 "bms.fills)")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--from", cli->from, "objective window: lowest deformation")
       ->capture_default_str();
   app.add_option("--to", cli->to, "objective window: highest deformation")->capture_default_str();

@@ -26,6 +26,8 @@ struct PlateCli {
   std::string particle = "sphere";
   int count = 0;
   int spheres = 0;
+  int fills = 0;
+  std::int64_t seed = -1;
   bool snapshot = false;
 };
 
@@ -49,6 +51,11 @@ int run(const PlateCli& cli, const RunContext& context) {
   if (cli.count > 0) {
     if (!bonded) throw InputError("--count is the number of sub-spheres of --particle bms");
     config.bms->count = cli.count;
+  }
+  if (cli.fills > 0 || cli.seed >= 0) {
+    if (!bonded) throw InputError("--fills and --seed are the random fills of --particle bms");
+    if (cli.fills > 0) config.bms->fills = cli.fills;
+    if (cli.seed >= 0) config.bms->seed = static_cast<std::uint64_t>(cli.seed);
   }
   if (cli.spheres > 0) {
     if (kind != PlateParticleKind::cms)
@@ -97,6 +104,12 @@ StageRunner setup_plate_cli(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--count", cli->count, "bms: number of sub-spheres (overrides bms.count)")
       ->check(CLI::Range(1, 1000000));
+  app.add_option("--fills", cli->fills,
+                 "bms: mean curve of this many fills, seeds seed, seed + 1, … (overrides "
+                 "bms.fills; run side by side on the --threads)")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--seed", cli->seed, "bms: seed of the (first) fill (overrides bms.seed)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--spheres", cli->spheres,
                  "cms: number of overlapping sub-spheres asked of the filler (overrides "
                  "cms.count)")

@@ -29,6 +29,7 @@ EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double
   const double d_min = 2.0 * *std::min_element(s.radius.begin(), s.radius.end());
   settings.skin = c.run.skin ? *c.run.skin : 0.1 * d_min;
   settings.max_overlap_fraction = c.run.max_overlap_fraction;
+  settings.local_damping = c.run.local_damping;
   return settings;
 }
 

@@ -70,6 +70,7 @@ RunConfig read_run(const ConfigTable& root) {
     run.gravity = {g[0], g[1], g[2]};
   }
   run.max_overlap_fraction = t.number("max_overlap_fraction", 0.5, Range::open_closed(0.0, 1.0));
+  run.local_damping = t.number("local_damping", 0.0, Range{0.0, 1.0, true, false});
   return run;
 }
 
@@ -192,7 +193,11 @@ PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> 
   c.setup.records = static_cast<int>(plate.integer("records", 50, Range::closed(1, 100000)));
   c.setup.ramp = plate.number("ramp", 0.0, Range{0.0, c.setup.max_deformation, true, false});
   c.setup.symmetric = plate.boolean("symmetric", false);
+  if (plate.has("final_speed"))
+    c.setup.final_speed =
+        plate.quantity("final_speed", dim::velocity, std::nullopt, Range::positive());
   c.setup.max_overlap_fraction = c.run.max_overlap_fraction;
+  c.setup.local_damping = c.run.local_damping;
   if (root.has("bms")) {
     const ConfigTable t = root.table("bms");
     BmsConfig b;
@@ -200,6 +205,7 @@ PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> 
     b.lattice = t.choice("lattice", {"fcc", "hcp", "random", "shell"}, "fcc");
     b.placement = t.choice("placement", {"inside", "centre"}, "inside");
     b.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
+    b.fills = static_cast<int>(t.integer("fills", 1, Range::closed(1, 1000)));
     // m_b <= 1 is refused by create_bonds with the reason; read it unchecked here.
     b.bond_multiplier = t.number("bond_multiplier", 1.15);
     b.material = t.has("material") ? t.string("material") : sphere.string("material");
@@ -265,8 +271,9 @@ std::string plate_config_toml(const PlateConfig& c) {
   const RunConfig& r = c.run;
   out += "[run]\n";
   if (r.time_step) out += fmt::format("time_step = {}\n", number(*r.time_step));
-  out += fmt::format("time_step_fraction = {}\nmax_overlap_fraction = {}\n\n",
-                     number(r.time_step_fraction), number(r.max_overlap_fraction));
+  out += fmt::format("time_step_fraction = {}\nmax_overlap_fraction = {}\nlocal_damping = {}\n\n",
+                     number(r.time_step_fraction), number(r.max_overlap_fraction),
+                     number(r.local_damping));
   const auto& names = c.materials.materials;
   out += fmt::format("[sphere]\nradius = {}\nmaterial = \"{}\"\n\n", number(c.setup.radius),
                      names[static_cast<std::size_t>(c.setup.sphere_material)].name);
@@ -276,6 +283,8 @@ std::string plate_config_toml(const PlateConfig& c) {
       names[static_cast<std::size_t>(c.setup.plate_material)].name, number(c.setup.speed),
       number(c.setup.ramp), c.setup.symmetric ? "true" : "false", number(c.setup.max_deformation),
       c.setup.records);
+  if (c.setup.final_speed > 0.0)
+    out += fmt::format("final_speed = {}\n", number(c.setup.final_speed));
   if (c.cms) {
     const CmsConfig& m = *c.cms;
     out += fmt::format(
@@ -287,9 +296,9 @@ std::string plate_config_toml(const PlateConfig& c) {
   if (!c.bms) return out;
   const BmsConfig& b = *c.bms;
   out += fmt::format(
-      "\n[bms]\ncount = {}\nlattice = \"{}\"\nplacement = \"{}\"\nseed = {}\n"
+      "\n[bms]\ncount = {}\nlattice = \"{}\"\nplacement = \"{}\"\nseed = {}\nfills = {}\n"
       "bond_multiplier = {}\nmaterial = \"{}\"\n\n[bond]\n",
-      b.count, b.lattice, b.placement, b.seed, number(b.bond_multiplier), b.material);
+      b.count, b.lattice, b.placement, b.seed, b.fills, number(b.bond_multiplier), b.material);
   const BondParameters& p = b.bond;
   if (p.modulus > 0.0)
     out +=

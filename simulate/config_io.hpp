@@ -10,7 +10,8 @@
 //   [run]            time_step (fixed) | time_step_fraction = 0.2 (of the Rayleigh time),
 //                    steps = 0 (0: until the punch program ends), record_every = 100,
 //                    snapshot_every = 0, skin = 0.1 × smallest diameter, gravity = [0,0,0] m/s²,
-//                    max_overlap_fraction = 0.5
+//                    max_overlap_fraction = 0.5, local_damping = 0 (Cundall's α, [0, 1):
+//                    for quasi-static loading; engine.hpp)
 // compact only:
 //   [box]            x, y (periodic lengths), bottom = 0, punch (initial punch height)
 //   [particles]      material; [walls] material
@@ -32,10 +33,13 @@
 //                    box), of the particles' material
 // plate only:
 //   [sphere]         radius, material; [plate] material, speed, ramp = 0 (deformation over which
-//                    the top plate speeds up from rest), max_deformation = 0.01, records = 50
+//                    the top plate speeds up from rest), final_speed = speed (reached at
+//                    max_deformation, linearly in deformation after the ramp), symmetric = false,
+//                    max_deformation = 0.01, records = 50
 //   [bms]            (plate --particle bms) count = 545,
 //                    lattice = "fcc" | "hcp" | "random" | "shell", placement = "inside" |
-//                    "centre", seed = 1, bond_multiplier = 1.15 (m_b, Eq. 10),
+//                    "centre", seed = 1, fills = 1 (the mean curve of fills of seeds seed,
+//                    seed + 1, …), bond_multiplier = 1.15 (m_b, Eq. 10),
 //                    material = the sphere's (the sub-spheres' contact material)
 //   [bond]           normal_stiffness, shear_stiffness (k̄n, k̄s, N/m^3) | modulus (Ē, Pa) with
 //                    shear_ratio = 1 (k̄s/k̄n); radius_multiplier = 1 (λ̄),
@@ -75,6 +79,7 @@ struct RunConfig {
   std::optional<double> skin;
   std::array<double, 3> gravity = {0.0, 0.0, 0.0};
   double max_overlap_fraction = 0.5;
+  double local_damping = 0.0;  // α, EngineSettings::local_damping
 };
 RunConfig read_run(const ConfigTable& root);
 
@@ -115,6 +120,10 @@ struct BmsConfig {
   std::string lattice = "fcc";
   std::string placement = "inside";
   std::uint64_t seed = 1;
+  // Fills of seeds seed, seed + 1, … pressed alike, whose mean curve the run reports (with the
+  // spread): one random fill's curve is one sample of the model, the plates meeting whichever
+  // sub-spheres happen to sit at the poles (docs/models.md, "One fill is one sample").
+  int fills = 1;
   double bond_multiplier = 1.15;
   std::string material;  // of the sub-spheres; empty: the sphere's
   BondParameters bond;

@@ -28,6 +28,7 @@
 //   sub-spheres' forces and torques about its centre in index order and takes the second half
 //   kick. Plain spheres run the same loops as without clumps.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -63,7 +64,23 @@ struct EngineSettings {
   int check_every = 100;              // steps between divergence checks
   // Love–Weber stress per sphere even when no pair uses the multi-contact law (snapshots).
   bool particle_stress = false;
+  // Cundall's local (non-viscous) damping α in [0, 1) on every sphere's translation and
+  // rotation (Potyondy & Cundall 2004 §2.1.4): each force and torque component F is applied
+  // as F − α |F| sign(v) (locally_damped()). It removes energy only while the sphere is out of
+  // balance, so a quasi-static state is the same with and without it; it damps rigid-body
+  // motion too, so it is for quasi-static loading, not for flows or impacts. 0: off (the same
+  // bits as an engine without it). Rigid clumps are not damped.
+  double local_damping = 0.0;
 };
+
+// Eq. of Potyondy & Cundall 2004 §2.1.4: the force component f on a degree of freedom moving
+// at v, less α |f| against the motion. Moving towards balance (f v > 0) a sphere gains
+// (1 − α) of the work, moving away it pays (1 + α): each swing's energy falls by
+// (1 − α)/(1 + α) in any potential.
+inline double locally_damped(double f, double v, double alpha) {
+  const double sign = static_cast<double>((v > 0.0) - (v < 0.0));
+  return f - alpha * std::fabs(f) * sign;
+}
 
 // Components of a symmetric stress tensor as given per sphere (Pa), in XDMF's Tensor6 order.
 inline constexpr int stress_components = 6;  // xx, xy, xz, yy, yz, zz
@@ -157,6 +174,10 @@ class Engine {
     double offset = 0.0, strain = 0.0, origin = 0.0;
   };
   AffineDrift list_affine_drift() const;
+  // step()'s half kick and drift (with Cundall damping when `damped`); returns the largest
+  // squared deviation from the drift field since the last list build.
+  template <bool damped>
+  double kick_drift(const AffineDrift& drift);
   // Forces and torques of the current positions; `kick` > 0 also adds kick × F/m to the
   // velocities (the second half kick of velocity Verlet, fused into the gather).
   void compute_forces(double kick);
@@ -168,7 +189,7 @@ class Engine {
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
   template <bool stress_on>
   void pair_forces_with();
-  template <bool stress_on>
+  template <bool stress_on, bool damped>
   void gather_forces_with(double kick);
   void require_material_pairs() const;
   void enable_particle_stress();

@@ -55,10 +55,13 @@ void Engine::pair_forces() {
 }
 
 void Engine::gather_forces(double kick) {
+  // Local damping is a template argument: a test per sphere made the undamped gather 7 % longer
+  // (callgrind, bench scene).
+  const bool damped = settings_.local_damping > 0.0;
   if (particle_stress_on_)
-    gather_forces_with<true>(kick);
+    damped ? gather_forces_with<true, true>(kick) : gather_forces_with<true, false>(kick);
   else
-    gather_forces_with<false>(kick);
+    damped ? gather_forces_with<false, true>(kick) : gather_forces_with<false, false>(kick);
 }
 
 template <bool stress_on>
@@ -221,7 +224,7 @@ void Engine::pair_forces_with() {
   sphere_contacts_ = touching;
 }
 
-template <bool stress_on>
+template <bool stress_on, bool damped>
 void Engine::gather_forces_with(double kick) {
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
@@ -233,6 +236,7 @@ void Engine::gather_forces_with(double kick) {
     wall_touching_[k].resize(static_cast<std::size_t>(n), 0);
   }
   const double dt = settings_.time_step;
+  const double alpha = settings_.local_damping;
   const auto& g = settings_.gravity;
   const std::int32_t* __restrict first_offset = pairs_.first_offset.data();
   const std::int32_t* __restrict second_offset = pairs_.second_offset.data();
@@ -412,6 +416,11 @@ void Engine::gather_forces_with(double kick) {
         tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
         if (kick > 0.0) {
           const double im = kick * inverse_mass[i], ii = kick * motion[8 * i + 7];
+          if constexpr (damped) {  // local damping by the half-step velocity
+            f[0] = locally_damped(f[0], vx[i], alpha), f[1] = locally_damped(f[1], vy[i], alpha);
+            f[2] = locally_damped(f[2], vz[i], alpha), t[0] = locally_damped(t[0], wx[i], alpha);
+            t[1] = locally_damped(t[1], wy[i], alpha), t[2] = locally_damped(t[2], wz[i], alpha);
+          }
           vx[i] += f[0] * im, vy[i] += f[1] * im, vz[i] += f[2] * im;
           wx[i] += t[0] * ii, wy[i] += t[1] * ii, wz[i] += t[2] * ii;
         }

@@ -31,10 +31,17 @@ struct PlateSetup {
   // centre stays at rest instead of being carried at speed/2, which takes the rigid-body share
   // out of the kinetic energy and halves every plate–sub-sphere impact speed.
   bool symmetric = false;
-  double max_deformation = 0.01;      // total approach / 2R at the end
+  // Approach speed at max_deformation: after the ramp the speed rises linearly in deformation
+  // from `speed` to this. The work done grows as about Δ^2.5 while the kinetic energy of the
+  // approach goes as v², so a speed that rises with Δ keeps KE / work as small as a slow start
+  // needs, at a fraction of the steps. 0: `speed` throughout.
+  double final_speed = 0.0;
+  double max_deformation = 0.01;  // total approach / 2R at the end
+  double fastest() const { return final_speed > speed ? final_speed : speed; }
   int records = 50;                   // rows, evenly spaced in approach
   double time_step = 0.0;             // s
   double max_overlap_fraction = 0.5;  // divergence check (EngineSettings)
+  double local_damping = 0.0;         // α (EngineSettings): quasi-static loading
 };
 
 struct PlateRow {
@@ -50,6 +57,9 @@ struct PlateRow {
   double work = 0.0;            // J, done by the plates since the start
   double cpu_seconds = 0.0;     // process CPU time since the run started (all threads)
   double wall_seconds = 0.0;    // elapsed time since the run started
+  // An ensemble of fills ([bms] fills): the forces above are the fills' means, these the top
+  // force's sample standard deviation, least and largest over the fills (0 for one fill).
+  double top_force_sd = 0.0, top_force_min = 0.0, top_force_max = 0.0;
 };
 
 // What is pressed: sub-spheres (one for classical DEM) and their bonds (BMS) or the rigid clump

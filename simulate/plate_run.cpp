@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <numbers>
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "common/csv.hpp"
 #include "common/error.hpp"
@@ -57,10 +59,94 @@ TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTabl
                                const PlateSetup& setup, const RunConfig& run) {
   TimeStepChoice dt =
       select_time_step(particle.spheres, table, {setup.plate_material}, run.time_step,
-                       run.time_step_fraction, setup.speed, particle.bonds, particle.clumps);
+                       run.time_step_fraction, setup.fastest(), particle.bonds, particle.clumps);
   if (!particle.clumps.empty()) tighten_for_plates(dt, particle, table, setup, run);
   return dt;
 }
+
+namespace {
+
+// The fills' mean curve, row by row: every fill records its rows at the same approaches
+// (plate.hpp), so row j of each is the same point of the loading to within one step's travel.
+PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills) {
+  PlateRunOutcome mean = std::move(fills.front());
+  const auto k = static_cast<double>(fills.size());
+  mean.fills = static_cast<int>(fills.size());
+  mean.fill_rows.push_back(mean.rows);
+  for (std::size_t f = 1; f < fills.size(); ++f)
+    mean.fill_rows.push_back(fills[f].rows);
+  double bonds = 0.0, radius = 0.0;
+  for (std::size_t f = 0; f < fills.size(); ++f) {
+    bonds += static_cast<double>(f == 0 ? mean.bonds : fills[f].bonds) / k;
+    radius += (f == 0 ? mean.sub_sphere_radius : fills[f].sub_sphere_radius) / k;
+  }
+  mean.bonds = static_cast<std::size_t>(std::llround(bonds));
+  mean.sub_sphere_radius = radius;
+  for (std::size_t j = 0; j < mean.rows.size(); ++j) {
+    PlateRow r;
+    double contacts = 0.0, intact = 0.0, square = 0.0;
+    r.top_force_min = r.top_force_max = mean.fill_rows[0][j].top_force;
+    for (const std::vector<PlateRow>& rows : mean.fill_rows) {
+      const PlateRow& q = rows.at(j);
+      r.time += q.time / k;
+      r.deformation += q.deformation / k;
+      r.approach += q.approach / k;
+      r.top_force += q.top_force / k;
+      r.bottom_force += q.bottom_force / k;
+      r.hertz_force += q.hertz_force / k;
+      contacts += static_cast<double>(q.contacts) / k;
+      intact += static_cast<double>(q.intact_bonds) / k;
+      r.kinetic_energy += q.kinetic_energy / k;
+      r.work += q.work / k;
+      r.cpu_seconds += q.cpu_seconds;  // the ensemble's cost
+      r.wall_seconds = std::max(r.wall_seconds, q.wall_seconds);
+      r.top_force_min = std::min(r.top_force_min, q.top_force);
+      r.top_force_max = std::max(r.top_force_max, q.top_force);
+    }
+    for (const std::vector<PlateRow>& rows : mean.fill_rows)
+      square += std::pow(rows[j].top_force - r.top_force, 2);
+    r.top_force_sd = std::sqrt(square / (k - 1.0));
+    r.contacts = std::llround(contacts);
+    r.intact_bonds = std::llround(intact);
+    mean.rows[j] = r;
+  }
+  return mean;
+}
+
+// [bms] fills > 1: the fills side by side, one thread each; their order in the mean is the
+// seeds', so the result does not depend on which thread ran which.
+PlateRunOutcome run_fills(const PlateConfig& config,
+                          const std::function<void(const std::string&)>& log) {
+  const int count = config.bms->fills;
+  std::vector<PlateRunOutcome> fills(static_cast<std::size_t>(count));
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
+  const int threads = std::min(count, omp_get_max_threads());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (int f = 0; f < count; ++f) {
+    omp_set_num_threads(1);  // this fill's engine, inside the region: one thread, the same bits
+    try {
+      PlateConfig one = config;
+      one.bms->fills = 1;
+      one.bms->seed = config.bms->seed + static_cast<std::uint64_t>(f);
+      fills[static_cast<std::size_t>(f)] = run_plate_config(
+          one, PlateParticleKind::bms, f == 0 ? log : std::function<void(const std::string&)>{});
+    } catch (...) {
+      errors[static_cast<std::size_t>(f)] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  PlateRunOutcome mean = mean_of_fills(std::move(fills));
+  mean.description = fmt::format(
+      "BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m and {} bonds on average; mean of {} "
+      "fills, seeds {} to {}",
+      config.setup.radius, mean.spheres, mean.sub_sphere_radius, mean.bonds, count,
+      config.bms->seed, config.bms->seed + static_cast<std::uint64_t>(count) - 1);
+  if (log) log("plate: " + mean.description);
+  return mean;
+}
+
+}  // namespace
 
 const char* particle_name(PlateParticleKind kind) {
   switch (kind) {
@@ -75,6 +161,8 @@ const char* particle_name(PlateParticleKind kind) {
 
 PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
                                  const std::function<void(const std::string&)>& log) {
+  if (kind == PlateParticleKind::bms && config.bms && config.bms->fills > 1)
+    return run_fills(config, log);
   const MaterialTable table = config.materials.table();
   PlateSetup setup = config.setup;
   PlateParticle particle;
@@ -113,7 +201,8 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
     }
   } else if (kind == PlateParticleKind::bms) {
     BmsParticleInfo info;
-    particle = bms_sphere(table, setup.radius, *config.bms, "BMS sphere", &info);
+    particle = bms_sphere(table, setup.radius, *config.bms,
+                          fmt::format("BMS sphere (seed {})", config.bms->seed), &info);
     outcome.sub_sphere_radius = info.sub_sphere_radius;
     outcome.description =
         fmt::format("BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m, {} bonds",
@@ -150,11 +239,23 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
 
 void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,
                      const PlateConfig& config, PlateParticleKind kind) {
-  CsvWriter csv(path, {"time_s", "deformation", "approach_m", "top_force_N", "bottom_force_N",
-                       "hertz_force_N", "contacts", "intact_bonds", "kinetic_energy_J", "work_J",
-                       "cpu_s", "wall_s"});
-  csv.comment(fmt::format("shapepress plate: {}, top plate at constant speed {:.6g} m/s",
-                          outcome.description, config.setup.speed));
+  std::vector<std::string> columns = {"time_s",      "deformation",    "approach_m",
+                                      "top_force_N", "bottom_force_N", "hertz_force_N",
+                                      "contacts",    "intact_bonds",   "kinetic_energy_J",
+                                      "work_J",      "cpu_s",          "wall_s"};
+  const bool ensemble = outcome.fills > 1;
+  if (ensemble)
+    columns.insert(columns.end(), {"top_force_sd_N", "top_force_min_N", "top_force_max_N"});
+  CsvWriter csv(path, columns);
+  const PlateSetup& setup = config.setup;
+  csv.comment(fmt::format(
+      "shapepress plate: {}; approach speed {:.6g} m/s{}{}{}", outcome.description, setup.speed,
+      setup.ramp > 0.0 ? fmt::format(" after a sin^2 ramp over {:.6g} deformation", setup.ramp)
+                       : std::string(),
+      setup.final_speed > 0.0
+          ? fmt::format(", rising linearly to {:.6g} m/s at the end", setup.final_speed)
+          : std::string(),
+      setup.symmetric ? ", both plates at half of it" : ", top plate only"));
   csv.comment(fmt::format("particle = {}; sub_spheres = {}; bonds = {}; time_step_s = {:.6g}",
                           particle_name(kind), outcome.spheres, outcome.bonds, outcome.time_step));
   if (kind == PlateParticleKind::cms)
@@ -178,10 +279,28 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
                                 contact.adhesion_stiffness, contact.pull_off_force,
                                 contact.multicontact_factor)
                   : std::string("normal law: hertz"));
-  for (const PlateRow& r : outcome.rows)
-    csv.row({r.time, r.deformation, r.approach, r.top_force, r.bottom_force, r.hertz_force,
-             static_cast<double>(r.contacts), static_cast<double>(r.intact_bonds), r.kinetic_energy,
-             r.work, r.cpu_seconds, r.wall_seconds});
+  if (ensemble)
+    csv.comment(fmt::format(
+        "fills = {}: every column is the fills' mean (cpu_s their sum, wall_s the longest); "
+        "top_force_sd_N is the fills' sample standard deviation, the standard error of the "
+        "mean is it / sqrt({})",
+        outcome.fills, outcome.fills));
+  for (const PlateRow& r : outcome.rows) {
+    std::vector<double> cells = {r.time,
+                                 r.deformation,
+                                 r.approach,
+                                 r.top_force,
+                                 r.bottom_force,
+                                 r.hertz_force,
+                                 static_cast<double>(r.contacts),
+                                 static_cast<double>(r.intact_bonds),
+                                 r.kinetic_energy,
+                                 r.work,
+                                 r.cpu_seconds,
+                                 r.wall_seconds};
+    if (ensemble) cells.insert(cells.end(), {r.top_force_sd, r.top_force_min, r.top_force_max});
+    csv.row(cells);
+  }
   csv.commit();
 }
 

@@ -24,7 +24,10 @@ struct PlateRunOutcome {
   std::size_t requested_spheres = 0;  // CMS: the count asked of the filler
   double sub_sphere_radius = 0.0;
   double time_step = 0.0;
-  std::shared_ptr<const Engine> final_snapshot;  // the engine at the last row
+  std::shared_ptr<const Engine> final_snapshot;  // the engine at the last row (the first fill's)
+  // [bms] fills > 1: rows are the fills' mean (plate.hpp PlateRow), fill_rows each fill's own.
+  int fills = 1;
+  std::vector<std::vector<PlateRow>> fill_rows;
 };
 
 // What `plate --particle` presses: one Hertz sphere, a BMS agglomerate ([bms], [bond]) or a
@@ -37,7 +40,10 @@ const char* particle_name(PlateParticleKind kind);  // "sphere", "bms", "cms"
 TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTable& table,
                                const PlateSetup& setup, const RunConfig& run);
 
-// `log` (optional) receives one-line notes (time step, particle). CMS: the plates pass through
+// `log` (optional) receives one-line notes (time step, particle). BMS with [bms] fills = K > 1:
+// runs the K fills (seeds seed … seed + K − 1) side by side on the OpenMP threads, one thread
+// each (each fill's rows are the bits of its own single run), and returns their mean curve; its
+// cpu_s is the fills' CPU summed, wall_s the longest fill's. CMS: the plates pass through
 // the clump's outer sub-spheres by design (it cannot deform), so the run's overlap check is
 // widened to the deepest overlap the compression can make (logged); a blow-up is still caught
 // by the energy and non-finite checks.
@@ -50,8 +56,9 @@ inline PlateRunOutcome run_plate_config(const PlateConfig& config, bool bonded,
 }
 
 // force.csv (atomically): time_s, deformation, approach_m, top_force_N, bottom_force_N,
-// hertz_force_N, contacts, intact_bonds, kinetic_energy_J, work_J, cpu_s, wall_s; comment lines
-// say what was pressed (report reads "sub_spheres = N").
+// hertz_force_N, contacts, intact_bonds, kinetic_energy_J, work_J, cpu_s, wall_s, and for an
+// ensemble of fills top_force_sd_N, top_force_min_N, top_force_max_N; comment lines say what was
+// pressed (report reads "sub_spheres = N"), and "fills = K".
 void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,
                      const PlateConfig& config, PlateParticleKind kind);
 inline void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,

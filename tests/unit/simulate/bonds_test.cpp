@@ -256,5 +256,44 @@ TEST(Bonds, EveryModeKeepsEnergyWithoutDamping) {
   }
 }
 
+TEST(LocalDamping, EachSwingKeepsOneMinusAlphaOverOnePlusAlphaOfTheEnergy) {
+  // Cundall's local damping (engine.hpp, P&C 2004 §2.1.4) on the free stretched pair: a sphere
+  // moving towards balance gains (1 − α) of the work, moving away pays (1 + α), so each swing's
+  // peak elastic energy is (1 − α)/(1 + α) of the last, whatever the potential. Undamped (α = 0)
+  // the peaks stay put (FreeOscillationKeepsEnergyAndHasTheSpringPeriod).
+  constexpr double alpha = 0.3;
+  SphereState s;
+  s.add_sphere(0.0, 0.0, 0.0, r, rho, 0);
+  s.add_sphere(2.01 * r, 0.0, 0.0, r, rho, 0);
+  s.body = {0, 0};
+  BondSet bonds = create_bonds(s, 1.15, stiff());
+  const double kn = kn_bar * area, m_eff = 0.5 * s.mass[0];
+  const double period = 2 * std::numbers::pi * std::sqrt(m_eff / kn);
+  s.position.x[1] += 1e-6;
+  MaterialTable table({{"m", 1e7, 0.3, rho}}, {{"m", "m", 0.7, 0.5}});
+  EngineSettings settings{period / 400, {0, 0, 0}, 0.2 * r};
+  settings.local_damping = alpha;
+  Engine engine(std::move(s), Box{}, table, {}, settings, bonds);
+  // Peak elastic energy of each half period (one swing from a turning point to the next).
+  std::vector<double> peaks = {engine.energy().elastic};
+  double peak = 0.0, last = 1.0;
+  for (int k = 0; k < 400 * 3; ++k) {
+    engine.step();
+    const double stretch = engine.state().position.x[1] - engine.state().position.x[0] - 2.01 * r;
+    if (stretch * last < 0.0) peaks.push_back(peak), peak = 0.0;  // a new swing begins
+    peak = std::max(peak, engine.energy().elastic);
+    if (stretch != 0.0) last = stretch;
+  }
+  ASSERT_GE(peaks.size(), 5u);
+  // Crossings split the swings at the balance point: each recorded peak after the first is the
+  // turning point that ends the swing before it.
+  for (std::size_t k = 2; k < peaks.size(); ++k)
+    EXPECT_NEAR(peaks[k] / peaks[k - 1], (1 - alpha) / (1 + alpha), 0.02) << "swing " << k;
+  // A damping of 1 or more would cancel or reverse the restoring force: refused.
+  settings.local_damping = 1.0;
+  SphereState t = pair_state();
+  EXPECT_THROW(Engine(t, Box{}, table, {}, settings, create_bonds(t, 1.15, stiff())), InputError);
+}
+
 }  // namespace
 }  // namespace shapepress::simulate

@@ -122,6 +122,47 @@ TEST(BmsDeterminism, RestartFromASnapshotContinuesBitIdentically) {
   EXPECT_EQ(continuous.wall_force(1), resumed.wall_force(1));
 }
 
+TEST(BmsFills, EnsembleIsTheMeanOfItsFillsAndEachFillIsItsSeedsOwnRun) {
+  // [bms] fills = 3 runs seeds 5, 6, 7 side by side on two threads: each fill's rows are the bits
+  // of that seed's run alone, and the reported curve is their mean, with the spread.
+  PlateConfig config = shipped_config();
+  config.bms->count = 80;
+  config.bms->seed = 5;
+  config.setup.max_deformation = 0.08;
+  config.setup.ramp = 0.02;
+  config.setup.records = 8;
+  config.bms->fills = 3;
+  omp_set_num_threads(2);
+  const PlateRunOutcome ensemble = run_plate_config(config, true);
+  ASSERT_EQ(ensemble.fills, 3);
+  ASSERT_EQ(ensemble.fill_rows.size(), 3u);
+  std::vector<std::vector<PlateRow>> alone;
+  for (std::uint64_t seed : {5u, 6u, 7u}) {
+    PlateConfig one = config;
+    one.bms->fills = 1;
+    one.bms->seed = seed;
+    alone.push_back(run_plate_config(one, true).rows);
+  }
+  ASSERT_EQ(ensemble.rows.size(), 8u);
+  for (std::size_t j = 0; j < ensemble.rows.size(); ++j) {
+    double mean = 0.0, low = 1e300, high = -1e300;
+    for (std::size_t f = 0; f < 3; ++f) {
+      EXPECT_EQ(ensemble.fill_rows[f][j].top_force, alone[f][j].top_force) << "fill " << f;
+      EXPECT_EQ(ensemble.fill_rows[f][j].approach, alone[f][j].approach) << "fill " << f;
+      mean += alone[f][j].top_force / 3.0;
+      low = std::min(low, alone[f][j].top_force);
+      high = std::max(high, alone[f][j].top_force);
+    }
+    EXPECT_DOUBLE_EQ(ensemble.rows[j].top_force, mean) << "row " << j;
+    EXPECT_EQ(ensemble.rows[j].top_force_min, low);
+    EXPECT_EQ(ensemble.rows[j].top_force_max, high);
+    EXPECT_GT(ensemble.rows[j].top_force_sd, 0.0);  // three different fills
+    EXPECT_LE(ensemble.rows[j].top_force_sd, high - low);
+  }
+  // The fills differ: the seeds are not all the same fill.
+  EXPECT_NE(alone[0].back().top_force, alone[1].back().top_force);
+}
+
 TEST(RubberSphere, ClassicalHertzSphereLeavesTataraBeyondTwentyPercent) {
   // The paper's point (§3.1): one Hertz sphere cannot follow a rubber sphere at large
   // deformation. The engine's sphere follows Hertz, which is > 10 % below Tatara's curve from
