@@ -95,6 +95,15 @@ TEST(BmsPlateCli, BadInputExitsTwoNamingTheCause) {
   r = run_shapepress("--quiet plate --config " + shell_quoted(shipped) + " --count 100 --out " +
                      shell_quoted(dir / "d"));
   EXPECT_EQ(r.exit_code, 2) << r.output;  // --count without --particle bms
+  r = run_shapepress("--quiet plate --config " + shell_quoted(shipped) + " --fills 2 --out " +
+                     shell_quoted(dir / "e"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;  // fills of a single Hertz sphere
+  EXPECT_THAT(r.output, HasSubstr("--particle bms"));
+  r = run_shapepress("--quiet plate --particle bms --count 100 --out " + shell_quoted(dir / "f") +
+                     " --config " +
+                     shell_quoted(variant(dir, "\nseed = 1\n", "\nseed = 1\nfills = 0\n")));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("fills"));
 }
 
 TEST(CalibrateCli, FitsTheBondModulusAndWritesAConfigThatRuns) {
