@@ -35,14 +35,22 @@ BondParameters& bond_of(PlateConfig& c, const std::string& name) {
   return b;
 }
 
-// The sub-spheres' own contact material: a copy of [bms] material named "<name>-contact" with
-// the same interactions, so fitting its E leaves the sphere's (the Hertz reference's) alone.
+// The sub-spheres' own contact material: [bms] material when it is not the sphere's, else a copy
+// of it named "<name>-contact" with the same interactions, so fitting its E leaves the sphere's
+// (the Hertz reference's) alone. A calibrated config refitted keeps its one contact material.
 Material& contact_material(PlateConfig& c) {
   auto& materials = c.materials.materials;
   const std::string base = c.bms->material;
+  if (base != materials.at(static_cast<std::size_t>(c.setup.sphere_material)).name)
+    for (Material& m : materials)
+      if (m.name == base) return m;
   const std::string name = base + "-contact";
-  for (Material& m : materials)
-    if (m.name == name) return m;
+  for (const Material& m : materials)
+    if (m.name == name)
+      throw InputError(fmt::format(
+          "calibrate: contact_modulus: [bms] material is the sphere's '{}' and a material '{}' "
+          "exists; set [bms] material = \"{}\" to fit it",
+          base, name, name));
   Material copy;
   for (const Material& m : materials)
     if (m.name == base) copy = m;

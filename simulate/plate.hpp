@@ -37,7 +37,6 @@ struct PlateSetup {
   // needs, at a fraction of the steps. 0: `speed` throughout.
   double final_speed = 0.0;
   double max_deformation = 0.01;  // total approach / 2R at the end
-  double fastest() const { return final_speed > speed ? final_speed : speed; }
   int records = 50;                   // rows, evenly spaced in approach
   double time_step = 0.0;             // s
   double max_overlap_fraction = 0.5;  // divergence check (EngineSettings)
