@@ -36,7 +36,7 @@ struct PlateSetup {
   // approach goes as v², so a speed that rises with Δ keeps KE / work as small as a slow start
   // needs, at a fraction of the steps. 0: `speed` throughout.
   double final_speed = 0.0;
-  double max_deformation = 0.01;  // total approach / 2R at the end
+  double max_deformation = 0.01;      // total approach / 2R at the end
   int records = 50;                   // rows, evenly spaced in approach
   double time_step = 0.0;             // s
   double max_overlap_fraction = 0.5;  // divergence check (EngineSettings)
