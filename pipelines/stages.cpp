@@ -2,8 +2,8 @@
 
 #include <vector>
 
-#include "geometry/cli.hpp"
 #include "analysis/cli.hpp"
+#include "geometry/cli.hpp"
 #include "imaging/cli.hpp"
 #include "simulate/cli.hpp"
 
@@ -15,14 +15,20 @@ std::span<const Stage> registered_stages() {
   // One line per stage, in the order of the data walk (DESIGN.md).
   static const std::vector<Stage> stages = {
       Stage{"shape-stats", "measure particles in images", imaging::setup_shape_stats_cli},
-      Stage{"synth-images", "render SEM-like images of known particles", imaging::setup_synth_images_cli},
+      Stage{"synth-images", "render SEM-like images of known particles",
+            imaging::setup_synth_images_cli},
       Stage{"generate", "make 3D particles from shape statistics", geometry::setup_generate_cli},
-      Stage{"describe", "3D descriptors of meshes (L, I, S, sphericity, projected ASR)", geometry::setup_describe_cli},
+      Stage{"describe", "3D descriptors of meshes (L, I, S, sphericity, projected ASR)",
+            geometry::setup_describe_cli},
       Stage{"fill", "fill particle meshes with sub-spheres (BMS, CMS)", geometry::setup_fill_cli},
-      Stage{"plate", "one sphere or BMS particle between two plates (validation rig)", simulate::setup_plate_cli},
-      Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve", simulate::setup_calibrate_cli},
-      Stage{"compact", "compact a sphere packing with a punch program", simulate::setup_compact_cli},
-      Stage{"report", "charts, metrics.json and report.html of compaction and plate runs", analysis::setup_report_cli},
+      Stage{"plate", "one sphere or BMS particle between two plates (validation rig)",
+            simulate::setup_plate_cli},
+      Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve",
+            simulate::setup_calibrate_cli},
+      Stage{"compact", "compact a sphere packing with a punch program",
+            simulate::setup_compact_cli},
+      Stage{"report", "charts, metrics.json and report.html of compaction and plate runs",
+            analysis::setup_report_cli},
   };
   return stages;
 }
