@@ -72,7 +72,8 @@ namespace {
 
 // The fills' mean curve, row by row: every fill records its rows at the same approaches
 // (plate.hpp), so row j of each is the same point of the loading to within one step's travel.
-PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills) {
+// CPU seconds add up; wall seconds add up over the `threads` that ran the fills side by side.
+PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills, int threads) {
   PlateRunOutcome mean = std::move(fills.front());
   const auto k = static_cast<double>(fills.size());
   mean.fills = static_cast<int>(fills.size());
@@ -103,7 +104,7 @@ PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills) {
       r.kinetic_energy += q.kinetic_energy / k;
       r.work += q.work / k;
       r.cpu_seconds += q.cpu_seconds;  // the ensemble's cost
-      r.wall_seconds = std::max(r.wall_seconds, q.wall_seconds);
+      r.wall_seconds += q.wall_seconds / threads;
       r.top_force_min = std::min(r.top_force_min, q.top_force);
       r.top_force_max = std::max(r.top_force_max, q.top_force);
     }
@@ -140,7 +141,7 @@ PlateRunOutcome run_fills(const PlateConfig& config,
   }
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
-  PlateRunOutcome mean = mean_of_fills(std::move(fills));
+  PlateRunOutcome mean = mean_of_fills(std::move(fills), threads);
   mean.description = fmt::format(
       "BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m and {} bonds on average; mean of {} "
       "fills, seeds {} to {}",
@@ -285,7 +286,8 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
                   : std::string("normal law: hertz"));
   if (ensemble)
     csv.comment(fmt::format(
-        "fills = {}: every column is the fills' mean (cpu_s their sum, wall_s the longest); "
+        "fills = {}: every column is the fills' mean (cpu_s their sum, wall_s their sum over "
+        "the threads that ran them side by side); "
         "top_force_sd_N is the fills' sample standard deviation, the standard error of the "
         "mean is it / sqrt({})",
         outcome.fills, outcome.fills));

@@ -43,7 +43,7 @@ TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTabl
 // `log` (optional) receives one-line notes (time step, particle). BMS with [bms] fills = K > 1:
 // runs the K fills (seeds seed … seed + K − 1) side by side on the OpenMP threads, one thread
 // each (each fill's rows are the bits of its own single run), and returns their mean curve; its
-// cpu_s is the fills' CPU summed, wall_s the longest fill's. CMS: the plates pass through
+// cpu_s is the fills' CPU summed, wall_s their wall seconds summed over the threads. CMS: the plates pass through
 // the clump's outer sub-spheres by design (it cannot deform), so the run's overlap check is
 // widened to the deepest overlap the compression can make (logged); a blow-up is still caught
 // by the energy and non-finite checks.
