@@ -67,13 +67,14 @@ struct EngineSettings {
   // Cundall's local (non-viscous) damping α in [0, 1) on every sphere's translation and
   // rotation (Potyondy & Cundall 2004 §2.1.4): each force and torque component F is applied
   // as F − α |F| sign(v) (locally_damped()). It removes energy only while the sphere is out of
-  // balance, so a quasi-static state is the same with and without it; it damps rigid-body
-  // motion too, so it is for quasi-static loading, not for flows or impacts. 0: off (the same
-  // bits as an engine without it). Rigid clumps are not damped.
+  // balance, so a static equilibrium is the same with and without it; a bed loaded steadily is
+  // not (the rubber sphere's curve moved by 2 % RMS at α = 0.7, docs/models.md), and it damps
+  // rigid-body motion too, so it is not for flows or impacts. 0: off (the same bits as an engine
+  // without it). Rigid clumps are not damped.
   double local_damping = 0.0;
 };
 
-// Eq. of Potyondy & Cundall 2004 §2.1.4: the force component f on a degree of freedom moving
+// Potyondy & Cundall 2004 §2.1.4: the force component f on a degree of freedom moving
 // at v, less α |f| against the motion. Moving towards balance (f v > 0) a sphere gains
 // (1 − α) of the work, moving away it pays (1 + α): each swing's energy falls by
 // (1 − α)/(1 + α) in any potential.
