@@ -108,7 +108,7 @@ int run(const CalibrateCli& cli) {
   summary.comment(fmt::format(
       "N = {}, fills = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = "
       "{:.6g} over [{}, {}]; converged = {}; evaluations = {}",
-      result.best.spheres, result.best.fills, result.best.sub_sphere_radius, result.rms_relative,
+      result.best.spheres, result.best.fills(), result.best.sub_sphere_radius, result.rms_relative,
       result.max_relative, cli.from, cli.to, result.converged ? 1 : 0, result.evaluations.size()));
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
     summary.row_text({options.parameters[k], format_number(result.start[k]),

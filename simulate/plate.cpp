@@ -99,14 +99,14 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   const double cpu_start = cpu_seconds_of_this_run();
   const auto wall_start = std::chrono::steady_clock::now();
   int next = 1;
+  double approach = 0.0;  // of the walls' positions (the first touch: gap0)
   while (next <= setup.records) {
     // The speed at the step's midpoint: the wall moves by it over the step.
-    const double start = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
-    const double speed = plate_speed(engine.time() + 0.5 * setup.time_step, start);
+    const double speed = plate_speed(engine.time() + 0.5 * setup.time_step, approach);
     engine.walls()[0].velocity = (1.0 - top_share) * speed;
     engine.walls()[1].velocity = -top_share * speed;
     engine.step();
-    const double approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
+    approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
     if (approach >= final_approach * next / setup.records) {
       PlateRow r;
       r.time = engine.time();

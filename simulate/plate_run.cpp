@@ -74,17 +74,16 @@ namespace {
 // (plate.hpp), so row j of each is the same point of the loading to within one step's travel.
 // CPU seconds add up; wall seconds add up over the `threads` that ran the fills side by side.
 PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills, int threads) {
-  PlateRunOutcome mean = std::move(fills.front());
   const auto k = static_cast<double>(fills.size());
-  mean.fills = static_cast<int>(fills.size());
+  double bonds = 0.0, radius = 0.0;
+  for (const PlateRunOutcome& fill : fills) {
+    bonds += static_cast<double>(fill.bonds) / k;
+    radius += fill.sub_sphere_radius / k;
+  }
+  PlateRunOutcome mean = std::move(fills.front());
   mean.fill_rows.push_back(mean.rows);
   for (std::size_t f = 1; f < fills.size(); ++f)
-    mean.fill_rows.push_back(fills[f].rows);
-  double bonds = 0.0, radius = 0.0;
-  for (std::size_t f = 0; f < fills.size(); ++f) {
-    bonds += static_cast<double>(f == 0 ? mean.bonds : fills[f].bonds) / k;
-    radius += (f == 0 ? mean.sub_sphere_radius : fills[f].sub_sphere_radius) / k;
-  }
+    mean.fill_rows.push_back(std::move(fills[f].rows));
   mean.bonds = static_cast<std::size_t>(std::llround(bonds));
   mean.sub_sphere_radius = radius;
   for (std::size_t j = 0; j < mean.rows.size(); ++j) {
@@ -248,7 +247,7 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
                                       "top_force_N", "bottom_force_N", "hertz_force_N",
                                       "contacts",    "intact_bonds",   "kinetic_energy_J",
                                       "work_J",      "cpu_s",          "wall_s"};
-  const bool ensemble = outcome.fills > 1;
+  const bool ensemble = outcome.fills() > 1;
   if (ensemble)
     columns.insert(columns.end(), {"top_force_sd_N", "top_force_min_N", "top_force_max_N"});
   CsvWriter csv(path, columns);
@@ -290,7 +289,7 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
         "the threads that ran them side by side); "
         "top_force_sd_N is the fills' sample standard deviation, the standard error of the "
         "mean is it / sqrt({})",
-        outcome.fills, outcome.fills));
+        outcome.fills(), outcome.fills()));
   for (const PlateRow& r : outcome.rows) {
     std::vector<double> cells = {r.time,
                                  r.deformation,

@@ -26,8 +26,8 @@ struct PlateRunOutcome {
   double time_step = 0.0;
   std::shared_ptr<const Engine> final_snapshot;  // the engine at the last row (the first fill's)
   // [bms] fills > 1: rows are the fills' mean (plate.hpp PlateRow), fill_rows each fill's own.
-  int fills = 1;
   std::vector<std::vector<PlateRow>> fill_rows;
+  int fills() const { return fill_rows.empty() ? 1 : static_cast<int>(fill_rows.size()); }
 };
 
 // What `plate --particle` presses: one Hertz sphere, a BMS agglomerate ([bms], [bond]) or a
@@ -43,10 +43,10 @@ TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTabl
 // `log` (optional) receives one-line notes (time step, particle). BMS with [bms] fills = K > 1:
 // runs the K fills (seeds seed … seed + K − 1) side by side on the OpenMP threads, one thread
 // each (each fill's rows are the bits of its own single run), and returns their mean curve; its
-// cpu_s is the fills' CPU summed, wall_s their wall seconds summed over the threads. CMS: the plates pass through
-// the clump's outer sub-spheres by design (it cannot deform), so the run's overlap check is
-// widened to the deepest overlap the compression can make (logged); a blow-up is still caught
-// by the energy and non-finite checks.
+// cpu_s is the fills' CPU summed, wall_s their wall seconds summed over the threads. CMS: the
+// plates pass through the clump's outer sub-spheres by design (it cannot deform), so the run's
+// overlap check is widened to the deepest overlap the compression can make (logged); a blow-up is
+// still caught by the energy and non-finite checks.
 PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
                                  const std::function<void(const std::string&)>& log = {});
 // bonded: --particle bms, else sphere.

@@ -29,20 +29,12 @@ BondParameters stiff() {
   return p;
 }
 
-// Two touching sub-spheres of one particle along x.
-SphereState pair_state() {
+// Two sub-spheres of one particle along x, touching by default; 2.01 r apart they are bonded
+// by Eq. 10 without touching: a free oscillator of the bond alone.
+SphereState pair_state(double centre_distance = 2 * r) {
   SphereState s;
   s.add_sphere(0.0, 0.0, 0.0, r, rho, 0);
-  s.add_sphere(2 * r, 0.0, 0.0, r, rho, 0);
-  s.body = {0, 0};
-  return s;
-}
-
-// The same pair slightly apart (bonded by Eq. 10, not touching): a free oscillator of its bond.
-SphereState apart_pair_state() {
-  SphereState s;
-  s.add_sphere(0.0, 0.0, 0.0, r, rho, 0);
-  s.add_sphere(2.01 * r, 0.0, 0.0, r, rho, 0);
+  s.add_sphere(centre_distance, 0.0, 0.0, r, rho, 0);
   s.body = {0, 0};
   return s;
 }
@@ -135,7 +127,7 @@ TEST(Bonds, BreakForGoodAtTheTensileStrength) {
 TEST(Bonds, FreeOscillationKeepsEnergyAndHasTheSpringPeriod) {
   // Two sub-spheres stretched and let go, no contact (slightly apart), no damping: the normal
   // mode's period is 2π √(m*/kn) and the energy stays put.
-  SphereState s = apart_pair_state();
+  SphereState s = pair_state(2.01 * r);
   BondSet bonds = create_bonds(s, 1.15, stiff());
   const double kn = kn_bar * area, m_eff = 0.5 * s.mass[0];
   const double period = 2 * std::numbers::pi * std::sqrt(m_eff / kn);
@@ -241,7 +233,7 @@ namespace {
 TEST(Bonds, EveryModeKeepsEnergyWithoutDamping) {
   // Shear, twist and bending excited together on a free pair: a sign slip in any mode's spring or
   // torque shows up as energy growing without bound.
-  SphereState s = apart_pair_state();
+  SphereState s = pair_state(2.01 * r);
   BondSet bonds = create_bonds(s, 1.15, stiff());
   s.velocity.y[1] = 1e-3;
   s.velocity.z[0] = -0.5e-3;
@@ -265,7 +257,7 @@ TEST(LocalDamping, EachSwingKeepsOneMinusAlphaOverOnePlusAlphaOfTheEnergy) {
   // peak elastic energy is (1 − α)/(1 + α) of the last, whatever the potential. Undamped (α = 0)
   // the peaks stay put (FreeOscillationKeepsEnergyAndHasTheSpringPeriod).
   constexpr double alpha = 0.3;
-  SphereState s = apart_pair_state();
+  SphereState s = pair_state(2.01 * r);
   BondSet bonds = create_bonds(s, 1.15, stiff());
   const double kn = kn_bar * area, m_eff = 0.5 * s.mass[0];
   const double period = 2 * std::numbers::pi * std::sqrt(m_eff / kn);

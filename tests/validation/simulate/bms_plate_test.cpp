@@ -134,7 +134,7 @@ TEST(BmsFills, EnsembleIsTheMeanOfItsFillsAndEachFillIsItsSeedsOwnRun) {
   config.bms->fills = 3;
   omp_set_num_threads(2);
   const PlateRunOutcome ensemble = run_plate_config(config, true);
-  ASSERT_EQ(ensemble.fills, 3);
+  ASSERT_EQ(ensemble.fills(), 3);
   ASSERT_EQ(ensemble.fill_rows.size(), 3u);
   std::vector<std::vector<PlateRow>> alone;
   for (std::uint64_t seed : {5u, 6u, 7u}) {
