@@ -26,6 +26,9 @@ MaterialConfig read_materials(const ConfigTable& root) {
     in.restitution = t.number("restitution", std::nullopt, Range::open_closed(0.0, 1.0));
     in.sliding_friction = t.number("sliding_friction", std::nullopt, Range::non_negative());
     in.rolling_friction = t.number("rolling_friction", 0.0, Range::non_negative());
+    if (t.has("effective_modulus"))
+      in.effective_modulus =
+          t.quantity("effective_modulus", dim::pressure, std::nullopt, Range::positive());
     in.normal_law = t.choice("normal_law", {"hertz", "multicontact"}, "hertz") == "multicontact"
                         ? NormalLaw::multicontact
                         : NormalLaw::hertz;
@@ -265,9 +268,12 @@ std::string plate_config_toml(const PlateConfig& c) {
   for (const Interaction& in : c.materials.interactions)
     out += fmt::format(
         "[[interaction]]\nfirst = \"{}\"\nsecond = \"{}\"\nrestitution = {}\n"
-        "sliding_friction = {}\nrolling_friction = {}\n\n",
+        "sliding_friction = {}\nrolling_friction = {}\n{}\n",
         in.first, in.second, number(in.restitution), number(in.sliding_friction),
-        number(in.rolling_friction));
+        number(in.rolling_friction),
+        in.effective_modulus
+            ? fmt::format("effective_modulus = {}\n", number(*in.effective_modulus))
+            : std::string());
   const RunConfig& r = c.run;
   out += "[run]\n";
   if (r.time_step) out += fmt::format("time_step = {}\n", number(*r.time_step));

@@ -56,6 +56,11 @@ struct PlaneWall {
 inline constexpr std::int64_t parallel_min_spheres = 1024;
 inline constexpr std::int64_t parallel_min_pairs = 4096;
 
+// Divergence of a bonded pair that does not take the contact law (contact_when_bonded false):
+// an overlap beyond this fraction of the radii sum, centres nearer than a fifth of it. Such a
+// pair is one elastic body whose bond may be pressed to well under its length (diagnostics.cpp).
+inline constexpr double bond_only_overlap_limit = 0.8;
+
 struct EngineSettings {
   double time_step = 0.0;                           // s
   std::array<double, 3> gravity = {0.0, 0.0, 0.0};  // m/s²

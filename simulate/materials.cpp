@@ -51,6 +51,11 @@ PairConstants pair_constants(const Material& a, const Material& b, const Interac
                                (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
   p.effective_shear_modulus =
       1.0 / ((2.0 - a.poisson_ratio) / shear_a + (2.0 - b.poisson_ratio) / shear_b);
+  if (in.effective_modulus) {  // Interaction::effective_modulus
+    const double scale = *in.effective_modulus / p.effective_modulus;
+    p.effective_modulus *= scale;
+    p.effective_shear_modulus *= scale;
+  }
   p.damping_factor = restitution_damping_factor(in.restitution);
   p.normal_damping_scale = p.damping_factor * std::sqrt(2.0 * p.effective_modulus);
   p.tangential_damping_scale = p.damping_factor * std::sqrt(8.0 * p.effective_shear_modulus);
@@ -92,6 +97,10 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
     if (!(in.sliding_friction >= 0.0) || !(in.rolling_friction >= 0.0))
       throw InputError("interaction " + in.first + "–" + in.second +
                        ": friction coefficients must be >= 0");
+    if (in.effective_modulus &&
+        !(*in.effective_modulus > 0.0 && std::isfinite(*in.effective_modulus)))
+      throw InputError("interaction " + in.first + "–" + in.second +
+                       ": effective_modulus must be > 0");
     check_multicontact(in);
     const int i = index_of(in.first);
     const int j = index_of(in.second);

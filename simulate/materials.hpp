@@ -42,6 +42,12 @@ struct Interaction {
   NormalLaw normal_law = NormalLaw::hertz;
   // Given only with normal_law = multicontact (an InputError otherwise: no silently unused key).
   std::optional<MulticontactParameters> multicontact = std::nullopt;
+  // E* of the pair, replacing the one the two materials' E and ν give (G* scaled alike, so the
+  // pair keeps its materials' ratio G*/E*). A bonded sub-sphere's contact material stands for
+  // the body's interior, not its surface: against a plate, the stiffness of a contact is a
+  // separate choice from the stiffness between sub-spheres (docs/models.md, "BMS: an elastic
+  // network"). Absent: from the materials.
+  std::optional<double> effective_modulus = std::nullopt;
 };
 
 // Precomputed for a pair of material indices (models.md "Hertz–Mindlin with restitution").

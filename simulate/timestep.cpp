@@ -31,6 +31,30 @@ namespace shapepress::simulate {
 
 namespace {
 
+// The Young's modulus a sphere of material `m` stands against in its stiffest contact: its own,
+// or, where an interaction states a larger E* than the materials give
+// (Interaction::effective_modulus), the modulus of a sphere that would have that E* against its
+// partner: (1 − ν²) E* against a wall (a rigid plane), 2 (1 − ν²) E* against an equal sphere.
+double stiffest_contact_modulus(const MaterialTable& materials, int m,
+                                const std::vector<int>& wall_materials) {
+  const Material& own = materials.material(m);
+  double modulus = own.youngs_modulus;
+  const double plane_strain = 1.0 - own.poisson_ratio * own.poisson_ratio;
+  for (int k = 0; k < materials.count(); ++k) {
+    if (!materials.has_pair(m, k)) continue;
+    const Material& other = materials.material(k);
+    const double from_materials =
+        1.0 / (plane_strain / own.youngs_modulus +
+               (1.0 - other.poisson_ratio * other.poisson_ratio) / other.youngs_modulus);
+    const double stated = materials.pair(m, k).effective_modulus;
+    if (stated <= from_materials * (1.0 + 1e-12)) continue;
+    const bool wall =
+        std::find(wall_materials.begin(), wall_materials.end(), k) != wall_materials.end();
+    modulus = std::max(modulus, (wall ? 1.0 : 2.0) * plane_strain * stated);
+  }
+  return modulus;
+}
+
 // `mass`: the mass each sphere's contacts move (its own, or its clump's).
 TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable& materials,
                                   const std::vector<int>& wall_materials,
@@ -40,9 +64,14 @@ TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable&
   if (state.size() == 0) throw InputError("no spheres to simulate");
   std::size_t smallest = 0;
   choice.rayleigh_time = std::numeric_limits<double>::infinity();
+  std::vector<double> modulus(static_cast<std::size_t>(materials.count()));
+  for (int k = 0; k < materials.count(); ++k)
+    modulus[static_cast<std::size_t>(k)] = stiffest_contact_modulus(materials, k, wall_materials);
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Material& m = materials.material(state.material[i]);
-    const double t = rayleigh_time(state.radius[i], m.density, m.youngs_modulus, m.poisson_ratio);
+    const double t =
+        rayleigh_time(state.radius[i], m.density,
+                      modulus[static_cast<std::size_t>(state.material[i])], m.poisson_ratio);
     if (t < choice.rayleigh_time) choice.rayleigh_time = t, smallest = i;
   }
   if (!(fraction > 0.0 && fraction <= 1.0))
@@ -58,16 +87,24 @@ TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable&
     choice.collision_time =
         std::min(choice.collision_time,
                  hertz_collision_time(m, r, materials.pair(mat, w).effective_modulus, v));
+  choice.collision_speed = v;
+  return choice;
+}
+
+// After every bound has shortened the step: the Hertz collision at the fastest expected speed
+// must still span enough steps.
+TimeStepChoice checked(TimeStepChoice choice) {
   if (choice.time_step * minimum_steps_per_collision > choice.collision_time)
     throw InputError(fmt::format(
         "time step {:.3g} s resolves a Hertz collision at {:.3g} m/s ({:.3g} s) with fewer than "
         "{} steps: lower time_step or time_step_fraction",
-        choice.time_step, v, choice.collision_time, minimum_steps_per_collision));
+        choice.time_step, choice.collision_speed, choice.collision_time,
+        minimum_steps_per_collision));
   if (choice.time_step * accurate_steps_per_collision > choice.collision_time)
     spdlog::warn(
         "time step {:.3g} s resolves a Hertz collision at {:.3g} m/s with {:.0f} steps: the "
         "restitution may be off the input by more than 1 % (it is within 1 % from {} steps)",
-        choice.time_step, v, choice.collision_time / choice.time_step,
+        choice.time_step, choice.collision_speed, choice.collision_time / choice.time_step,
         accurate_steps_per_collision);
   return choice;
 }
@@ -77,7 +114,8 @@ TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable&
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed) {
-  return select_with_masses(state, materials, wall_materials, fixed, fraction, speed, state.mass);
+  return checked(
+      select_with_masses(state, materials, wall_materials, fixed, fraction, speed, state.mass));
 }
 
 namespace {
@@ -105,9 +143,9 @@ TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fix
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds) {
-  return with_bond_period(
-      select_time_step(state, materials, wall_materials, fixed, fraction, speed), fixed, fraction,
-      bonds, state);
+  return checked(with_bond_period(
+      select_with_masses(state, materials, wall_materials, fixed, fraction, speed, state.mass),
+      fixed, fraction, bonds, state));
 }
 
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
@@ -129,7 +167,7 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
   choice.clump_period = clump_contact_period(clumps, state, materials, partners, overlap);
   if (!fixed && std::isfinite(choice.clump_period))
     choice.time_step = std::min(choice.time_step, fraction * choice.clump_period);
-  return choice;
+  return checked(choice);
 }
 
 double clump_contact_period(const ClumpSet& clumps, const SphereState& state,

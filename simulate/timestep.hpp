@@ -33,9 +33,10 @@ inline constexpr double accurate_steps_per_collision = 60.0;
 namespace shapepress::simulate {
 
 struct TimeStepChoice {
-  double time_step = 0.0;       // s
-  double rayleigh_time = 0.0;   // of the smallest sphere
-  double collision_time = 0.0;  // shortest Hertz impact at `speed`, sphere–sphere or –wall
+  double time_step = 0.0;        // s
+  double rayleigh_time = 0.0;    // of the smallest sphere
+  double collision_time = 0.0;   // shortest Hertz impact at `speed`, sphere–sphere or –wall
+  double collision_speed = 0.0;  // m/s, the speed it was taken at
   double bond_period = std::numeric_limits<double>::infinity();   // bond_oscillation_period
   double clump_period = std::numeric_limits<double>::infinity();  // clump_contact_period
 };

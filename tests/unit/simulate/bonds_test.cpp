@@ -165,6 +165,30 @@ TEST(Bonds, OscillationPeriodBoundIsBelowThePairsPeriod) {
   EXPECT_THROW(select_time_step(s, table, {}, bound, 0.2, 0.1, bonds), InputError);
 }
 
+TEST(Bonds, ABondedPairWithoutTheContactLawMayOverlapDeepButNotPassThrough) {
+  // contact_when_bonded = false: a bonded pair is one elastic body, so an overlap of 0.9 r (its
+  // bond pressed to 0.55 of its touching length) is a strain, not a divergence; the contact
+  // check's 0.5 r holds for pairs that touch through the contact law. Centres within a fifth of
+  // the radii sum are.
+  const MaterialTable table({{"m", 1e7, 0.3, rho}}, {{"m", "m", 0.7, 0.5}});
+  const auto engine = [&](double distance, bool contact_when_bonded) {
+    SphereState s = pair_state(distance);
+    BondParameters p = stiff();
+    p.contact_when_bonded = contact_when_bonded;
+    BondSet bonds = create_bonds(s, 1.15, p);
+    return Engine(std::move(s), Box{}, table, {}, EngineSettings{1e-9, {0, 0, 0}, 0.1 * r},
+                  std::move(bonds));
+  };
+  EXPECT_NO_THROW(engine(1.1 * r, false).check_divergence());
+  EXPECT_THROW(engine(1.1 * r, true).check_divergence(), ComputationError);
+  try {
+    engine(0.35 * r, false).check_divergence();
+    FAIL() << "a bonded pair 0.35 r apart is not caught";
+  } catch (const ComputationError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("bonded spheres 0 and 1"));
+  }
+}
+
 TEST(Bonds, CreatedOnlyWithinOneParticleByEq10) {
   SphereState s;
   s.add_sphere(0.0, 0.0, 0.0, r, rho, 0);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "common/error.hpp"
 #include "simulate/contact_law.hpp"
 
 namespace shapepress::simulate {
@@ -31,6 +32,30 @@ TEST(ContactLaw, EffectiveModuliFollowTheStandardForm) {
   // 1/E* = 2 (1 - ν²)/E; 1/G* = 2 (2 - ν)/G with G = E / 2.6 (models.md, Eq. 2 corrected).
   EXPECT_NEAR(p.effective_modulus, 1e8 / (2.0 * 0.91), 1e-6);
   EXPECT_NEAR(p.effective_shear_modulus, 1e8 / 2.6 / (2.0 * 1.7), 1e-6);
+}
+
+TEST(ContactLaw, AnInteractionsEffectiveModulusReplacesTheMaterialsOne) {
+  // A sub-sphere (E = 200 MPa, ν = 0.46) against a plate (1 GPa, 0.3): the materials give
+  // E* = 1/((1 − 0.46²)/2e8 + (1 − 0.3²)/1e9) ≈ 0.21 GPa; effective_modulus = 1 GPa states it,
+  // and G* keeps the materials' ratio G*/E*.
+  const Material sub{"sub", 2e8, 0.46, 2000.0}, plate{"plate", 1e9, 0.3, 7800.0};
+  const Interaction from_materials{"sub", "plate", 0.7, 0.5};
+  Interaction stated = from_materials;
+  stated.effective_modulus = 1e9;
+  const MaterialTable a({sub, plate}, {{"sub", "sub", 0.7, 0.5}, from_materials});
+  const MaterialTable b({sub, plate}, {{"sub", "sub", 0.7, 0.5}, stated});
+  const PairConstants& p = a.pair(0, 1);
+  const PairConstants& q = b.pair(0, 1);
+  EXPECT_NEAR(p.effective_modulus, 1.0 / ((1 - 0.46 * 0.46) / 2e8 + 0.91 / 1e9), 1e-3);
+  EXPECT_DOUBLE_EQ(q.effective_modulus, 1e9);
+  EXPECT_NEAR(q.effective_shear_modulus / q.effective_modulus,
+              p.effective_shear_modulus / p.effective_modulus, 1e-12);
+  // The damping follows the stated stiffness: γn ∝ √(2 E*).
+  EXPECT_NEAR(q.normal_damping_scale / p.normal_damping_scale,
+              std::sqrt(q.effective_modulus / p.effective_modulus), 1e-12);
+  EXPECT_DOUBLE_EQ(b.pair(0, 0).effective_modulus, a.pair(0, 0).effective_modulus);
+  stated.effective_modulus = -1.0;
+  EXPECT_THROW(MaterialTable({sub, plate}, {{"sub", "sub", 0.7, 0.5}, stated}), InputError);
 }
 
 TEST(ContactLaw, StaticHertzForce) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
+#include "simulate/bonds.hpp"
 #include "simulate/punch.hpp"
 #include "simulate/timestep.hpp"
 
@@ -52,6 +53,44 @@ TEST(TimeStep, StepTooCoarseForAHertzCollisionIsAnInputError) {
   EXPECT_NEAR(ok.time_step, 0.2 * ok.rayleigh_time, 1e-20);
   EXPECT_GT(ok.collision_time, minimum_steps_per_collision * ok.time_step);
   EXPECT_THROW(select_time_step(s, table, {0}, 1e-5, 0.2, 2.5), InputError);
+}
+
+TEST(TimeStep, AStiffStatedPairShortensTheRayleighStep) {
+  // Soft spheres (E = 20 MPa) against a plate whose pair states E* = 1 GPa: the step is that of
+  // a sphere with (1 − ν²) E* against a rigid wall, not of the soft material.
+  const Material soft{"soft", 2e7, 0.46, 2000.0}, plate{"plate", 1e9, 0.3, 7800.0};
+  Interaction against_plate{"soft", "plate", 0.7, 0.5};
+  SphereState s;
+  s.add_sphere(0, 0, 0, 1e-3, 2000.0, 0);
+  const MaterialTable plain({soft, plate}, {{"soft", "soft", 0.7, 0.5}, against_plate});
+  against_plate.effective_modulus = 1e9;
+  const MaterialTable stated({soft, plate}, {{"soft", "soft", 0.7, 0.5}, against_plate});
+  const TimeStepChoice a = select_time_step(s, plain, {1}, std::nullopt, 0.2, 0.01);
+  const TimeStepChoice b = select_time_step(s, stated, {1}, std::nullopt, 0.2, 0.01);
+  EXPECT_NEAR(a.rayleigh_time, rayleigh_time(1e-3, 2000.0, 2e7, 0.46), 1e-18);
+  EXPECT_NEAR(b.rayleigh_time, rayleigh_time(1e-3, 2000.0, (1 - 0.46 * 0.46) * 1e9, 0.46), 1e-18);
+  EXPECT_LT(b.time_step, a.time_step);
+}
+
+TEST(TimeStep, TheCollisionCheckSeesTheStepAfterTheBondBound) {
+  // Stiff bonds between soft spheres: the Rayleigh step alone resolves a 5 m/s impact on the
+  // stiff plate with fewer than 10 steps, the bond bound's shorter step does not; the check
+  // judges the step the run takes.
+  const Material soft{"soft", 2e7, 0.46, 2000.0}, plate{"plate", 1e9, 0.3, 7800.0};
+  Interaction against_plate{"soft", "plate", 0.7, 0.5};
+  against_plate.effective_modulus = 1e9;
+  const MaterialTable table({soft, plate}, {{"soft", "soft", 0.7, 0.5}, against_plate});
+  SphereState s;
+  s.add_sphere(0, 0, 0, 1e-3, 2000.0, 0);
+  s.add_sphere(2e-3, 0, 0, 1e-3, 2000.0, 0);
+  s.body = {0, 0};
+  EXPECT_THROW(select_time_step(s, table, {1}, std::nullopt, 1.0, 5.0), InputError);
+  BondParameters stiff;
+  stiff.normal_stiffness = stiff.shear_stiffness = 1e14;
+  const BondSet bonds = create_bonds(s, 1.15, stiff);
+  const TimeStepChoice dt = select_time_step(s, table, {1}, std::nullopt, 1.0, 5.0, bonds);
+  EXPECT_LT(dt.time_step, dt.rayleigh_time);
+  EXPECT_GT(dt.collision_time, minimum_steps_per_collision * dt.time_step);
 }
 
 }  // namespace
