@@ -25,6 +25,26 @@ Curve loading_curve(const PlateCurve& c, const std::string& label) {
   return curve;
 }
 
+// The standard error of a mean of fills along the loading, sd/√K (zero for one fill).
+Curve standard_error_curve(const PlateCurve& c) {
+  Curve curve{{0.0}, {0.0}, "standard error"};
+  for (std::size_t i = 0; i < c.deformation.size(); ++i)
+    if (c.deformation[i] > curve.x.back()) {
+      curve.x.push_back(c.deformation[i]);
+      curve.y.push_back(c.top_force_sd.empty()
+                            ? 0.0
+                            : c.top_force_sd[i] / std::sqrt(static_cast<double>(c.fills)));
+    }
+  return curve;
+}
+
+int steps_within(const PlateStudyRow& row, double tolerance, double errors) {
+  return static_cast<int>(
+      std::count_if(row.steps.begin(), row.steps.end(), [&](const PlateStep& s) {
+        return std::fabs(s.versus_finest) < tolerance + errors * s.versus_finest_error;
+      }));
+}
+
 }  // namespace
 
 std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
@@ -50,22 +70,34 @@ std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
   study.from = from;
   study.to = reach;
   const Curve reference = loading_curve(*finest->plate, finest->label);
+  const Curve reference_error = standard_error_curve(*finest->plate);
   for (const LoadedRun* run : members) {
     PlateStudyRow row;
     row.label = run->label;
     row.sub_spheres = run->plate->sub_spheres;
+    row.fills = run->plate->fills;
     row.cpu_seconds = run->plate->cpu_seconds;
     row.wall_seconds = run->plate->wall_seconds;
     const Curve curve = loading_curve(*run->plate, run->label);
+    const Curve error = standard_error_curve(*run->plate);
     row.versus_finest = compare_curves(curve, reference, study.from, study.to);
     // The issue's convergence test: every 1 % step of deformation in the window.
     for (int step = static_cast<int>(std::ceil(study.from * 100 - 1e-9));
          step <= static_cast<int>(std::floor(study.to * 100 + 1e-9)); ++step) {
       const double x = step / 100.0;
       const double f = interpolate(reference, x);
-      if (f != 0.0)
-        row.max_step_versus_finest = std::max(row.max_step_versus_finest,
-                                              std::fabs(interpolate(curve, x) - f) / std::fabs(f));
+      if (f == 0.0) continue;
+      PlateStep s;
+      s.deformation = x;
+      s.force = interpolate(curve, x);
+      s.force_error = interpolate(error, x);
+      s.versus_finest = s.force / f - 1.0;
+      // Of a ratio of two independent means: (σa/b)² + (a σb/b²)².
+      const double fe = interpolate(reference_error, x);
+      s.versus_finest_error =
+          run == finest ? 0.0 : std::hypot(s.force_error / f, s.force * fe / (f * f));
+      row.max_step_versus_finest = std::max(row.max_step_versus_finest, std::fabs(s.versus_finest));
+      row.steps.push_back(s);
     }
     if (poisson_ratio) {
       const ElasticSphere sphere = infer_sphere(*run->plate, *poisson_ratio);
@@ -79,6 +111,60 @@ std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
   }
   return study;
 }
+
+namespace {
+
+// Every agglomerate against the finest at the 1 % steps, the next-finest with a band of two
+// standard errors of the difference (means of fills), and the issue's ±2 % lines.
+Chart plate_convergence_chart(const PlateStudy& study) {
+  Chart chart{"Convergence: each N against the finest N at 1 % steps",
+              "deformation [%]",
+              "force against the finest N [%]",
+              "deformation_percent",
+              "difference_percent",
+              {}};
+  std::vector<const PlateStudyRow*> rows;
+  for (const PlateStudyRow& row : study.rows)
+    if (row.sub_spheres > 1 && row.label != study.finest) rows.push_back(&row);
+  std::sort(rows.begin(), rows.end(), [](const PlateStudyRow* a, const PlateStudyRow* b) {
+    return a->sub_spheres < b->sub_spheres;
+  });
+  int colour = 1;
+  for (const PlateStudyRow* row : rows) {
+    Series s{
+        fmt::format("N = {} ({} fill{})", row->sub_spheres, row->fills, row->fills > 1 ? "s" : ""),
+        {},
+        {},
+        SeriesStyle::lines,
+        colour++};
+    for (const PlateStep& step : row->steps)
+      s.x.push_back(100 * step.deformation), s.y.push_back(100 * step.versus_finest);
+    chart.series.push_back(s);
+  }
+  if (!rows.empty() && rows.back()->fills > 1) {
+    const PlateStudyRow& next = *rows.back();
+    Series low{fmt::format("N = {}, ±2 standard errors", next.sub_spheres),
+               {},
+               {},
+               SeriesStyle::dashed,
+               colour - 1};
+    Series high{"", {}, {}, SeriesStyle::dashed, colour - 1};
+    for (const PlateStep& step : next.steps) {
+      low.x.push_back(100 * step.deformation);
+      low.y.push_back(100 * (step.versus_finest - 2 * step.versus_finest_error));
+      high.x.push_back(100 * step.deformation);
+      high.y.push_back(100 * (step.versus_finest + 2 * step.versus_finest_error));
+    }
+    chart.series.push_back(low), chart.series.push_back(high);
+  }
+  Series plus{
+      "±2 % (issue 4)", {100 * study.from, 100 * study.to}, {2.0, 2.0}, SeriesStyle::dashed, 8};
+  Series minus{"", {100 * study.from, 100 * study.to}, {-2.0, -2.0}, SeriesStyle::dashed, 8};
+  chart.series.push_back(plus), chart.series.push_back(minus);
+  return chart;
+}
+
+}  // namespace
 
 std::vector<Chart> plate_study_charts(const PlateStudy& study) {
   Chart cost{"CPU time against the number of sub-spheres (paper Fig. 2b)",
@@ -137,22 +223,45 @@ std::vector<Chart> plate_study_charts(const PlateStudy& study) {
   by_x(finest), by_x(tatara);
   accuracy.series = {finest, tatara};
   if (!hertz.x.empty()) accuracy.series.push_back(hertz);
-  return {cost, accuracy};
+  return {cost, accuracy, plate_convergence_chart(study)};
 }
 
 void write_plate_study_csv(const std::filesystem::path& path, const PlateStudy& study) {
-  CsvWriter csv(path, {"label", "sub_spheres", "cpu_s", "wall_s", "rms_vs_finest", "max_vs_finest",
-                       "max_step_vs_finest", "rms_vs_tatara", "max_vs_tatara"});
+  CsvWriter csv(path, {"label", "sub_spheres", "fills", "cpu_s", "wall_s", "rms_vs_finest",
+                       "max_vs_finest", "max_step_vs_finest", "steps", "steps_within_2pc",
+                       "steps_within_2pc_2se", "rms_vs_tatara", "max_vs_tatara"});
   csv.comment(fmt::format("relative force errors over deformation [{:.4g}, {:.4g}]; finest: {}",
                           study.from, study.to, study.finest));
   csv.comment("max_step_vs_finest: largest relative difference at the 1 % deformation steps");
+  csv.comment(
+      "steps_within_2pc: 1 % steps within 2 % of the finest; steps_within_2pc_2se: within 2 % "
+      "plus two standard errors of the difference (means of fills: plate_steps.csv)");
   for (const PlateStudyRow& r : study.rows)
-    csv.row_text({r.label, fmt::format("{}", r.sub_spheres), format_number(r.cpu_seconds),
-                  format_number(r.wall_seconds), format_number(r.versus_finest.rms_relative),
+    csv.row_text({r.label, fmt::format("{}", r.sub_spheres), fmt::format("{}", r.fills),
+                  format_number(r.cpu_seconds), format_number(r.wall_seconds),
+                  format_number(r.versus_finest.rms_relative),
                   format_number(r.versus_finest.max_relative),
-                  format_number(r.max_step_versus_finest),
+                  format_number(r.max_step_versus_finest), fmt::format("{}", r.steps.size()),
+                  fmt::format("{}", steps_within(r, 0.02, 0.0)),
+                  fmt::format("{}", steps_within(r, 0.02, 2.0)),
                   r.versus_tatara ? format_number(r.versus_tatara->rms_relative) : "",
                   r.versus_tatara ? format_number(r.versus_tatara->max_relative) : ""});
+  csv.commit();
+}
+
+void write_plate_steps_csv(const std::filesystem::path& path, const PlateStudy& study) {
+  CsvWriter csv(path, {"label", "sub_spheres", "fills", "deformation", "force_N", "force_se_N",
+                       "vs_finest", "vs_finest_se"});
+  csv.comment(fmt::format(
+      "every run at the 1 % steps; vs_finest = F / F_finest - 1 against {}; the standard errors "
+      "are those of means of fills (top_force_sd_N / sqrt(fills)), 0 for one fill",
+      study.finest));
+  for (const PlateStudyRow& r : study.rows)
+    for (const PlateStep& s : r.steps)
+      csv.row_text({r.label, fmt::format("{}", r.sub_spheres), fmt::format("{}", r.fills),
+                    format_number(s.deformation), format_number(s.force),
+                    format_number(s.force_error), format_number(s.versus_finest),
+                    format_number(s.versus_finest_error)});
   csv.commit();
 }
 

@@ -14,13 +14,26 @@
 
 namespace shapepress::analysis {
 
+// One 1 % step of deformation of a run against the finest: the issue's convergence test reads
+// these. For a mean of K fills the standard errors are sd/√K of each mean; a difference smaller
+// than a few of its standard errors is not told apart from zero by these fills.
+struct PlateStep {
+  double deformation = 0.0;
+  double force = 0.0;                // N
+  double force_error = 0.0;          // N, standard error of the mean of fills (0 for one fill)
+  double versus_finest = 0.0;        // F / F_finest − 1
+  double versus_finest_error = 0.0;  // its standard error from both runs' fills
+};
+
 struct PlateStudyRow {
   std::string label;
   int sub_spheres = 0;  // 1: the single (Hertz) sphere
+  int fills = 1;
   double cpu_seconds = -1.0, wall_seconds = -1.0;
   CurveDifference versus_finest;                 // over the window; zero for the finest itself
   std::optional<CurveDifference> versus_tatara;  // with ν
   double max_step_versus_finest = 0.0;           // largest |F − F_finest|/F_finest at 1 % steps
+  std::vector<PlateStep> steps;                  // every 1 % step of the window
 };
 
 struct PlateStudy {
@@ -37,11 +50,16 @@ std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
                                       double to = 0.40);
 
 // (b) CPU seconds against N (paper Fig. 2b); (c) speed–accuracy: RMS error against the finest
-// run and against Tatara versus CPU seconds.
+// run and against Tatara versus CPU seconds; (d) convergence: every N against the finest at the
+// 1 % steps, the next-finest with ±2 standard errors of the difference, and the ±2 % lines.
 std::vector<Chart> plate_study_charts(const PlateStudy& study);
 
-// plate_study.csv: label, sub_spheres, cpu_s, wall_s, rms/max relative errors.
+// plate_study.csv: label, sub_spheres, fills, cpu_s, wall_s, rms/max relative errors, and how
+// many 1 % steps lie within 2 % of the finest (and within 2 % plus two standard errors).
 void write_plate_study_csv(const std::filesystem::path& path, const PlateStudy& study);
+// plate_steps.csv: every run's force at every 1 % step with its standard error, and its
+// difference from the finest run with that difference's standard error.
+void write_plate_steps_csv(const std::filesystem::path& path, const PlateStudy& study);
 
 // The convergence question (paper §3.3 and Fig. 3; issue 6): do the force curves of one method
 // settle as its number of sub-spheres N grows? Per method (the particle kind in force.csv: bms,

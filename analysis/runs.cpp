@@ -103,13 +103,19 @@ PlateCurve read_plate_curve(const std::filesystem::path& path) {
   if (has("cpu_s")) curve.cpu_seconds = table.column("cpu_s").back();
   if (has("wall_s")) curve.wall_seconds = table.column("wall_s").back();
   if (has("contacts")) curve.contacts = table.column("contacts");
+  if (has("top_force_sd_N")) curve.top_force_sd = table.column("top_force_sd_N");
   const std::regex count(R"(sub_spheres\s*=\s*([0-9]+))");
+  const std::regex fills(R"(^fills\s*=\s*([0-9]+))");
   const std::regex particle(R"(^particle\s*=\s*([A-Za-z_]+))");
   for (const std::string& line : csv_comments(path)) {
     std::smatch match;
     if (std::regex_search(line, match, count)) curve.sub_spheres = std::stoi(match[1]);
     if (std::regex_search(line, match, particle)) curve.particle = match[1];
+    if (std::regex_search(line, match, fills)) curve.fills = std::stoi(match[1]);
   }
+  if (curve.fills > 1 && curve.top_force_sd.empty())
+    throw InputError(fmt::format("{}: a mean of {} fills without the top_force_sd_N column",
+                                 path.string(), curve.fills));
   return curve;
 }
 

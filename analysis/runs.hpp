@@ -26,6 +26,10 @@ struct PlateCurve {
   // contact count of every row (empty when force.csv has no contacts column).
   std::string particle;
   std::vector<double> contacts;
+  // A mean of fills (`plate --fills K`, "# fills = K" comment and top_force_sd_N column): K and
+  // the fills' sample standard deviation of the top force per row; 1 and empty for one fill.
+  int fills = 1;
+  std::vector<double> top_force_sd;
 };
 
 struct RunFiles {

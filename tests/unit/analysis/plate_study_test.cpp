@@ -48,8 +48,40 @@ TEST(PlateStudy, ComparesEveryRunWithTheFinestAndCharts) {
   // Hertz against Tatara over 5–40 %: Tatara is 16–59 % above Hertz (reference table).
   EXPECT_GT(with_nu->rows[3].versus_tatara->max_relative, 0.3);
   const std::vector<Chart> charts = plate_study_charts(*study);
-  ASSERT_EQ(charts.size(), 2u);
+  ASSERT_EQ(charts.size(), 3u);
   EXPECT_EQ(charts[0].series[0].x, (std::vector<double>{100, 545, 1322}));  // sorted by N
+  // (d): N = 100 and 545 against the finest at the 36 steps, then the ±2 % lines (one fill
+  // each: no band of standard errors).
+  ASSERT_EQ(charts[2].series.size(), 4u);
+  EXPECT_EQ(charts[2].series[0].x.size(), 36u);
+  EXPECT_NEAR(charts[2].series[1].y.front(), -2.0, 1e-9);
+}
+
+TEST(PlateStudy, MeansOfFillsCarryTheStandardErrorOfTheirDifference) {
+  // 819 at 1.03 × the finest, both means of 16 fills whose top force spreads by 8 % (sd): each
+  // mean's standard error is 2 % of it, so that of the ratio 1.03 is 1.03 · √2 · 0.02.
+  LoadedRun a = run("n819", 819, 1.03, 5.0), b = run("n1322", 1322, 1.0, 11.0);
+  for (LoadedRun* r : {&a, &b}) {
+    r->plate->fills = 16;
+    for (double f : r->plate->top_force)
+      r->plate->top_force_sd.push_back(0.08 * f);
+  }
+  const auto study = plate_study({a, b}, std::nullopt);
+  ASSERT_TRUE(study);
+  const PlateStudyRow& row = study->rows[0];
+  EXPECT_EQ(row.fills, 16);
+  ASSERT_EQ(row.steps.size(), 36u);
+  for (const PlateStep& step : row.steps) {
+    EXPECT_NEAR(step.versus_finest, 0.03, 1e-9);
+    EXPECT_NEAR(step.force_error / step.force, 0.02, 1e-9);
+    EXPECT_NEAR(step.versus_finest_error, std::sqrt(2.0) * 1.03 * 0.02, 1e-9);
+  }
+  EXPECT_TRUE(study->rows[1].steps.front().versus_finest_error == 0.0);  // the finest itself
+  // The chart's band: 3 % ± two standard errors.
+  const Chart chart = plate_study_charts(*study)[2];
+  ASSERT_EQ(chart.series.size(), 5u);  // N = 819, its band (two lines), ±2 %
+  EXPECT_NEAR(chart.series[1].y.front(), 3.0 - 200 * std::sqrt(2.0) * 1.03 * 0.02, 1e-9);
+  EXPECT_NEAR(chart.series[2].y.front(), 3.0 + 200 * std::sqrt(2.0) * 1.03 * 0.02, 1e-9);
 }
 
 TEST(PlateStudy, NeedsTwoRunsWithSubSphereCounts) {
