@@ -100,10 +100,7 @@ int run(const FillCli& cli, const RunContext& context) {
       options.target_count = cli.count > 0 ? cli.count : 350;
       options.sub_sphere_radius =
           cli.radius.empty() ? 0.0 : parse_quantity(cli.radius, dim::length, "radius");
-      options.lattice = cli.lattice == "hcp"      ? Lattice::hcp
-                        : cli.lattice == "random" ? Lattice::random
-                        : cli.lattice == "shell"  ? Lattice::shell
-                                                  : Lattice::fcc;
+      options.lattice = lattice_from_name(cli.lattice);
       options.placement = cli.placement == "centre" ? Placement::centre : Placement::inside;
       options.bond_multiplier = cli.bond_multiplier;
       options.seed = seed;
@@ -149,9 +146,11 @@ StageRunner setup_fill_cli(CLI::App& app) {
       ->check(CLI::Range(1, 1000000));
   app.add_option("--radius", cli->radius, "bms: fixed sub-sphere radius instead of a count");
   app.add_option("--lattice", cli->lattice,
-                 "bms: fcc or hcp lattice, random (a jammed dense random packing) or shell "
-                 "(random, with an outer layer of sub-spheres touching the surface)")
-      ->check(CLI::IsMember({"fcc", "hcp", "random", "shell"}))
+                 "bms: fcc or hcp lattice, random (a jammed dense random packing), shell "
+                 "(random, with an outer layer of sub-spheres touching the surface) or carved "
+                 "(the shape cut out of a larger random packing: no wall-ordered outer layer)")
+      ->check(CLI::IsMember(
+          std::vector<std::string>(std::begin(lattice_names), std::end(lattice_names))))
       ->capture_default_str();
   app.add_option("--placement", cli->placement,
                  "bms: 'inside' (spheres wholly inside) or 'centre' (centres inside)")

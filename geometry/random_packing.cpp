@@ -72,6 +72,29 @@ class CellGrid {
   std::vector<std::int32_t> head_, next_;
 };
 
+// The shape's volume (grid_volume); ComputationError when it has no inside.
+double inside_volume(const SignedDistance& shape) {
+  const double volume = grid_volume(shape, 48);
+  if (!(volume > 0.0))
+    throw ComputationError(fmt::format("{} has no inside to fill", shape.description));
+  return volume;
+}
+
+// The radius of n equal spheres that fill `volume` to `solid_fraction`.
+double radius_at(double volume, std::size_t n, double solid_fraction) {
+  return std::cbrt(solid_fraction * volume /
+                   (static_cast<double>(n) * 4.0 / 3.0 * std::numbers::pi));
+}
+
+// Whether sphere i of x has another within `reach` (centre distance), from a built grid.
+bool has_neighbour(const CellGrid& grid, const std::vector<Vec3>& x, std::size_t i, double reach) {
+  bool found = false;
+  grid.for_each_near(x[i], [&](std::size_t j) {
+    found = found || (j != i && (x[j] - x[i]).squaredNorm() < reach * reach);
+  });
+  return found;
+}
+
 // How far sphere centre p lies outside where it may be (> 0: outside), for radius r.
 double excursion(const SignedDistance& shape, const Vec3& p, double r, bool wholly_inside) {
   return shape(p) + (wholly_inside ? r : 0.0);
@@ -181,12 +204,10 @@ bool relax(std::vector<Vec3>& x, double r, const SignedDistance& shape, bool who
 RandomPacking dense_random_packing(const SignedDistance& shape,
                                    const RandomPackingOptions& options) {
   const auto n = static_cast<std::size_t>(std::max(options.count, 1));
-  const double volume = grid_volume(shape, 48);
-  if (!(volume > 0.0))
-    throw ComputationError(fmt::format("{} has no inside to fill", shape.description));
+  const double volume = inside_volume(shape);
   const double sphere_volume_per_r3 = 4.0 / 3.0 * std::numbers::pi;
   // Start loose (solid fraction 0.3): random centres, overlaps allowed, relaxed first.
-  double r = std::cbrt(0.3 * volume / (static_cast<double>(n) * sphere_volume_per_r3));
+  double r = radius_at(volume, n, 0.3);
   Rng rng(options.seed);
   std::vector<Vec3> x;
   x.reserve(n);
@@ -228,11 +249,7 @@ RandomPacking dense_random_packing(const SignedDistance& shape,
   CellGrid grid(shape.bounds, reach);
   grid.build(x);
   for (std::size_t i = 0; i < n; ++i) {
-    bool bonded = false;
-    grid.for_each_near(x[i], [&](std::size_t j) {
-      bonded = bonded || (j != i && (x[j] - x[i]).squaredNorm() < reach * reach);
-    });
-    if (bonded) continue;
+    if (has_neighbour(grid, x, i, reach)) continue;
     std::size_t nearest = i;
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < n; ++j)
@@ -261,6 +278,101 @@ RandomPacking dense_random_packing(const SignedDistance& shape,
   result.solid_fraction =
       static_cast<double>(n) * sphere_volume_per_r3 * exact * exact * exact / volume;
   return result;
+}
+
+RandomPacking carved_random_packing(const SignedDistance& shape,
+                                    const RandomPackingOptions& options) {
+  const auto n = static_cast<std::size_t>(std::max(options.count, 1));
+  const double volume = inside_volume(shape);
+  const double sphere_volume_per_r3 = 4.0 / 3.0 * std::numbers::pi;
+  // The bulk of this packing jams near a solid fraction of 0.6: the radius N spheres would have.
+  const double estimate = radius_at(volume, n, 0.6);
+  const double margin = carve_margin * estimate;
+  SignedDistance outer;
+  outer.distance = [shape, margin](const Vec3& p) { return shape(p) - margin; };
+  outer.bounds = {shape.bounds.lower - Vec3::Constant(margin),
+                  shape.bounds.upper + Vec3::Constant(margin)};
+  outer.description = fmt::format("{} offset by {:.3g} m", shape.description, margin);
+  const Vec3 centre = 0.5 * (shape.bounds.lower + shape.bounds.upper);
+  if (!(shape(centre) < 0.0))
+    throw ComputationError(
+        fmt::format("{}: the carved fill scales about the box centre, which lies outside the shape",
+                    shape.description));
+  const double outer_volume = grid_volume(outer, 48);
+  double spheres = static_cast<double>(n) * outer_volume / volume;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    RandomPackingOptions big = options;
+    big.count = static_cast<int>(std::ceil(1.05 * spheres));
+    big.shell_count = 0;
+    big.relaxation_steps = 3 * options.relaxation_steps;
+    const RandomPacking bulk = dense_random_packing(outer, big);
+    const double r = bulk.radius;
+    // Each sphere's largest scale s at which it lies wholly inside (star-shaped shape): kept
+    // spheres are those of the N largest, scaled by the N-th's, which touches the surface.
+    const auto inside_at = [&](const Vec3& c, double s) {
+      return shape(centre + s * (c - centre)) <= -s * r;
+    };
+    std::vector<double> threshold(bulk.centres.size(), 0.0);
+    for (std::size_t i = 0; i < bulk.centres.size(); ++i) {
+      const Vec3& c = bulk.centres[i];
+      double lo = 0.0, hi = 1.0;
+      while (inside_at(c, hi) && hi < 1e6)
+        lo = hi, hi *= 2.0;
+      for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (inside_at(c, mid) ? lo : hi) = mid;
+      }
+      threshold[i] = lo;
+    }
+    std::vector<std::size_t> order(bulk.centres.size());
+    for (std::size_t i = 0; i < order.size(); ++i)
+      order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return threshold[a] > threshold[b]; });
+    // Scale 1 carves the shape's own region; a smaller scale would reach into the margin (the
+    // wall-ordered layer of the larger packing): pack more and retry.
+    const auto at_one = static_cast<std::size_t>(
+        std::count_if(threshold.begin(), threshold.end(), [](double t) { return t >= 1.0; }));
+    if (at_one < n) {
+      spheres *=
+          1.1 * static_cast<double>(n) / static_cast<double>(std::max<std::size_t>(at_one, 1));
+      continue;
+    }
+    // Take the N with the largest thresholds, dropping any left without a kept neighbour within
+    // the bond reach (its neighbours were carved away) and taking the next instead.
+    std::vector<char> dropped(order.size(), 0);
+    std::vector<std::size_t> kept;
+    for (int sweep = 0;; ++sweep) {
+      kept.clear();
+      for (std::size_t i : order)
+        if (!dropped[i] && kept.size() < n) kept.push_back(i);
+      if (kept.size() < n)
+        throw ComputationError(fmt::format("carved fill of {}: fewer than {} connected spheres",
+                                           shape.description, n));
+      const double s = threshold[kept.back()];
+      const double reach = 2.0 * r * s * (1.0 + options.contact_gap);
+      std::vector<Vec3> x;
+      for (std::size_t i : kept)
+        x.push_back(centre + s * (bulk.centres[i] - centre));
+      CellGrid grid(shape.bounds, reach);
+      grid.build(x);
+      bool any = false;
+      for (std::size_t a = 0; a < x.size(); ++a)
+        if (!has_neighbour(grid, x, a, reach)) dropped[kept[a]] = 1, any = true;
+      if (any && sweep < 100) continue;
+      RandomPacking result;
+      result.centres = std::move(x);
+      result.radius = r * s;
+      result.growth_steps = bulk.growth_steps;
+      result.rattlers_moved = bulk.rattlers_moved;
+      result.solid_fraction = static_cast<double>(n) * sphere_volume_per_r3 * result.radius *
+                              result.radius * result.radius / volume;
+      return result;
+    }
+  }
+  throw ComputationError(fmt::format(
+      "carved fill of {}: a packing of the offset shape did not hold {} spheres inside it",
+      shape.description, n));
 }
 
 ShellPacking surface_conforming_packing(const SignedDistance& shape,

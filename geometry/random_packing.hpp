@@ -52,6 +52,24 @@ struct RandomPacking {
 RandomPacking dense_random_packing(const SignedDistance& shape,
                                    const RandomPackingOptions& options);
 
+// A piece of a bulk random packing ("carved" fill): the shape cut out of a dense random packing
+// of a larger shape, so the sub-spheres near the surface keep the bulk's structure instead of
+// the layer a wall orders (a packing against a wall puts its outer sub-spheres on the wall, with
+// about 5.5 bonds each against 8.5 inside: a skin whose share of the body and whose stiffness
+// against bulging both grow with r/R; docs/models.md "A carved fill").
+// How: the shape offset outward by a margin of `carve_margin` estimated sub-sphere radii is
+// packed as dense_random_packing does, with enough spheres that the shape's own region holds
+// more than N; the packing is then scaled about the shape's box centre by the largest factor
+// s ≤ 1 at which exactly N spheres lie wholly inside the shape (each sphere's threshold s_i by
+// bisection; the N largest are kept, the N-th touches the surface; scaling keeps every distance
+// at least 2 s r). A kept sphere without a kept neighbour within 2r (1 + contact_gap) is dropped
+// and the next one taken. Assumes the shape is star-shaped about its box centre (spheres,
+// ellipsoids and most particles); costs one packing of the larger shape (about 2.5× N spheres
+// for a sphere of 545-1322 sub-spheres).
+RandomPacking carved_random_packing(const SignedDistance& shape,
+                                    const RandomPackingOptions& options);
+inline constexpr double carve_margin = 5.0;
+
 // The surface-conforming fill: an outer layer ("shell") of spheres that all touch the surface,
 // spread evenly over it, around a dense random interior. Why: in a plain random packing the
 // outer spheres lie at random depths below the surface (up to a fraction of r) and at random

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "common/error.hpp"
 #include "geometry/random.hpp"
@@ -90,6 +91,14 @@ std::string kind_name(TemplateKind kind) {
   return kind == TemplateKind::bonded ? "bms" : "cms";
 }
 
+Lattice lattice_from_name(const std::string& name) {
+  for (std::size_t k = 0; k < std::size(lattice_names); ++k)
+    if (name == lattice_names[k]) return static_cast<Lattice>(k);
+  throw InputError(
+      fmt::format("unknown lattice '{}' (known: {})", name,
+                  fmt::join(std::begin(lattice_names), std::end(lattice_names), ", ")));
+}
+
 void BondedFillOptions::check() const {
   if (sub_sphere_radius < 0.0 || !std::isfinite(sub_sphere_radius))
     throw InputError(
@@ -101,7 +110,8 @@ void BondedFillOptions::check() const {
         "bond multiplier m_b = {} must be in [1, 1.414): below 1 touching spheres do not bond, "
         "from sqrt(2) second lattice neighbours would bond too",
         bond_multiplier));
-  if ((lattice == Lattice::random || lattice == Lattice::shell) && sub_sphere_radius > 0.0)
+  if ((lattice == Lattice::random || lattice == Lattice::shell || lattice == Lattice::carved) &&
+      sub_sphere_radius > 0.0)
     throw InputError(fmt::format(
         "sub-sphere radius {} m: the random fill takes a count, not a radius (the packing's "
         "radius is where it jams); use the fcc or hcp lattice for a fixed radius",
@@ -136,15 +146,17 @@ SphereTemplate fill_bonded(const SignedDistance& shape, const BondedFillOptions&
 
   double r = options.sub_sphere_radius;
   std::vector<Vec3> sites;
-  if (options.lattice == Lattice::random || options.lattice == Lattice::shell) {
+  if (options.lattice == Lattice::random || options.lattice == Lattice::shell ||
+      options.lattice == Lattice::carved) {
     RandomPackingOptions packing;
     packing.count = options.target_count;
     packing.wholly_inside = options.placement == Placement::inside;
     packing.seed = options.seed;
     packing.contact_gap = options.bond_multiplier - 1.0;
-    RandomPacking packed = options.lattice == Lattice::shell
-                               ? surface_conforming_packing(shape, {packing}).packing
-                               : dense_random_packing(shape, packing);
+    RandomPacking packed =
+        options.lattice == Lattice::shell    ? surface_conforming_packing(shape, {packing}).packing
+        : options.lattice == Lattice::carved ? carved_random_packing(shape, packing)
+                                             : dense_random_packing(shape, packing);
     r = packed.radius;
     sites = largest_cluster(packed.centres, r, options.bond_multiplier);
   } else if (r > 0.0) {

@@ -31,7 +31,11 @@ struct SphereTemplate {
 // fcc, hcp: a lattice at a random orientation and offset; random: no lattice, a jammed dense
 // random packing of exactly the target count (random_packing.hpp; a count, not a radius);
 // shell: the same with a surface-conforming outer layer (surface_conforming_packing).
-enum class Lattice { fcc, hcp, random, shell };
+enum class Lattice { fcc, hcp, random, shell, carved };
+// The names configs and the CLI use: "fcc", "hcp", "random", "shell", "carved".
+inline constexpr const char* lattice_names[] = {"fcc", "hcp", "random", "shell", "carved"};
+// The lattice of one of lattice_names; InputError listing them otherwise.
+Lattice lattice_from_name(const std::string& name);
 enum class Placement {
   inside,  // every sub-sphere lies wholly inside the shape
   centre   // every sub-sphere centre lies inside (spheres may cross the surface by < r)

@@ -195,13 +195,16 @@ CalibrationResult calibrate_plate(
   nm.max_evaluations = options.max_evaluations;
   nm.value_tolerance = 1e-4;      // 0.01 % RMS: below the run-to-run resolution of the curve
   nm.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
+  // Every evaluation presses the same fills; only the bonds (and contacts) change.
+  BmsFillCache fills;
   const auto objective = [&](const std::vector<double>& x) {
     CalibrationEvaluation e;
     for (double v : x)
       e.values.push_back(std::exp(v));
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      const PlateRunOutcome run = run_plate_config(configured(e.values), true);
+      const PlateRunOutcome run =
+          run_plate_config(configured(e.values), PlateParticleKind::bms, {}, &fills);
       e.rms_relative = plate_curve_error(run.rows, options.reference_deformation,
                                          options.reference_force, options.from, options.to)
                            .rms_relative;
@@ -219,7 +222,7 @@ CalibrationResult calibrate_plate(
     result.values.push_back(std::exp(v));
   result.converged = best.converged;
   result.config = configured(result.values);
-  result.best = run_plate_config(result.config, true);
+  result.best = run_plate_config(result.config, PlateParticleKind::bms, {}, &fills);
   const CurveError error = plate_curve_error(result.best.rows, options.reference_deformation,
                                              options.reference_force, options.from, options.to);
   result.rms_relative = error.rms_relative;

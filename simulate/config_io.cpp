@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "geometry/sphere_fill.hpp"
 
 namespace shapepress::simulate {
 
@@ -205,7 +206,10 @@ PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> 
     const ConfigTable t = root.table("bms");
     BmsConfig b;
     b.count = static_cast<int>(t.integer("count", 545, Range::closed(1, 1000000)));
-    b.lattice = t.choice("lattice", {"fcc", "hcp", "random", "shell"}, "fcc");
+    b.lattice = t.choice("lattice",
+                         std::vector<std::string>(std::begin(geometry::lattice_names),
+                                                  std::end(geometry::lattice_names)),
+                         "fcc");
     b.placement = t.choice("placement", {"inside", "centre"}, "inside");
     b.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
     b.fills = static_cast<int>(t.integer("fills", 1, Range::closed(1, 1000)));

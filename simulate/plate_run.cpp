@@ -120,7 +120,7 @@ PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills, int threads) {
 // [bms] fills > 1: the fills side by side, one thread each; their order in the mean is the
 // seeds', so the result does not depend on which thread ran which.
 PlateRunOutcome run_fills(const PlateConfig& config,
-                          const std::function<void(const std::string&)>& log) {
+                          const std::function<void(const std::string&)>& log, BmsFillCache* cache) {
   const int count = config.bms->fills;
   std::vector<PlateRunOutcome> fills(static_cast<std::size_t>(count));
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
@@ -132,8 +132,9 @@ PlateRunOutcome run_fills(const PlateConfig& config,
       PlateConfig one = config;
       one.bms->fills = 1;
       one.bms->seed = config.bms->seed + static_cast<std::uint64_t>(f);
-      fills[static_cast<std::size_t>(f)] = run_plate_config(
-          one, PlateParticleKind::bms, f == 0 ? log : std::function<void(const std::string&)>{});
+      fills[static_cast<std::size_t>(f)] =
+          run_plate_config(one, PlateParticleKind::bms,
+                           f == 0 ? log : std::function<void(const std::string&)>{}, cache);
     } catch (...) {
       errors[static_cast<std::size_t>(f)] = std::current_exception();
     }
@@ -164,9 +165,10 @@ const char* particle_name(PlateParticleKind kind) {
 }
 
 PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
-                                 const std::function<void(const std::string&)>& log) {
+                                 const std::function<void(const std::string&)>& log,
+                                 BmsFillCache* cache) {
   if (kind == PlateParticleKind::bms && config.bms && config.bms->fills > 1)
-    return run_fills(config, log);
+    return run_fills(config, log, cache);
   const MaterialTable table = config.materials.table();
   PlateSetup setup = config.setup;
   PlateParticle particle;
@@ -206,7 +208,7 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
   } else if (kind == PlateParticleKind::bms) {
     BmsParticleInfo info;
     particle = bms_sphere(table, setup.radius, *config.bms,
-                          fmt::format("BMS sphere (seed {})", config.bms->seed), &info);
+                          fmt::format("BMS sphere (seed {})", config.bms->seed), &info, cache);
     outcome.sub_sphere_radius = info.sub_sphere_radius;
     outcome.description =
         fmt::format("BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m, {} bonds",

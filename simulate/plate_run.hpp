@@ -15,6 +15,7 @@
 namespace shapepress::simulate {
 
 class Engine;
+class BmsFillCache;
 
 struct PlateRunOutcome {
   std::vector<PlateRow> rows;
@@ -47,8 +48,11 @@ TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTabl
 // plates pass through the clump's outer sub-spheres by design (it cannot deform), so the run's
 // overlap check is widened to the deepest overlap the compression can make (logged); a blow-up is
 // still caught by the energy and non-finite checks.
+// `fills` (optional) keeps the BMS fills made, for a caller that presses the same fills again
+// with other bond parameters (calibrate).
 PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
-                                 const std::function<void(const std::string&)>& log = {});
+                                 const std::function<void(const std::string&)>& log = {},
+                                 BmsFillCache* fills = nullptr);
 // bonded: --particle bms, else sphere.
 inline PlateRunOutcome run_plate_config(const PlateConfig& config, bool bonded,
                                         const std::function<void(const std::string&)>& log = {}) {

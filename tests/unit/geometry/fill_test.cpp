@@ -345,3 +345,68 @@ TEST(BondedFill, ShellPackingPutsAnEvenLayerOnTheSurface) {
 
 }  // namespace
 }  // namespace shapepress::geometry
+
+namespace shapepress::geometry {
+namespace {
+
+// Coordination (bonds by Eq. 10, m_b = 1.15) of the sub-spheres whose centres lie within a
+// quarter diameter of the deepest place a wholly inside sphere can sit (the wall layer), and of
+// the rest.
+struct LayerCoordination {
+  double outer = 0.0, inner = 0.0;
+  double outer_share = 0.0;  // of all sub-spheres
+};
+LayerCoordination layer_coordination(const SphereTemplate& t, const SignedDistance& shape) {
+  const double r = t.radii.front();
+  std::vector<int> degree(t.centres.size(), 0);
+  for (const Bond& b : t.bonds)
+    ++degree[static_cast<std::size_t>(b[0])], ++degree[static_cast<std::size_t>(b[1])];
+  double outer = 0, inner = 0;
+  int n_outer = 0, n_inner = 0;
+  for (std::size_t i = 0; i < t.centres.size(); ++i)
+    if (-shape(t.centres[i]) - r < 0.5 * r)
+      outer += degree[i], ++n_outer;
+    else
+      inner += degree[i], ++n_inner;
+  return {outer / n_outer, inner / n_inner,
+          static_cast<double>(n_outer) / static_cast<double>(t.centres.size())};
+}
+
+TEST(BondedFill, CarvedPackingKeepsTheBulkStructureUpToTheSurface) {
+  // The shape cut out of a larger random packing: exactly N, no overlap, wholly inside, one
+  // sub-sphere on the surface (the scale's), connected; and no wall-ordered layer: a plain
+  // random fill of 300 puts 43 % of them within half a radius of the wall (5.5 bonds each, 8.5
+  // inside), the carved one 21 % (measured), and its interior is as coordinated as a bulk
+  // packing (8.4).
+  const SignedDistance shape = sphere_distance(1.0);
+  BondedFillOptions options;
+  options.target_count = 300;
+  options.lattice = Lattice::carved;
+  const SphereTemplate t = fill_bonded(shape, options);
+  ASSERT_EQ(t.centres.size(), 300u);
+  const double r = t.radii.front();
+  double closest = 1e9, deepest_outer = 1e9;
+  for (std::size_t i = 0; i < t.centres.size(); ++i) {
+    EXPECT_LE(shape(t.centres[i]), -r * (1.0 - 1e-9));
+    deepest_outer = std::min(deepest_outer, -shape(t.centres[i]) - r);
+    for (std::size_t j = i + 1; j < t.centres.size(); ++j)
+      closest = std::min(closest, (t.centres[i] - t.centres[j]).norm());
+  }
+  EXPECT_GE(closest, 2.0 * r * (1.0 - 1e-9));
+  EXPECT_LT(deepest_outer, 1e-6 * r);  // the N-th sub-sphere touches the surface
+  EXPECT_TRUE(is_connected(t.centres.size(), t.bonds));
+  options.lattice = Lattice::random;
+  const SphereTemplate plain = fill_bonded(shape, options);
+  const LayerCoordination carved = layer_coordination(t, shape);
+  const LayerCoordination walled = layer_coordination(plain, shape);
+  EXPECT_GT(walled.outer_share, 0.35);
+  EXPECT_LT(carved.outer_share, 0.3);
+  EXPECT_GT(carved.inner, 8.0);  // bulk random packing at m_b = 1.15 (measured 8.9)
+  options.lattice = Lattice::carved;
+  EXPECT_EQ(fill_bonded(shape, options).centres, t.centres);  // same seed, same template
+  EXPECT_EQ(lattice_from_name("carved"), Lattice::carved);
+  EXPECT_THROW(lattice_from_name("carve"), InputError);
+}
+
+}  // namespace
+}  // namespace shapepress::geometry
