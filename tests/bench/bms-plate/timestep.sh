@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Cost against accuracy of the time step (issue 4): the calibrated BMS sphere (calibrated-config.sh)
-# pressed to 40 % with fixed steps of FACTOR × the default step (0.2 Rayleigh times of the stiff
-# sub-sphere contacts), one thread. Prints per factor the CPU seconds and the RMS and largest
+# pressed to 40 % with fixed steps of FACTOR × the default step (0.2 of the bond network's period
+# bound, which is shorter than the contacts' Rayleigh time in the shipped elastic network), one
+# thread. Prints per factor the CPU seconds and the RMS and largest
 # relative change of the top-plate force against factor 1 at the 1 % steps from 5 % to 40 %.
-# A factor whose change stays at the level of factor 0.5's (the path noise of the random fill)
+# A factor whose change stays at the level of factor 0.5's (the path noise of the fill)
 # is as accurate as the default step.
 #   tests/bench/bms-plate/timestep.sh [N] [FACTOR...]      (defaults 545, 0.5 1 2 3)
 # Needs python3 and a build/ (or SHAPEPRESS=/path/to/shapepress).
