@@ -56,7 +56,8 @@ RandomPacking dense_random_packing(const SignedDistance& shape,
 // of a larger shape, so the sub-spheres near the surface keep the bulk's structure instead of
 // the layer a wall orders (a packing against a wall puts its outer sub-spheres on the wall, with
 // about 5.5 bonds each against 8.5 inside: a skin whose share of the body and whose stiffness
-// against bulging both grow with r/R; docs/models.md "A carved fill").
+// against bulging both grow with r/R; docs/models.md, "BMS: an elastic network, and a carved
+// fill").
 // How: the shape offset outward by a margin of `carve_margin` estimated sub-sphere radii is
 // packed as dense_random_packing does, with enough spheres that the shape's own region holds
 // more than N; the packing is then scaled about the shape's box centre by the largest factor
