@@ -15,27 +15,29 @@
 namespace shapepress::analysis {
 namespace {
 
-Curve loading_curve(const PlateCurve& c, const std::string& label) {
+// A column of a plate run along the loading (deformation increasing), from (0, 0).
+Curve loading_curve(const PlateCurve& c, const std::vector<double>& column,
+                    const std::string& label) {
   Curve curve{{0.0}, {0.0}, label};  // both plates touch at zero force
   for (std::size_t i = 0; i < c.deformation.size(); ++i)
     if (c.deformation[i] > curve.x.back()) {
       curve.x.push_back(c.deformation[i]);
-      curve.y.push_back(c.top_force[i]);
+      curve.y.push_back(column[i]);
     }
   return curve;
 }
 
+Curve loading_curve(const PlateCurve& c, const std::string& label) {
+  return loading_curve(c, c.top_force, label);
+}
+
 // The standard error of a mean of fills along the loading, sd/√K (zero for one fill).
 Curve standard_error_curve(const PlateCurve& c) {
-  Curve curve{{0.0}, {0.0}, "standard error"};
-  for (std::size_t i = 0; i < c.deformation.size(); ++i)
-    if (c.deformation[i] > curve.x.back()) {
-      curve.x.push_back(c.deformation[i]);
-      curve.y.push_back(c.top_force_sd.empty()
-                            ? 0.0
-                            : c.top_force_sd[i] / std::sqrt(static_cast<double>(c.fills)));
-    }
-  return curve;
+  std::vector<double> error(c.deformation.size(), 0.0);
+  if (!c.top_force_sd.empty())
+    for (std::size_t i = 0; i < error.size(); ++i)
+      error[i] = c.top_force_sd[i] / std::sqrt(static_cast<double>(c.fills));
+  return loading_curve(c, error, "standard error");
 }
 
 int steps_within(const PlateStudyRow& row, double tolerance, double errors) {

@@ -110,8 +110,7 @@ void BondedFillOptions::check() const {
         "bond multiplier m_b = {} must be in [1, 1.414): below 1 touching spheres do not bond, "
         "from sqrt(2) second lattice neighbours would bond too",
         bond_multiplier));
-  if ((lattice == Lattice::random || lattice == Lattice::shell || lattice == Lattice::carved) &&
-      sub_sphere_radius > 0.0)
+  if (is_random_packing(lattice) && sub_sphere_radius > 0.0)
     throw InputError(fmt::format(
         "sub-sphere radius {} m: the random fill takes a count, not a radius (the packing's "
         "radius is where it jams); use the fcc or hcp lattice for a fixed radius",
@@ -146,8 +145,7 @@ SphereTemplate fill_bonded(const SignedDistance& shape, const BondedFillOptions&
 
   double r = options.sub_sphere_radius;
   std::vector<Vec3> sites;
-  if (options.lattice == Lattice::random || options.lattice == Lattice::shell ||
-      options.lattice == Lattice::carved) {
+  if (is_random_packing(options.lattice)) {
     RandomPackingOptions packing;
     packing.count = options.target_count;
     packing.wholly_inside = options.placement == Placement::inside;

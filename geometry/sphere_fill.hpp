@@ -32,6 +32,10 @@ struct SphereTemplate {
 // random packing of exactly the target count (random_packing.hpp; a count, not a radius);
 // shell: the same with a surface-conforming outer layer (surface_conforming_packing).
 enum class Lattice { fcc, hcp, random, shell, carved };
+// Whether the lattice is a random packing (random, shell, carved): a count, not a radius.
+constexpr bool is_random_packing(Lattice lattice) {
+  return lattice == Lattice::random || lattice == Lattice::shell || lattice == Lattice::carved;
+}
 // The names configs and the CLI use: "fcc", "hcp", "random", "shell", "carved".
 inline constexpr const char* lattice_names[] = {"fcc", "hcp", "random", "shell", "carved"};
 // The lattice of one of lattice_names; InputError listing them otherwise.

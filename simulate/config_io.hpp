@@ -37,10 +37,10 @@
 //                    max_deformation, linearly in deformation after the ramp), symmetric = false,
 //                    max_deformation = 0.01, records = 50
 //   [bms]            (plate --particle bms) count = 545,
-//                    lattice = "fcc" | "hcp" | "random" | "shell", placement = "inside" |
-//                    "centre", seed = 1, fills = 1 (the mean curve of fills of seeds seed,
-//                    seed + 1, …), bond_multiplier = 1.15 (m_b, Eq. 10),
-//                    material = the sphere's (the sub-spheres' contact material)
+//                    lattice = "fcc" | "hcp" | "random" | "shell" | "carved", placement = "inside"
+//                    | "centre", seed = 1, fills = 1 (the mean curve of fills of seeds seed, seed +
+//                    1, …), bond_multiplier = 1.15 (m_b, Eq. 10), material = the sphere's (the
+//                    sub-spheres' contact material)
 //   [bond]           normal_stiffness, shear_stiffness (k̄n, k̄s, N/m^3) | modulus (Ē, Pa) with
 //                    shear_ratio = 1 (k̄s/k̄n); radius_multiplier = 1 (λ̄),
 //                    tensile_strength, shear_strength (Pa, default unbreakable),
@@ -116,7 +116,7 @@ CompactConfig read_compact_config(const ConfigTable& root);
 struct BmsConfig {
   int count = 545;
   // or "hcp", "random" (a dense random packing), "shell" (the same with a surface-conforming
-  // outer layer, geometry/random_packing.hpp)
+  // outer layer), "carved" (cut out of a larger random packing; geometry/random_packing.hpp)
   std::string lattice = "fcc";
   std::string placement = "inside";
   std::uint64_t seed = 1;

@@ -13,6 +13,11 @@ double restitution_damping_factor(double restitution) {
   return -2.0 * std::sqrt(5.0 / 6.0) * beta;
 }
 
+double materials_effective_modulus(const Material& a, const Material& b) {
+  return 1.0 / ((1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
+                (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+}
+
 namespace {
 
 void check_material(const Material& m) {
@@ -47,8 +52,7 @@ PairConstants pair_constants(const Material& a, const Material& b, const Interac
   const double shear_a = a.youngs_modulus / (2.0 * (1.0 + a.poisson_ratio));
   const double shear_b = b.youngs_modulus / (2.0 * (1.0 + b.poisson_ratio));
   PairConstants p;
-  p.effective_modulus = 1.0 / ((1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
-                               (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+  p.effective_modulus = materials_effective_modulus(a, b);
   p.effective_shear_modulus =
       1.0 / ((2.0 - a.poisson_ratio) / shear_a + (2.0 - b.poisson_ratio) / shear_b);
   if (in.effective_modulus) {  // Interaction::effective_modulus

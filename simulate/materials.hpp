@@ -74,6 +74,10 @@ struct PairConstants {
 // β-damping factor of LIGGGHTS `gran model hertz`: -2√(5/6) ln e / √(ln² e + π²).
 double restitution_damping_factor(double restitution);
 
+// E* of two materials in contact: 1/E* = (1-νa²)/Ea + (1-νb²)/Eb (before any stated
+// Interaction::effective_modulus).
+double materials_effective_modulus(const Material& a, const Material& b);
+
 // Pair tables for n materials: pair(i, j) == pair(j, i). Every pair of materials that can meet
 // needs an Interaction; a missing one is an InputError naming both materials.
 class MaterialTable {

@@ -42,10 +42,7 @@ double stiffest_contact_modulus(const MaterialTable& materials, int m,
   const double plane_strain = 1.0 - own.poisson_ratio * own.poisson_ratio;
   for (int k = 0; k < materials.count(); ++k) {
     if (!materials.has_pair(m, k)) continue;
-    const Material& other = materials.material(k);
-    const double from_materials =
-        1.0 / (plane_strain / own.youngs_modulus +
-               (1.0 - other.poisson_ratio * other.poisson_ratio) / other.youngs_modulus);
+    const double from_materials = materials_effective_modulus(own, materials.material(k));
     const double stated = materials.pair(m, k).effective_modulus;
     if (stated <= from_materials * (1.0 + 1e-12)) continue;
     const bool wall =
