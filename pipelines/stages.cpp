@@ -5,7 +5,7 @@
 #include "analysis/cli.hpp"
 #include "geometry/cli.hpp"
 #include "imaging/cli.hpp"
-#include "simulate/cli.hpp"
+#include "scenarios/cli.hpp"
 
 // Each stage library declares its setup function in its cli.hpp.
 
@@ -22,11 +22,11 @@ std::span<const Stage> registered_stages() {
             geometry::setup_describe_cli},
       Stage{"fill", "fill particle meshes with sub-spheres (BMS, CMS)", geometry::setup_fill_cli},
       Stage{"plate", "one sphere or BMS particle between two plates (validation rig)",
-            simulate::setup_plate_cli},
+            scenarios::setup_plate_cli},
       Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve",
-            simulate::setup_calibrate_cli},
+            scenarios::setup_calibrate_cli},
       Stage{"compact", "compact a sphere packing with a punch program",
-            simulate::setup_compact_cli},
+            scenarios::setup_compact_cli},
       Stage{"report", "charts, metrics.json and report.html of compaction and plate runs",
             analysis::setup_report_cli},
   };

@@ -257,7 +257,7 @@ ClumpSet read_clumps(const H5Reader& file) {
 }  // namespace
 
 void write_snapshot(const std::filesystem::path& path, const Engine& engine,
-                    const PunchState& punch, const Provenance& provenance) {
+                    const ScenarioState& scenario, const Provenance& provenance) {
   const SphereState& s = engine.state();
   const std::size_t n = s.size();
   H5Writer file(path, provenance);
@@ -332,10 +332,14 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   file.write("/walls/material", material);
   file.write("/walls/points", points, {4 * walls.size(), 3});
   file.write("/walls/quads", quads, {walls.size(), 4});
-  file.group("/punch");
-  file.attribute("/punch", "phase", static_cast<std::int64_t>(punch.phase));
-  file.attribute("/punch", "phase_start", punch.phase_start);
-  file.attribute("/punch", "reference_gap", punch.reference_gap);
+  std::vector<std::string> scenario_names;
+  std::vector<double> scenario_values;
+  for (const auto& [name, value] : scenario) {
+    scenario_names.push_back(name);
+    scenario_values.push_back(value);
+  }
+  file.write_strings("/scenario/names", scenario_names);
+  file.write("/scenario/values", scenario_values);
   file.attribute("/", "spheres", static_cast<std::int64_t>(n));
   file.attribute("/", "bonds", static_cast<std::int64_t>(c.bonds.size()));
   file.attribute("/", "clumps", static_cast<std::int64_t>(c.clumps.size()));
@@ -408,9 +412,13 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
                        " joins a sphere that is not in the snapshot");
   c.clumps = read_clumps(file);
   c.clumps.index(n);  // InputError when a range leaves the snapshot's spheres
-  out.punch.phase = static_cast<PunchPhase>(file.attribute_int64("/punch", "phase"));
-  out.punch.phase_start = file.attribute_double("/punch", "phase_start");
-  out.punch.reference_gap = file.attribute_double("/punch", "reference_gap");
+  const std::vector<std::string> scenario_names = file.strings("/scenario/names");
+  const std::vector<double> scenario_values = file.doubles("/scenario/values");
+  if (scenario_names.size() != scenario_values.size())
+    throw InputError("'" + path.string() +
+                     "': /scenario/names and /scenario/values differ in length");
+  for (std::size_t k = 0; k < scenario_names.size(); ++k)
+    out.scenario.emplace_back(scenario_names[k], scenario_values[k]);
   return out;
 }
 

@@ -10,11 +10,11 @@
 #include <random>
 
 #include "common/error.hpp"
+#include "packing/packing.hpp"
 #include "simulate/engine.hpp"
-#include "simulate/packing.hpp"
 #include "simulate/timestep.hpp"
 
-namespace shapepress::simulate {
+namespace shapepress::packing {
 namespace {
 
 MaterialTable powder(double e = 0.35, double mu = 0.5, double mu_r = 0.0) {
@@ -108,9 +108,9 @@ TEST(TimeStep, RayleighAndHertzTimesOfTheReferenceScene) {
 }
 
 }  // namespace
-}  // namespace shapepress::simulate
+}  // namespace shapepress::packing
 
-namespace shapepress::simulate {
+namespace shapepress::packing {
 namespace {
 
 TEST(Packing, CellOrderKeepsTheSpheresAndNumbersThemLayerByLayer) {
@@ -143,4 +143,4 @@ TEST(Packing, CellOrderKeepsTheSpheresAndNumbersThemLayerByLayer) {
 }
 
 }  // namespace
-}  // namespace shapepress::simulate
+}  // namespace shapepress::packing

@@ -92,7 +92,7 @@ TEST(CmsStudy, MakeTargetRunsTheClumpsAndWritesTheConvergenceTables) {
                         "' CMS_SPREAD_FROM=" + std::to_string(study.cms_from) +
                         " BMS_SPREAD_FROM=" + std::to_string(study.bms_from);
   // Reduced: calibrate the BMS bonds at the smallest N with a few evaluations (the BMS runs are
-  // the comparison here; their own study is tests/validation/simulate/bms_plate_test.cpp).
+  // the comparison here; their own study is tests/validation/scenarios/bms_plate_test.cpp).
   if (!full_validation())
     command +=
         " CALIBRATION_COUNT=" + std::to_string(study.bms_counts.front()) + " MAX_EVALUATIONS=4";

@@ -1,0 +1,46 @@
+#pragma once
+// Rigid clumps (CMS particles) into a compaction box before the packing stage exists: templates
+// read from a templates file's /cms groups or given inline in the config, placed at random
+// positions and orientations where they overlap nothing (random sequential insertion of their
+// bounding spheres), then settled and compacted with the rest of the bed (compact_setup.cpp).
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "simulate/clumps.hpp"
+#include "simulate/state.hpp"
+
+namespace shapepress::packing {
+
+using namespace simulate;
+
+// Sub-spheres of one clump in its body frame (any origin; add_clump finds the centre of mass).
+struct ClumpTemplate {
+  std::string name;
+  std::vector<Vector3> centres;  // m
+  std::vector<double> radii;     // m
+};
+
+// Every /cms/<name> template of a templates file (geometry/templates_file.hpp), or those named
+// in `names` (InputError naming the file and the missing name, or when there is none).
+std::vector<ClumpTemplate> read_clump_templates(const std::filesystem::path& path,
+                                                const std::vector<std::string>& names = {});
+
+struct ClumpInsertion {
+  std::vector<ClumpTemplate> templates;  // used in turn
+  std::int64_t count = 0;
+  double z_low = 0.0, z_high = 0.0;  // region the clumps lie in, their whole reach inside it
+  std::uint64_t seed = 1;
+  int attempts_per_clump = 1000;
+  int integration_cells = 128;  // voxels along a clump's longest side (mass, inertia)
+};
+
+// Appends `count` clumps of `density` and `material` to `state` and `clumps`, each a template
+// turned by a uniformly random rotation and placed at a random point of the periodic box where
+// its bounding sphere overlaps no sphere already in `state` and no other clump's. InputError
+// when a clump cannot be placed in attempts_per_clump tries, or for a bad template (add_clump).
+void insert_clumps(SphereState& state, ClumpSet& clumps, const Box& box,
+                   const ClumpInsertion& request, double density, int material);
+
+}  // namespace shapepress::packing

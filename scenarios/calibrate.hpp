@@ -1,0 +1,72 @@
+#pragma once
+// Calibration of a BMS particle in the plate rig (DESIGN.md `calibrate`): the bond stiffnesses
+// (and, if asked, the sub-spheres' contact modulus) that make the force–deformation curve match
+// a reference curve, by bounded Nelder–Mead (analysis/optimize.hpp) on the logarithms of the
+// parameters. The objective is the RMS relative force error over a deformation window, the
+// number the acceptance criteria are stated in.
+#include <functional>
+#include <string>
+#include <vector>
+#include "scenarios/namespaces.hpp"
+
+#include "scenarios/config_io.hpp"
+#include "scenarios/plate_run.hpp"
+
+namespace shapepress::scenarios {
+
+// Names of the parameters calibrate can fit.
+//   normal_stiffness, shear_stiffness  k̄n, k̄s [N/m³] (config [bond] in that form)
+//   modulus, shear_ratio               Ē [Pa], k̄s/k̄n (config [bond] with modulus)
+//   contact_modulus                    E of the sub-spheres' contact material [Pa] (a copy of
+//                                      [bms] material, so the sphere's own E stays the bulk's)
+//   radius_multiplier                  λ̄
+std::vector<std::string> calibration_parameter_names();
+
+struct CalibrationOptions {
+  std::vector<std::string> parameters;
+  std::vector<double> reference_deformation;  // increasing
+  std::vector<double> reference_force;        // N
+  double from = 0.05;                         // deformation window of the objective
+  double to = 0.40;
+  int max_evaluations = 40;
+  double initial_factor = 4.0;  // first simplex: each parameter × this factor
+  // Start values that replace the config's (name, value); the fitted parameters start from the
+  // config's values otherwise.
+  std::vector<std::pair<std::string, double>> start;
+};
+
+struct CalibrationEvaluation {
+  std::vector<double> values;
+  double rms_relative = 0.0;  // objective; +inf when the run failed
+  double wall_seconds = 0.0;
+};
+
+struct CalibrationResult {
+  PlateConfig config;  // with the fitted values
+  std::vector<double> start, values;
+  double rms_relative = 0.0;
+  double max_relative = 0.0;
+  std::vector<CalibrationEvaluation> evaluations;
+  bool converged = false;
+  PlateRunOutcome best;  // the run with the fitted values
+};
+
+// Reads and writes one named parameter of a config (InputError for an unknown name or one that
+// does not match the config's bond form).
+double get_parameter(const PlateConfig& config, const std::string& name);
+void set_parameter(PlateConfig& config, const std::string& name, double value);
+
+// RMS and maximum relative difference of the run's loading curve against the reference over
+// [from, to] (200 points), the run's curve starting at (0, 0).
+struct CurveError {
+  double rms_relative = 0.0, max_relative = 0.0;
+};
+CurveError plate_curve_error(const std::vector<PlateRow>& rows,
+                             const std::vector<double>& reference_deformation,
+                             const std::vector<double>& reference_force, double from, double to);
+
+CalibrationResult calibrate_plate(
+    const PlateConfig& config, const CalibrationOptions& options,
+    const std::function<void(const CalibrationEvaluation&)>& progress = {});
+
+}  // namespace shapepress::scenarios

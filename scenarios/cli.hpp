@@ -1,0 +1,14 @@
+#pragma once
+#include "common/stage.hpp"
+#include "scenarios/namespaces.hpp"
+
+namespace shapepress::scenarios {
+
+// shapepress plate --config plate.toml --out DIR
+StageRunner setup_plate_cli(CLI::App& app);
+// shapepress compact --config compact.toml [--packing FILE | --restart SNAPSHOT] --out DIR
+StageRunner setup_compact_cli(CLI::App& app);
+// shapepress calibrate --config plate.toml --reference curve.csv [--fit ...] --out DIR
+StageRunner setup_calibrate_cli(CLI::App& app);
+
+}  // namespace shapepress::scenarios

@@ -1,0 +1,70 @@
+#pragma once
+// The compaction scenario: a box of spheres between the fixed bottom plate and the punch, the
+// punch driven by a PunchProgram, a PunchRecord every N steps. Output goes through hooks, so
+// this file holds the physics loop and no I/O (the CLI writes punch.csv and snapshots).
+#include <cstdint>
+#include <functional>
+#include "scenarios/namespaces.hpp"
+
+#include "scenarios/punch.hpp"
+#include "simulate/engine.hpp"
+
+namespace shapepress::scenarios {
+
+struct CompactionSetup {
+  PunchProgram program;
+  double die_area = 0.0;       // m², the periodic cross-section
+  double reference_gap = 0.0;  // H0 of the strain ε = (H0 - H)/H0: the gap at the run's start
+                               // or the loose fill height (config punch.strain_reference)
+  bool strain_from_fill = false;
+  double solid_volume = 0.0;        // m³, Σ sphere volumes
+  double max_solid_fraction = 1.0;  // the ceiling behind program.min_gap
+  // The target gap would pass the ceiling: loading stops at program.min_gap instead.
+  bool ceiling_limits_load = false;
+  std::int64_t max_steps = 0;  // total step index to stop at; 0: when the program is done
+  std::int64_t record_every = 100;
+  std::int64_t snapshot_every = 0;  // 0: none
+  std::size_t bottom_wall = 0;
+  std::size_t punch_wall = 1;
+};
+
+// One row of punch.csv (DESIGN.md columns).
+struct PunchRecord {
+  std::int64_t step = 0;
+  double time = 0.0;            // s
+  double gap = 0.0;             // m, punch - bottom
+  double strain = 0.0;          // (H0 - H)/H0
+  double top_force = 0.0;       // N, compressive load on the punch
+  double bottom_force = 0.0;    // N, on the bottom plate
+  double stress = 0.0;          // Pa, top force / die area
+  double solid_fraction = 0.0;  // Σ sphere volumes / (die area × gap)
+  PunchPhase phase = PunchPhase::load;
+  double kinetic_energy = 0.0;  // J, translational + rotational
+  std::int64_t sphere_contacts = 0;
+  std::int64_t wall_contacts = 0;
+  double contacts_per_particle = 0.0;  // 2 × sphere–sphere contacts / N (LIGGGHTS contact/atom)
+  std::int64_t intact_bonds = 0;       // BMS bonds not broken
+};
+
+struct CompactionHooks {
+  std::function<void(const PunchRecord&)> record;
+  std::function<void(const Engine&, const PunchState&)> snapshot;
+  std::function<void(std::int64_t step)> progress;
+};
+
+struct CompactionSummary {
+  PunchRecord last;
+  double max_stress = 0.0;
+  std::int64_t steps = 0;     // steps taken by this call
+  double loop_seconds = 0.0;  // wall time of the stepping loop
+};
+
+PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
+                         const PunchState& punch);
+
+// Steps until the program is done or max_steps is reached. Throws ComputationError on
+// divergence (from Engine::step).
+CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, PunchState& punch,
+                                 const CompactionHooks& hooks);
+
+}  // namespace shapepress::scenarios

@@ -1,0 +1,173 @@
+#include "scenarios/compact_setup.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "common/error.hpp"
+#include "packing/clump_packing.hpp"
+#include "packing/settle.hpp"
+
+namespace shapepress::scenarios {
+namespace {
+
+double expected_speed(const CompactConfig& c, const SphereState& s) {
+  double v = std::max({c.program.speed, c.program.unload_speed, c.program.max_speed});
+  for (std::size_t i = 0; i < s.size(); ++i)
+    v = std::max(v,
+                 std::sqrt(s.velocity.x[i] * s.velocity.x[i] + s.velocity.y[i] * s.velocity.y[i] +
+                           s.velocity.z[i] * s.velocity.z[i]));
+  const double g = std::hypot(c.run.gravity[0], c.run.gravity[1], c.run.gravity[2]);
+  return std::max(v, std::sqrt(2.0 * std::max(g, c.generate ? 9.81 : 0.0) * (c.punch - c.bottom)));
+}
+
+EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double dt) {
+  EngineSettings settings;
+  settings.time_step = dt;
+  settings.gravity = c.run.gravity;
+  const double d_min = 2.0 * *std::min_element(s.radius.begin(), s.radius.end());
+  settings.skin = c.run.skin ? *c.run.skin : 0.1 * d_min;
+  settings.max_overlap_fraction = c.run.max_overlap_fraction;
+  settings.local_damping = c.run.local_damping;
+  return settings;
+}
+
+// Plain spheres' volumes plus each clump's union volume (its sub-spheres overlap).
+double solid_volume(const SphereState& s, const ClumpSet& clumps) {
+  double volume = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (clumps.clump_of.empty() || clumps.clump_of[i] < 0)
+      volume += s.radius[i] * s.radius[i] * s.radius[i];
+  volume *= 4.0 / 3.0 * std::numbers::pi;
+  for (double v : clumps.volume)
+    volume += v;
+  return volume;
+}
+
+CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
+                                 const SphereState& state, const ClumpSet& clumps) {
+  CompactionSetup setup;
+  setup.program = c.program;
+  if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
+  setup.strain_from_fill = c.strain_from_fill;
+  setup.solid_volume = solid_volume(state, clumps);
+  setup.max_solid_fraction = c.max_solid_fraction;
+  // Solid-fraction ceiling: D = V / (A H) reaches it at H = V / (A D_max).
+  const double min_gap = setup.solid_volume / (c.box_x * c.box_y * c.max_solid_fraction);
+  setup.program.min_gap = min_gap;
+  if (setup.program.target_gap && *setup.program.target_gap < min_gap) {
+    setup.ceiling_limits_load = true;
+    spdlog::warn(
+        "punch: the target gap {:.6g} m (strain {:.4g} from H0 = {:.6g} m) would need solid "
+        "fraction {:.3f}, above the ceiling punch.max_solid_fraction = {}: loading stops at gap "
+        "{:.6g} m (strain {:.4g})",
+        *setup.program.target_gap, 1.0 - *setup.program.target_gap / reference_gap, reference_gap,
+        setup.solid_volume / (c.box_x * c.box_y * *setup.program.target_gap), c.max_solid_fraction,
+        min_gap, 1.0 - min_gap / reference_gap);
+  }
+  setup.die_area = c.box_x * c.box_y;
+  setup.reference_gap = reference_gap;
+  setup.max_steps = c.run.steps;
+  setup.record_every = c.run.record_every;
+  setup.snapshot_every = c.run.snapshot_every;
+  if (setup.max_steps == 0 && !setup.program.target_gap &&
+      setup.program.mode == PunchProgram::Mode::displacement)
+    throw InputError("punch: give target_gap or target_strain, or run.steps to stop the run");
+  return setup;
+}
+
+// The [clumps] templates: a templates file's /cms groups or the one given inline.
+std::vector<ClumpTemplate> clump_templates(const ClumpsConfig& k) {
+  if (!k.templates.empty())
+    return read_clump_templates(k.templates, k.template_name.empty()
+                                                 ? std::vector<std::string>{}
+                                                 : std::vector<std::string>{k.template_name});
+  ClumpTemplate t;
+  t.name = "clumps.spheres";
+  for (std::size_t i = 0; i + 3 < k.spheres.size(); i += 4) {
+    t.centres.push_back({k.spheres[i], k.spheres[i + 1], k.spheres[i + 2]});
+    t.radii.push_back(k.spheres[i + 3]);
+  }
+  return {t};
+}
+
+}  // namespace
+
+PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<SphereList> spheres) {
+  const MaterialTable table = c.materials.table();
+  const int particle = table.index_of(c.particle_material);
+  const int wall = table.index_of(c.wall_material);
+  const Box box{c.box_x, c.box_y};
+  const bool generated = !spheres;
+  if (generated) {
+    if (!c.generate && !c.clumps)
+      throw InputError(
+          "no packing: pass --packing FILE or add a [generate] (or [clumps]) table to the config");
+    spheres = c.generate
+                  ? in_cell_order(insert_random_spheres(box, *c.generate), c.generate->diameter_max)
+                  : SphereList{};
+  }
+  const double density = table.material(particle).density;
+  SphereState state = make_state(*spheres, density, particle);
+  ClumpSet clumps;
+  if (c.clumps) {
+    ClumpInsertion request;
+    request.templates = clump_templates(*c.clumps);
+    request.count = c.clumps->count;
+    request.seed = c.clumps->seed;
+    request.integration_cells = c.clumps->integration_cells;
+    request.z_low = c.generate ? c.generate->z_low : c.bottom;
+    request.z_high = c.generate ? c.generate->z_high : c.punch;
+    insert_clumps(state, clumps, box, request, density, particle);
+  }
+  std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
+                                  PlaneWall{c.punch, -1, 0.0, wall}};
+  PreparedCompaction out;
+  out.time_step = select_time_step(state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
+                                   expected_speed(c, state), BondSet{}, clumps);
+  const double dt = out.time_step.time_step;
+  if (generated && c.settle_time > 0.0) {
+    SettleRequest request{box, walls, settings_for(c, state, dt), c.settle_time, c.settle_friction};
+    state =
+        settle(std::move(state), clumps, c.materials.materials, c.materials.interactions, request);
+    walls[1].position = std::min(c.punch, bed_top(state, c.bottom));
+  }
+  for (std::size_t i = 0; i < state.size(); ++i)
+    if (state.position.z[i] - state.radius[i] < c.bottom - 0.5 * state.radius[i] ||
+        state.position.z[i] + state.radius[i] > walls[1].position + 0.5 * state.radius[i])
+      throw InputError("packing: sphere " + std::to_string(i) +
+                       " lies outside the space between box.bottom and box.punch");
+  const EngineSettings settings = settings_for(c, state, dt);
+  out.engine =
+      std::make_unique<Engine>(std::move(state), box, table, walls, settings, BondSet{}, clumps);
+  // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
+  // paper's "maximum initial height"), which strains like its 57 % need (README, H0).
+  out.punch.reference_gap = c.strain_from_fill && c.generate
+                                ? c.generate->z_high - c.generate->z_low
+                                : walls[1].position - walls[0].position;
+  out.setup =
+      compaction_setup(c, out.punch.reference_gap, out.engine->state(), out.engine->clumps());
+  return out;
+}
+
+PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snapshot) {
+  const MaterialTable table = c.materials.table();
+  PreparedCompaction out;
+  std::vector<int> wall_materials;
+  for (const PlaneWall& w : snapshot.checkpoint.walls)
+    wall_materials.push_back(w.material);
+  out.time_step = select_time_step(snapshot.state, table, wall_materials, c.run.time_step,
+                                   c.run.time_step_fraction, expected_speed(c, snapshot.state),
+                                   snapshot.checkpoint.bonds, snapshot.checkpoint.clumps);
+  const EngineSettings settings = settings_for(c, snapshot.state, out.time_step.time_step);
+  out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
+                                        std::move(snapshot.checkpoint));
+  out.punch = punch_state_from(snapshot.scenario);
+  out.setup =
+      compaction_setup(c, out.punch.reference_gap, out.engine->state(), out.engine->clumps());
+  return out;
+}
+
+}  // namespace shapepress::scenarios

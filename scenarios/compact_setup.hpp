@@ -1,0 +1,28 @@
+#pragma once
+// From a compact config and a packing (read, generated, or a snapshot) to an engine ready to
+// run: walls, time step, skin, settling of a generated bed, the punch program in metres.
+#include <memory>
+#include <optional>
+#include "scenarios/namespaces.hpp"
+
+#include "scenarios/compact.hpp"
+#include "scenarios/config_io.hpp"
+#include "simulate/snapshot.hpp"
+#include "simulate/timestep.hpp"
+
+namespace shapepress::scenarios {
+
+struct PreparedCompaction {
+  std::unique_ptr<Engine> engine;
+  CompactionSetup setup;
+  PunchState punch;
+  TimeStepChoice time_step;
+};
+
+// `spheres` empty: generate from config.generate (InputError if absent) and settle.
+PreparedCompaction prepare_compaction(const CompactConfig& config,
+                                      std::optional<SphereList> spheres);
+// Continues a run from a snapshot with the same config.
+PreparedCompaction resume_compaction(const CompactConfig& config, LoadedSnapshot snapshot);
+
+}  // namespace shapepress::scenarios

@@ -1,0 +1,133 @@
+#include "scenarios/plate.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <numbers>
+
+#include <omp.h>
+
+#include "common/error.hpp"
+#include "simulate/engine.hpp"
+
+namespace shapepress::scenarios {
+
+namespace {
+
+// CPU seconds of the process (all its threads), or, inside a parallel region (plate_run.cpp runs
+// the fills of an ensemble side by side, one thread each), of the calling thread alone: there the
+// process's clock would count the other fills too.
+double cpu_seconds_of_this_run() {
+  if (!omp_in_parallel()) return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+}  // namespace
+
+double hertz_plate_force(double effective_modulus, double radius, double approach) {
+  return std::sqrt(2.0) / 3.0 * effective_modulus * std::sqrt(radius) * approach *
+         std::sqrt(approach);
+}
+
+std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup) {
+  if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
+  PlateParticle particle;
+  particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
+                              materials.material(setup.sphere_material).density,
+                              setup.sphere_material);
+  return run_plate(materials, setup, std::move(particle));
+}
+
+std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
+                                PlateParticle particle,
+                                const std::function<void(const PlateRow&, const Engine&)>& row) {
+  if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
+  if (!(setup.speed > 0.0)) throw InputError("plate: speed must be > 0");
+  if (!(setup.max_deformation > 0.0 && setup.max_deformation < 0.5))
+    throw InputError("plate: max_deformation must be in (0, 0.5)");
+  if (setup.records < 1) throw InputError("plate: records must be >= 1");
+  if (!(setup.ramp >= 0.0 && setup.ramp < setup.max_deformation))
+    throw InputError("plate: ramp must be in [0, max_deformation)");
+  SphereState& s = particle.spheres;
+  if (s.size() == 0) throw InputError("plate: no sphere to press");
+  // Plates touch the particle's lowest and highest points: a BMS agglomerate is a little
+  // shorter than the sphere it fills. The approach counts from that first touch; the deformation
+  // is the approach over the diameter 2R of the sphere the particle stands for (paper §3.1,
+  // δ/2R), so every particle's curve lies on the axis of the Hertz and Tatara curves.
+  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
+  double r_min = s.radius[0];
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    low = std::min(low, s.position.z[i] - s.radius[i]);
+    high = std::max(high, s.position.z[i] + s.radius[i]);
+    r_min = std::min(r_min, s.radius[i]);
+  }
+  const double gap0 = high - low;
+  // The sin² ramp covers approach speed t_ramp / 2 (the mean of sin² is 1/2).
+  const double ramp_time = 2.0 * setup.ramp * 2.0 * setup.radius / setup.speed;
+  const double diameter = 2.0 * setup.radius;
+  const double final_speed = setup.final_speed > 0.0 ? setup.final_speed : setup.speed;
+  const auto plate_speed = [&](double t, double approach) {
+    if (t < ramp_time) {
+      const double s = std::sin(0.5 * std::numbers::pi * t / ramp_time);
+      return setup.speed * s * s;
+    }
+    const double rise = setup.max_deformation - setup.ramp;
+    const double along = rise > 0.0 ? (approach / diameter - setup.ramp) / rise : 0.0;
+    return setup.speed + (final_speed - setup.speed) * std::clamp(along, 0.0, 1.0);
+  };
+  const double top_share = setup.symmetric ? 0.5 : 1.0;
+  std::vector<PlaneWall> walls = {
+      PlaneWall{low, 1, (1.0 - top_share) * plate_speed(0.0, 0.0), setup.plate_material},
+      PlaneWall{high, -1, -top_share * plate_speed(0.0, 0.0), setup.plate_material}};
+  EngineSettings settings{setup.time_step, {0.0, 0.0, 0.0}, 0.1 * r_min};
+  settings.check_every = 1000;
+  settings.max_overlap_fraction = setup.max_overlap_fraction;
+  settings.local_damping = setup.local_damping;
+  Engine engine(std::move(s), Box{}, materials, std::move(walls), settings,
+                std::move(particle.bonds), std::move(particle.clumps));
+  const double e_star =
+      materials.pair(setup.sphere_material, setup.plate_material).effective_modulus;
+  const double final_approach = setup.max_deformation * diameter;
+  if (final_approach >= 0.9 * gap0)
+    throw InputError(
+        "plate: max_deformation leaves the plates less than 10 % of the particle's "
+        "height apart");
+  std::vector<PlateRow> rows;
+  const double cpu_start = cpu_seconds_of_this_run();
+  const auto wall_start = std::chrono::steady_clock::now();
+  int next = 1;
+  double approach = 0.0;  // of the walls' positions (the first touch: gap0)
+  while (next <= setup.records) {
+    // The speed at the step's midpoint: the wall moves by it over the step.
+    const double speed = plate_speed(engine.time() + 0.5 * setup.time_step, approach);
+    engine.walls()[0].velocity = (1.0 - top_share) * speed;
+    engine.walls()[1].velocity = -top_share * speed;
+    engine.step();
+    approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
+    if (approach >= final_approach * next / setup.records) {
+      PlateRow r;
+      r.time = engine.time();
+      r.approach = approach;
+      r.deformation = approach / diameter;
+      r.top_force = engine.wall_load(1);
+      r.bottom_force = engine.wall_load(0);
+      r.hertz_force = hertz_plate_force(e_star, setup.radius, approach);
+      r.contacts = engine.sphere_contacts() + engine.wall_contacts();
+      r.intact_bonds = engine.bonds().intact_count();
+      r.kinetic_energy = engine.energy().kinetic;
+      r.work = engine.work_in();
+      r.cpu_seconds = cpu_seconds_of_this_run() - cpu_start;
+      r.wall_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      if (row) row(r, engine);
+      rows.push_back(r);
+      ++next;
+    }
+  }
+  return rows;
+}
+
+}  // namespace shapepress::scenarios

@@ -1,0 +1,314 @@
+#include "scenarios/plate_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "common/csv.hpp"
+#include "common/error.hpp"
+#include "scenarios/bms_particle.hpp"
+#include "scenarios/cms_particle.hpp"
+#include "simulate/engine.hpp"
+#include "simulate/timestep.hpp"
+
+namespace shapepress::scenarios {
+
+namespace {
+
+// The clump's contact period bound (timestep.hpp) at the end of the compression, when each plate
+// has passed Δ/2 into the clump (it stays centred between them) and touches the most
+// sub-spheres, deepest: the stiffest state of the run.
+void tighten_for_plates(TimeStepChoice& dt, const PlateParticle& particle,
+                        const MaterialTable& table, const PlateSetup& setup, const RunConfig& run) {
+  const SphereState& s = particle.spheres;
+  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    low = std::min(low, s.position.z[i] - s.radius[i]);
+    high = std::max(high, s.position.z[i] + s.radius[i]);
+  }
+  const double half = 0.5 * setup.max_deformation * 2.0 * setup.radius;
+  std::vector<double> overlap(s.size(), 0.0);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double top = std::max(0.0, s.position.z[i] + s.radius[i] - (high - half));
+    const double bottom = std::max(0.0, low + half - (s.position.z[i] - s.radius[i]));
+    // One sub-sphere under both plates: the stiffnesses (∝ √δ) add.
+    overlap[i] = std::pow(std::sqrt(top) + std::sqrt(bottom), 2);
+  }
+  const double period =
+      clump_contact_period(particle.clumps, s, table, {setup.plate_material}, overlap);
+  dt.clump_period = std::min(dt.clump_period, period);
+  if (run.time_step) {
+    if (*run.time_step > dt.clump_period / std::numbers::pi)
+      throw InputError(fmt::format(
+          "time_step {:.3g} s is above the stability limit {:.3g} s of the clump on the plates "
+          "at {:.3g} deformation (contact period bound {:.3g} s): lower time_step",
+          *run.time_step, dt.clump_period / std::numbers::pi, setup.max_deformation,
+          dt.clump_period));
+    return;
+  }
+  dt.time_step = std::min(dt.time_step, run.time_step_fraction * dt.clump_period);
+}
+
+}  // namespace
+
+TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTable& table,
+                               const PlateSetup& setup, const RunConfig& run) {
+  // The collision check takes the plates' speed when they first touch (`speed`, or rest with a
+  // ramp), not final_speed: what the plates meet later they press at a speed that rises slowly,
+  // they do not strike it (the one Hertz sphere, at 0.2 of its Rayleigh time, would be refused:
+  // fewer than 10 steps per collision at 1.6 m/s).
+  TimeStepChoice dt =
+      select_time_step(particle.spheres, table, {setup.plate_material}, run.time_step,
+                       run.time_step_fraction, setup.speed, particle.bonds, particle.clumps);
+  if (!particle.clumps.empty()) tighten_for_plates(dt, particle, table, setup, run);
+  return dt;
+}
+
+namespace {
+
+// The fills' mean curve, row by row: every fill records its rows at the same approaches
+// (plate.hpp), so row j of each is the same point of the loading to within one step's travel.
+// CPU seconds add up; wall seconds add up over the `threads` that ran the fills side by side.
+PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills, int threads) {
+  const auto k = static_cast<double>(fills.size());
+  double bonds = 0.0, radius = 0.0;
+  for (const PlateRunOutcome& fill : fills) {
+    bonds += static_cast<double>(fill.bonds) / k;
+    radius += fill.sub_sphere_radius / k;
+  }
+  PlateRunOutcome mean = std::move(fills.front());
+  mean.fill_rows.push_back(mean.rows);
+  for (std::size_t f = 1; f < fills.size(); ++f)
+    mean.fill_rows.push_back(std::move(fills[f].rows));
+  mean.bonds = static_cast<std::size_t>(std::llround(bonds));
+  mean.sub_sphere_radius = radius;
+  for (std::size_t j = 0; j < mean.rows.size(); ++j) {
+    PlateRow r;
+    double contacts = 0.0, intact = 0.0, square = 0.0;
+    r.top_force_min = r.top_force_max = mean.fill_rows[0][j].top_force;
+    for (const std::vector<PlateRow>& rows : mean.fill_rows) {
+      const PlateRow& q = rows.at(j);
+      r.time += q.time / k;
+      r.deformation += q.deformation / k;
+      r.approach += q.approach / k;
+      r.top_force += q.top_force / k;
+      r.bottom_force += q.bottom_force / k;
+      r.hertz_force += q.hertz_force / k;
+      contacts += static_cast<double>(q.contacts) / k;
+      intact += static_cast<double>(q.intact_bonds) / k;
+      r.kinetic_energy += q.kinetic_energy / k;
+      r.work += q.work / k;
+      r.cpu_seconds += q.cpu_seconds;  // the ensemble's cost
+      r.wall_seconds += q.wall_seconds / threads;
+      r.top_force_min = std::min(r.top_force_min, q.top_force);
+      r.top_force_max = std::max(r.top_force_max, q.top_force);
+    }
+    for (const std::vector<PlateRow>& rows : mean.fill_rows)
+      square += std::pow(rows[j].top_force - r.top_force, 2);
+    r.top_force_sd = std::sqrt(square / (k - 1.0));
+    r.contacts = std::llround(contacts);
+    r.intact_bonds = std::llround(intact);
+    mean.rows[j] = r;
+  }
+  return mean;
+}
+
+// [bms] fills > 1: the fills side by side, one thread each; their order in the mean is the
+// seeds', so the result does not depend on which thread ran which.
+PlateRunOutcome run_fills(const PlateConfig& config,
+                          const std::function<void(const std::string&)>& log, BmsFillCache* cache) {
+  const int count = config.bms->fills;
+  std::vector<PlateRunOutcome> fills(static_cast<std::size_t>(count));
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
+  const int threads = std::min(count, omp_get_max_threads());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (int f = 0; f < count; ++f) {
+    omp_set_num_threads(1);  // this fill's engine, inside the region: one thread, the same bits
+    try {
+      PlateConfig one = config;
+      one.bms->fills = 1;
+      one.bms->seed = config.bms->seed + static_cast<std::uint64_t>(f);
+      fills[static_cast<std::size_t>(f)] =
+          run_plate_config(one, PlateParticleKind::bms,
+                           f == 0 ? log : std::function<void(const std::string&)>{}, cache);
+    } catch (...) {
+      errors[static_cast<std::size_t>(f)] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  PlateRunOutcome mean = mean_of_fills(std::move(fills), threads);
+  mean.description = fmt::format(
+      "BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m and {} bonds on average; mean of {} "
+      "fills, seeds {} to {}",
+      config.setup.radius, mean.spheres, mean.sub_sphere_radius, mean.bonds, count,
+      config.bms->seed, config.bms->seed + static_cast<std::uint64_t>(count) - 1);
+  if (log) log("plate: " + mean.description);
+  return mean;
+}
+
+}  // namespace
+
+const char* particle_name(PlateParticleKind kind) {
+  switch (kind) {
+    case PlateParticleKind::bms:
+      return "bms";
+    case PlateParticleKind::cms:
+      return "cms";
+    default:
+      return "sphere";
+  }
+}
+
+PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
+                                 const std::function<void(const std::string&)>& log,
+                                 BmsFillCache* cache) {
+  if (kind == PlateParticleKind::bms && config.bms && config.bms->fills > 1)
+    return run_fills(config, log, cache);
+  const MaterialTable table = config.materials.table();
+  PlateSetup setup = config.setup;
+  PlateParticle particle;
+  PlateRunOutcome outcome;
+  if (kind == PlateParticleKind::cms) {
+    CmsConfig cms = config.cms.value_or(CmsConfig{});
+    if (cms.material.empty()) cms.material = table.material(setup.sphere_material).name;
+    CmsParticleInfo info;
+    particle = cms_sphere(table, setup.radius, cms, "CMS sphere", &info);
+    outcome.requested_spheres = static_cast<std::size_t>(cms.count);
+    outcome.sub_sphere_radius = info.max_radius;
+    outcome.description = fmt::format(
+        "CMS sphere R = {:.6g} m, one rigid clump of {} overlapping sub-spheres (asked {}) of r "
+        "= {:.6g}…{:.6g} m, union volume {:.6g} m^3 ({:.4g} of the sphere's)",
+        setup.radius, info.spheres, cms.count, info.min_radius, info.max_radius, info.volume,
+        info.volume / (4.0 / 3.0 * std::numbers::pi * std::pow(setup.radius, 3)));
+    if (info.spheres != static_cast<std::size_t>(cms.count) && log)
+      log(fmt::format("plate: the CMS filler gave {} sub-spheres for the {} asked", info.spheres,
+                      cms.count));
+    // A rigid clump cannot flatten: at the end each plate has passed Δ/2 into the clump, deeper
+    // into its small outer sub-spheres than their radius. That is the method's failure the study
+    // shows (paper §3.3), not a divergence: widen the overlap check to cover it.
+    double r_min = particle.spheres.radius[0];
+    for (double r : particle.spheres.radius)
+      r_min = std::min(r_min, r);
+    const double deepest = 0.5 * setup.max_deformation * 2.0 * setup.radius;
+    const double fraction = 1.0 + 2.0 * deepest / r_min;
+    if (fraction > setup.max_overlap_fraction) {
+      setup.max_overlap_fraction = fraction;
+      if (log)
+        log(
+            fmt::format("plate: overlap check widened to {:.3g} sub-sphere radii (the plates "
+                        "pass {:.3g} m into a rigid clump whose smallest sub-sphere has r = "
+                        "{:.3g} m)",
+                        fraction, deepest, r_min));
+    }
+  } else if (kind == PlateParticleKind::bms) {
+    BmsParticleInfo info;
+    particle = bms_sphere(table, setup.radius, *config.bms,
+                          fmt::format("BMS sphere (seed {})", config.bms->seed), &info, cache);
+    outcome.sub_sphere_radius = info.sub_sphere_radius;
+    outcome.description =
+        fmt::format("BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m, {} bonds",
+                    setup.radius, info.spheres, info.sub_sphere_radius, info.bonds);
+  } else {
+    particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
+                                table.material(setup.sphere_material).density,
+                                setup.sphere_material);
+    outcome.description = fmt::format("Hertz sphere R = {:.6g} m", setup.radius);
+  }
+  outcome.spheres = particle.spheres.size();
+  outcome.bonds = particle.bonds.size();
+  const TimeStepChoice dt = plate_time_step(particle, table, setup, config.run);
+  setup.time_step = dt.time_step;
+  outcome.time_step = dt.time_step;
+  if (log) {
+    log("plate: " + outcome.description);
+    log(fmt::format("plate: time step {:.3g} s ({:.3g} of the Rayleigh time{})", dt.time_step,
+                    dt.time_step / dt.rayleigh_time,
+                    std::isfinite(dt.bond_period) ? fmt::format(", {:.3g} of the bond period bound",
+                                                                dt.time_step / dt.bond_period)
+                    : std::isfinite(dt.clump_period)
+                        ? fmt::format(", {:.3g} of the clump's contact period bound",
+                                      dt.time_step / dt.clump_period)
+                        : std::string()));
+  }
+  int recorded = 0;
+  outcome.rows =
+      run_plate(table, setup, std::move(particle), [&](const PlateRow&, const Engine& engine) {
+        if (++recorded == setup.records) outcome.final_snapshot = std::make_shared<Engine>(engine);
+      });
+  return outcome;
+}
+
+void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,
+                     const PlateConfig& config, PlateParticleKind kind) {
+  std::vector<std::string> columns = {"time_s",      "deformation",    "approach_m",
+                                      "top_force_N", "bottom_force_N", "hertz_force_N",
+                                      "contacts",    "intact_bonds",   "kinetic_energy_J",
+                                      "work_J",      "cpu_s",          "wall_s"};
+  const bool ensemble = outcome.fills() > 1;
+  if (ensemble)
+    columns.insert(columns.end(), {"top_force_sd_N", "top_force_min_N", "top_force_max_N"});
+  CsvWriter csv(path, columns);
+  const PlateSetup& setup = config.setup;
+  csv.comment(fmt::format(
+      "shapepress plate: {}; approach speed {:.6g} m/s{}{}{}", outcome.description, setup.speed,
+      setup.ramp > 0.0 ? fmt::format(" after a sin^2 ramp over {:.6g} deformation", setup.ramp)
+                       : std::string(),
+      setup.final_speed > 0.0
+          ? fmt::format(", rising linearly to {:.6g} m/s at the end", setup.final_speed)
+          : std::string(),
+      setup.symmetric ? ", both plates at half of it" : ", top plate only"));
+  csv.comment(fmt::format("particle = {}; sub_spheres = {}; bonds = {}; time_step_s = {:.6g}",
+                          particle_name(kind), outcome.spheres, outcome.bonds, outcome.time_step));
+  if (kind == PlateParticleKind::cms)
+    csv.comment(fmt::format(
+        "requested_spheres = {}; contacts counts sub-sphere-plate contacts (one rigid clump)",
+        outcome.requested_spheres));
+  csv.comment(
+      "deformation = approach / (2R); approach counted from the first touch of both plates");
+  csv.comment("hertz_force_N = (sqrt(2)/3) E* sqrt(R) approach^1.5 (models.md), E* sphere-plate");
+  csv.comment("work_J: done by the plates; kinetic_energy_J: of all (sub-)spheres");
+  const MaterialTable table = config.materials.table();
+  const PairConstants& contact =
+      table.pair(config.setup.sphere_material, config.setup.plate_material);
+  csv.comment(contact.normal_law == NormalLaw::multicontact
+                  ? fmt::format("normal law: multicontact (Eq. 6), lambda_p = {:.6g}, k1 = {}, "
+                                "kc = {:.6g}, F0 = {:.6g} N, beta nu pi = {:.6g}",
+                                1.0 / contact.unloading_factor,
+                                contact.loading_stiffness > 0.0
+                                    ? fmt::format("{:.6g} N/m^1.5", contact.loading_stiffness)
+                                    : std::string("4/3 E* sqrt(R*)"),
+                                contact.adhesion_stiffness, contact.pull_off_force,
+                                contact.multicontact_factor)
+                  : std::string("normal law: hertz"));
+  if (ensemble)
+    csv.comment(fmt::format(
+        "fills = {}: every column is the fills' mean (cpu_s their sum, wall_s their sum over "
+        "the threads that ran them side by side); "
+        "top_force_sd_N is the fills' sample standard deviation, the standard error of the "
+        "mean is it / sqrt({})",
+        outcome.fills(), outcome.fills()));
+  for (const PlateRow& r : outcome.rows) {
+    std::vector<double> cells = {r.time,
+                                 r.deformation,
+                                 r.approach,
+                                 r.top_force,
+                                 r.bottom_force,
+                                 r.hertz_force,
+                                 static_cast<double>(r.contacts),
+                                 static_cast<double>(r.intact_bonds),
+                                 r.kinetic_energy,
+                                 r.work,
+                                 r.cpu_seconds,
+                                 r.wall_seconds};
+    if (ensemble) cells.insert(cells.end(), {r.top_force_sd, r.top_force_min, r.top_force_max});
+    csv.row(cells);
+  }
+  csv.commit();
+}
+
+}  // namespace shapepress::scenarios

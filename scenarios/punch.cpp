@@ -1,0 +1,84 @@
+#include "scenarios/punch.hpp"
+
+#include <algorithm>
+
+#include "common/error.hpp"
+
+namespace shapepress::scenarios {
+
+ScenarioState punch_scenario_state(const PunchState& state) {
+  return {{"punch_phase", static_cast<double>(state.phase)},
+          {"punch_phase_start", state.phase_start},
+          {"punch_reference_gap", state.reference_gap}};
+}
+
+PunchState punch_state_from(const ScenarioState& scenario) {
+  auto value = [&](const std::string& name) {
+    for (const auto& [key, v] : scenario)
+      if (key == name) return v;
+    throw InputError("snapshot: /scenario has no '" + name + "' (not a compaction snapshot)");
+  };
+  PunchState state;
+  state.phase = static_cast<PunchPhase>(static_cast<int>(value("punch_phase")));
+  state.phase_start = value("punch_phase_start");
+  state.reference_gap = value("punch_reference_gap");
+  return state;
+}
+
+std::string phase_name(PunchPhase phase) {
+  switch (phase) {
+    case PunchPhase::load:
+      return "load";
+    case PunchPhase::hold:
+      return "hold";
+    case PunchPhase::unload:
+      return "unload";
+    case PunchPhase::done:
+      return "done";
+  }
+  return "done";
+}
+
+namespace {
+
+void enter(PunchState& state, PunchPhase phase, double time) {
+  state.phase = phase;
+  state.phase_start = time;
+}
+
+double servo_velocity(const PunchProgram& p, double stress) {
+  const double error = (p.target_stress - stress) / p.target_stress;  // > 0: press harder
+  return -p.max_speed * std::clamp(error / p.servo_band, -1.0, 1.0);
+}
+
+}  // namespace
+
+double punch_velocity(const PunchProgram& p, PunchState& state, double time, double gap,
+                      double stress) {
+  const bool servo = p.mode == PunchProgram::Mode::servo;
+  if (state.phase == PunchPhase::load) {
+    if (p.min_gap && gap <= *p.min_gap) {
+      enter(state, PunchPhase::hold, time);  // the solid-fraction ceiling
+    } else if (servo) {
+      if (std::abs(p.target_stress - stress) <= p.servo_tolerance * p.target_stress)
+        enter(state, PunchPhase::hold, time);
+      else
+        return servo_velocity(p, stress);
+    } else if (p.target_gap && gap <= *p.target_gap) {
+      enter(state, PunchPhase::hold, time);
+    } else {
+      return -p.speed;
+    }
+  }
+  if (state.phase == PunchPhase::hold) {
+    if (time - state.phase_start < p.hold_time) return servo ? servo_velocity(p, stress) : 0.0;
+    enter(state, p.unload_speed > 0.0 ? PunchPhase::unload : PunchPhase::done, time);
+  }
+  if (state.phase == PunchPhase::unload) {
+    if (stress > 0.0) return p.unload_speed;
+    enter(state, PunchPhase::done, time);
+  }
+  return 0.0;
+}
+
+}  // namespace shapepress::scenarios

@@ -1,0 +1,52 @@
+#pragma once
+// The punch program: what the top wall does over a compaction (DESIGN.md "Walls").
+//   displacement: move down at `speed` to a target gap (or strain), hold, then move up at
+//                 `unload_speed` until the punch force vanishes;
+//   servo:        move at up to `max_speed` so the punch stress reaches `target_stress`,
+//                 hold it for `hold_time`, then unload the same way.
+// Without a target the load phase lasts until the run's step limit (the reference scene).
+#include <optional>
+#include <string>
+#include "scenarios/namespaces.hpp"
+
+#include "simulate/snapshot.hpp"
+
+namespace shapepress::scenarios {
+
+enum class PunchPhase { load = 0, hold = 1, unload = 2, done = 3 };
+std::string phase_name(PunchPhase phase);
+
+struct PunchProgram {
+  enum class Mode { displacement, servo };
+  Mode mode = Mode::displacement;
+  double speed = 0.0;                // m/s, downwards, > 0
+  std::optional<double> target_gap;  // m (displacement mode)
+  double hold_time = 0.0;            // s
+  double unload_speed = 0.0;         // m/s upwards; 0: end after the hold
+  double target_stress = 0.0;        // Pa (servo)
+  double max_speed = 0.0;            // m/s (servo)
+  double servo_band = 0.05;          // full speed when the stress error exceeds this fraction
+  double servo_tolerance = 0.01;     // "reached" within this fraction of the target
+  // The gap at which the solid fraction reaches the ceiling (compact's [punch]
+  // max_solid_fraction): loading stops there in either mode, whatever the target.
+  std::optional<double> min_gap;
+};
+
+// The controller's state, saved in snapshots so a restart continues the same program.
+struct PunchState {
+  PunchPhase phase = PunchPhase::load;
+  double phase_start = 0.0;    // s
+  double reference_gap = 0.0;  // m, H0 of the strain (the gap when the run began)
+};
+
+// The controller's state as the snapshot's named numbers, and back (InputError when the
+// snapshot lacks one).
+ScenarioState punch_scenario_state(const PunchState& state);
+PunchState punch_state_from(const ScenarioState& scenario);
+
+// The punch velocity (m/s along z, < 0 moving down) for the next step, from the current time,
+// gap and punch stress (> 0 compressive); advances the phase.
+double punch_velocity(const PunchProgram& program, PunchState& state, double time, double gap,
+                      double stress);
+
+}  // namespace shapepress::scenarios

@@ -1,0 +1,97 @@
+// The punch program's phases: displacement to a target gap, hold, unload until the force
+// vanishes; the servo's bounded speed; and the time-step check against the Hertz time.
+#include <gtest/gtest.h>
+
+#include "common/error.hpp"
+#include "scenarios/punch.hpp"
+#include "simulate/bonds.hpp"
+#include "simulate/timestep.hpp"
+
+namespace shapepress::scenarios {
+namespace {
+
+TEST(Punch, DisplacementProgramLoadsHoldsAndUnloadsUntilTheForceVanishes) {
+  PunchProgram p;
+  p.speed = 1.0;
+  p.target_gap = 0.01;
+  p.hold_time = 0.5;
+  p.unload_speed = 2.0;
+  PunchState state;
+  EXPECT_EQ(punch_velocity(p, state, 0.0, 0.02, 0.0), -1.0);
+  EXPECT_EQ(state.phase, PunchPhase::load);
+  EXPECT_EQ(punch_velocity(p, state, 1.0, 0.0099, 5e6), 0.0);  // target reached: hold
+  EXPECT_EQ(state.phase, PunchPhase::hold);
+  EXPECT_EQ(punch_velocity(p, state, 1.4, 0.0099, 4e6), 0.0);
+  EXPECT_EQ(punch_velocity(p, state, 1.6, 0.0099, 4e6), 2.0);  // hold over: unload upwards
+  EXPECT_EQ(state.phase, PunchPhase::unload);
+  EXPECT_EQ(punch_velocity(p, state, 1.7, 0.0101, 1e3), 2.0);
+  EXPECT_EQ(punch_velocity(p, state, 1.8, 0.0102, 0.0), 0.0);  // force gone: done
+  EXPECT_EQ(state.phase, PunchPhase::done);
+}
+
+TEST(Punch, ServoSpeedIsBoundedAndProportionalNearTheTarget) {
+  PunchProgram p;
+  p.mode = PunchProgram::Mode::servo;
+  p.target_stress = 1e6;
+  p.max_speed = 0.1;
+  p.hold_time = 1.0;
+  PunchState state;
+  EXPECT_EQ(punch_velocity(p, state, 0.0, 0.01, 0.0), -0.1);  // far below: full speed down
+  EXPECT_EQ(punch_velocity(p, state, 0.0, 0.01, 3e6), 0.1);   // far above: full speed up
+  EXPECT_NEAR(punch_velocity(p, state, 0.0, 0.01, 0.975e6), -0.05, 1e-12);  // half the band
+  EXPECT_EQ(state.phase, PunchPhase::load);
+  punch_velocity(p, state, 0.1, 0.01, 1.005e6);  // within 1 %: holds the stress
+  EXPECT_EQ(state.phase, PunchPhase::hold);
+  EXPECT_GT(punch_velocity(p, state, 0.2, 0.01, 1.03e6), 0.0);  // still servoing in the hold
+}
+
+TEST(TimeStep, StepTooCoarseForAHertzCollisionIsAnInputError) {
+  const MaterialTable table({{"m", 1e8, 0.3, 1541.0}}, {{"m", "m", 0.5, 0.5}});
+  SphereState s;
+  s.add_sphere(0, 0, 0, 0.5e-3, 1541.0, 0);
+  const TimeStepChoice ok = select_time_step(s, table, {0}, std::nullopt, 0.2, 2.5);
+  EXPECT_NEAR(ok.time_step, 0.2 * ok.rayleigh_time, 1e-20);
+  EXPECT_GT(ok.collision_time, minimum_steps_per_collision * ok.time_step);
+  EXPECT_THROW(select_time_step(s, table, {0}, 1e-5, 0.2, 2.5), InputError);
+}
+
+TEST(TimeStep, AStiffStatedPairShortensTheRayleighStep) {
+  // Soft spheres (E = 20 MPa) against a plate whose pair states E* = 1 GPa: the step is that of
+  // a sphere with (1 − ν²) E* against a rigid wall, not of the soft material.
+  const Material soft{"soft", 2e7, 0.46, 2000.0}, plate{"plate", 1e9, 0.3, 7800.0};
+  Interaction against_plate{"soft", "plate", 0.7, 0.5};
+  SphereState s;
+  s.add_sphere(0, 0, 0, 1e-3, 2000.0, 0);
+  const MaterialTable plain({soft, plate}, {{"soft", "soft", 0.7, 0.5}, against_plate});
+  against_plate.effective_modulus = 1e9;
+  const MaterialTable stated({soft, plate}, {{"soft", "soft", 0.7, 0.5}, against_plate});
+  const TimeStepChoice a = select_time_step(s, plain, {1}, std::nullopt, 0.2, 0.01);
+  const TimeStepChoice b = select_time_step(s, stated, {1}, std::nullopt, 0.2, 0.01);
+  EXPECT_NEAR(a.rayleigh_time, rayleigh_time(1e-3, 2000.0, 2e7, 0.46), 1e-18);
+  EXPECT_NEAR(b.rayleigh_time, rayleigh_time(1e-3, 2000.0, (1 - 0.46 * 0.46) * 1e9, 0.46), 1e-18);
+  EXPECT_LT(b.time_step, a.time_step);
+}
+
+TEST(TimeStep, TheCollisionCheckSeesTheStepAfterTheBondBound) {
+  // Stiff bonds between soft spheres: the Rayleigh step alone resolves a 5 m/s impact on the
+  // stiff plate with fewer than 10 steps, the bond bound's shorter step does not; the check
+  // judges the step the run takes.
+  const Material soft{"soft", 2e7, 0.46, 2000.0}, plate{"plate", 1e9, 0.3, 7800.0};
+  Interaction against_plate{"soft", "plate", 0.7, 0.5};
+  against_plate.effective_modulus = 1e9;
+  const MaterialTable table({soft, plate}, {{"soft", "soft", 0.7, 0.5}, against_plate});
+  SphereState s;
+  s.add_sphere(0, 0, 0, 1e-3, 2000.0, 0);
+  s.add_sphere(2e-3, 0, 0, 1e-3, 2000.0, 0);
+  s.body = {0, 0};
+  EXPECT_THROW(select_time_step(s, table, {1}, std::nullopt, 1.0, 5.0), InputError);
+  BondParameters stiff;
+  stiff.normal_stiffness = stiff.shear_stiffness = 1e14;
+  const BondSet bonds = create_bonds(s, 1.15, stiff);
+  const TimeStepChoice dt = select_time_step(s, table, {1}, std::nullopt, 1.0, 5.0, bonds);
+  EXPECT_LT(dt.time_step, dt.rayleigh_time);
+  EXPECT_GT(dt.collision_time, minimum_steps_per_collision * dt.time_step);
+}
+
+}  // namespace
+}  // namespace shapepress::scenarios
