@@ -1,6 +1,6 @@
 #pragma once
 // The report of one or several runs: charts (SVG + PNG + data CSV), metrics.json and a
-// self-contained report.html (DESIGN.md, "run/… ──report──▶ report/").
+// self-contained report.html (docs/architecture.md, "The data walk").
 #include <filesystem>
 #include <map>
 #include <optional>

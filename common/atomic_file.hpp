@@ -1,6 +1,6 @@
 #pragma once
 // Outputs are written to a temporary name in the same folder and renamed when complete, so a
-// killed run never leaves a half-written file under the final name (DESIGN.md "Files").
+// killed run never leaves a half-written file under the final name (docs/architecture.md, "Files").
 #include <filesystem>
 #include <fstream>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Errors and the exit codes they map to (DESIGN.md "Exit codes and errors"):
+// Errors and the exit codes they map to (docs/architecture.md, "Exit codes and errors"):
 // 0 success, 1 the computation failed, 2 bad input or usage.
 #include <stdexcept>
 #include <string>

@@ -34,7 +34,7 @@ class H5Writer {
   void attribute(std::string_view object, std::string_view name, double value);
   void attribute(std::string_view object, std::string_view name, std::int64_t value);
   void attribute(std::string_view object, std::string_view name, std::string_view value);
-  // The SI unit of a dataset, as the attribute "unit" (DESIGN.md: SI units in attributes).
+  // The SI unit of a dataset, as the attribute "unit" (docs/architecture.md, "Files").
   void unit(std::string_view dataset, std::string_view si_unit) {
     attribute(dataset, "unit", si_unit);
   }

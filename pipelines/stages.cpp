@@ -12,7 +12,7 @@
 namespace shapepress {
 
 std::span<const Stage> registered_stages() {
-  // One line per stage, in the order of the data walk (DESIGN.md).
+  // One line per stage, in the order of the data walk (docs/architecture.md).
   static const std::vector<Stage> stages = {
       Stage{"shape-stats", "measure particles in images", imaging::setup_shape_stats_cli},
       Stage{"synth-images", "render SEM-like images of known particles",

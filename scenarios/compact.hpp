@@ -28,7 +28,7 @@ struct CompactionSetup {
   std::size_t punch_wall = 1;
 };
 
-// One row of punch.csv (DESIGN.md columns).
+// One row of punch.csv (columns: docs/stages.md, "compact").
 struct PunchRecord {
   std::int64_t step = 0;
   double time = 0.0;            // s

@@ -1,6 +1,6 @@
 #pragma once
 // The single-particle rig: one particle between two plates, the top plate approaching at a
-// prescribed speed (DESIGN.md `shapepress plate`). The particle is one Hertz sphere (classical
+// prescribed speed (docs/stages.md, "plate"). The particle is one Hertz sphere (classical
 // DEM), a bonded multi-sphere agglomerate (BMS, paper §3.1) or a rigid clump of overlapping
 // sub-spheres (CMS, paper §3.3). Quasi-static when the speed is
 // small against the particle's wave speed: every row carries the kinetic energy and the work

@@ -1,5 +1,5 @@
 #pragma once
-// The punch program: what the top wall does over a compaction (DESIGN.md "Walls").
+// The punch program: what the top wall does over a compaction (docs/stages.md, "compact").
 //   displacement: move down at `speed` to a target gap (or strain), hold, then move up at
 //                 `unload_speed` until the punch force vanishes;
 //   servo:        move at up to `max_speed` so the punch stress reaches `target_stress`,

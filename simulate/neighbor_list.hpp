@@ -1,5 +1,5 @@
 #pragma once
-// Linked cells + a Verlet half list with a skin (DESIGN.md "Where engine speed comes from"):
+// Linked cells + a Verlet half list with a skin (docs/architecture.md, "Inside the engine"):
 // every pair closer than ri + rj + skin appears once, as (first < second), sorted by
 // (first, second). The list is rebuilt when some sphere moved more than half the skin since the
 // last build. Periodic in x and y: a pair across a boundary carries the image shift to add to
