@@ -22,7 +22,7 @@ for t in "${threads[@]}"; do
 done
 read -r -a counts <<<"${COUNTS:-100 250 545 819 1322}"
 
-work=$(mktemp -d /tmp/shapepress-bms-bench.XXXXXX)
+work=$(mktemp -d -t shapepress-bms-bench.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 config=$work/calibrated.toml
 source "$here/calibrated-config.sh"

@@ -18,7 +18,7 @@ count=${1:-545}
 shift || true
 factors=("$@")
 [[ ${#factors[@]} -gt 0 ]] || factors=(0.5 1 2 3)
-work=$(mktemp -d /tmp/shapepress-bms-timestep.XXXXXX)
+work=$(mktemp -d -t shapepress-bms-timestep.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 config=$work/calibrated.toml
 source "$here/calibrated-config.sh"

@@ -15,7 +15,7 @@ steps=${2:-4000}
 threads=${3:-1}
 shapepress=${SHAPEPRESS:-$root/build/pipelines/shapepress}
 [[ -x "$shapepress" ]] || { echo "multicontact-overhead.sh: $shapepress is not built" >&2; exit 2; }
-work=$(mktemp -d /tmp/shapepress-mc-bench.XXXXXX)
+work=$(mktemp -d -t shapepress-mc-bench.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 python3 "$here/gen_packing.py" >/dev/null

@@ -7,7 +7,7 @@ for tool in "$@"; do
   command -v "$tool" >/dev/null || { echo "$script: $tool is missing: scripts/install-deps.sh --peers" >&2; exit 2; }
 done
 [[ -x "$shapepress" ]] || { echo "$script: $shapepress is not built: scripts/build.sh" >&2; exit 2; }
-work=$(mktemp -d "/tmp/shapepress-$script.XXXXXX")
+work=$(mktemp -d -t "shapepress-$script.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 python3 "$here/gen_packing.py" >/dev/null
