@@ -6,27 +6,8 @@
 // count, not the thread count); a contact whose partner lies in a later chunk goes through a
 // per-contact array that the partner gathers in a fixed order (no atomics), so results are
 // bit-identical for any thread count.
-//
-// Where the next models plug in (issues for bonds, clumps and the multi-contact law):
-// - Normal law per material pair: PairConstants::normal_law selects a branch of
-//   contact_force(); the multi-contact elastic–plastic law keeps its plastic overlap in
-//   ContactHistory, which the list merge, the snapshots and the restart carry field by field.
-// - Love–Weber particle stress σi = (1/Vi) Σc lic ⊗ fc (paper Eq. 6's P_ij), per sphere with
-//   Vi its solid volume: when a pair uses the multi-contact law (or settings.particle_stress),
-//   the pair loop also stores each touching pair's Fn and δ/2, and the gather, which visits each
-//   sphere's contacts in fixed order, sums p = -tr σ/3 = Σ rc Fn / (3V). The next step's pair
-//   loop reads that p (the law uses the previous step's p), so no sum depends on threads. The
-//   full tensor is summed on demand (particle_stress(), snapshots) from the same contacts.
-//   Agglomerates (BMS, SphereState::body) extend it by summing Vi σi over a body's sub-spheres
-//   for contacts with other bodies only, dividing by the body's volume and reading p[body[i]].
-// - Bodies: SphereState::body groups sub-spheres. Bonds (bonds.hpp, BMS particles) are a second
-//   pair array evaluated once per bond after the contacts and gathered per sphere after its
-//   contacts in fixed order. Rigid clumps (clumps.hpp, CMS particles): sub-spheres of one clump
-//   never enter the pair list; they carry no own mass, so the per-sphere kick–drift leaves them
-//   alone; after that loop each clump is kicked, drifted and turned (rigid_body.hpp:
-//   principal-axis splitting) and places its sub-spheres; after the gather each clump sums its
-//   sub-spheres' forces and torques about its centre in index order and takes the second half
-//   kick. Plain spheres run the same loops as without clumps.
+// How the contact laws, the Love–Weber particle stress, bonds and rigid clumps enter these loops
+// and keep that property: docs/architecture.md, "Inside the engine".
 #include <array>
 #include <cmath>
 #include <cstdint>
