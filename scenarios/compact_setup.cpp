@@ -143,7 +143,7 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
   out.engine =
       std::make_unique<Engine>(std::move(state), box, table, walls, settings, BondSet{}, clumps);
   // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
-  // paper's "maximum initial height"), which strains like its 57 % need (README, H0).
+  // paper's "maximum initial height"), which strains like its 57 % need (docs/stages.md, H0).
   out.punch.reference_gap = c.strain_from_fill && c.generate
                                 ? c.generate->z_high - c.generate->z_low
                                 : walls[1].position - walls[0].position;

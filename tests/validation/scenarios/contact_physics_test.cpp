@@ -147,7 +147,7 @@ TEST(Restitution, HeadOnImpactsGiveTheInputCoefficient) {
 // Where the discrete law stops meeting the 1 % restitution target: the error against the number
 // of steps that resolve the collision. It shrinks about linearly with dt (the damping force rises
 // as δ^1/4 at the start of a contact, which a step samples late or early), so the time step, not
-// the law, decides the accuracy; README "Engine" quotes this table.
+// the law, decides the accuracy; docs/stages.md ("compact", time step) quotes this table.
 TEST(Restitution, ErrorShrinksWithTheStepsPerCollision) {
   const double e = 0.35, r = 0.5e-3, v = 0.5;
   const MaterialTable table = one_material(e, 0.5);
