@@ -4,7 +4,7 @@
 //
 // Why: a lattice fill has one sub-sphere at each pole of a sphere, so a plate first presses on a
 // point, and its close-packed layers slip at loads that depend on N and on the lattice's
-// orientation (README "Models", the rubber-sphere study). A random packing has no slip planes,
+// orientation (docs/models.md, the rubber-sphere study). A random packing has no slip planes,
 // is isotropic on average, and its outer sub-spheres lie on the shape's surface (the walls order
 // a random packing), so a plate meets a cap of spheres.
 //
@@ -84,14 +84,9 @@ inline constexpr double carve_margin = 5.0;
 // the rest wholly inside. The shell count is `shell_area_fraction` of the offset surface's area
 // in disks of the plain packing's radius (found first), so that the interior still jams at
 // about that radius; `shell_spacing` > 1 keeps shell spheres that far apart from each other.
-// Measured on the unit sphere (N = 545 / 819 / 1322; over 400 plate directions, the spread of
-// Σ δᵢ^1.5 over the sub-spheres a plate pressed 0.05 R in meets): plain 27 / 24 / 19 %, shell
-// 12 / 13 / 10 %, radius within 0.1–1.6 % of the plain packing's, solid fraction 0.52–0.53
-// (plain 0.53), 6.7 bonds per sphere at N = 545 (plain 7.4). A larger shell (area fraction
-// 0.84) spreads evener (8.6 % at 545) but jams first and leaves the interior loose (r −6 %,
-// 5.3 bonds per sphere); a spacing of 1.1 spreads it a little evener at r −1.5…2.6 %.
-// Not the plate rig's default: its sub-spheres have few bonds into the interior, so the plate
-// first presses a compliant skin, and the BMS force then depends on N more, not less
+// How even it is, and the area fraction and spacing tried: docs/models.md, "A surface-conforming
+// fill". Not the plate rig's default: its sub-spheres have few bonds into the interior, so the
+// plate first presses a compliant skin, and the BMS force then depends on N more, not less
 // (docs/models.md, "A surface-conforming fill").
 struct ShellPackingOptions {
   RandomPackingOptions packing;

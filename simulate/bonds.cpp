@@ -206,14 +206,13 @@ inline void relative_motion(const double vi[3], const double wi[3], const double
     w[k] = wj[k] - wi[k];
 }
 
-// Bonds [begin, end) of compute_bond_forces, one thread's share. One long loop body with every
-// array behind a restrict pointer hoisted out of the loop and the bond's history in locals: the
-// earlier form (pointer arrays into the history, the arrays reached through the BondSet inside
-// an OpenMP-outlined body, divisions for the normal and the arms) cost about 580 instructions
-// per bond and step, three quarters of a BMS plate run.
+// Bonds [begin, end) of compute_bond_forces, one thread's share. The bond loop is most of a BMS
+// plate run, so it is one long loop body with every array behind a restrict pointer hoisted out
+// of the loop and the bond's history in locals: the compiler then keeps the loop in registers
+// and does not reload through the BondSet (docs/models.md, "Where the time goes").
 // An AVX2 clone is picked at load time where the CPU has it: the same scalar IEEE operations (no
 // FMA, so the same bits as the baseline x86-64 code), but three-operand instructions, which
-// spare the register copies of a loop this long (882 instructions of code down to 753).
+// spare the register copies of a loop this long.
 __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
     BondSet& bonds, const SphereState& s, const double* __restrict motion, const Box& box,
     double increment_dt, std::int64_t begin, std::int64_t end) {

@@ -114,14 +114,10 @@ BondSet create_bonds(const SphereState& state, double bond_multiplier,
                      const BondParameters& parameters,
                      const std::vector<std::string>& body_names = {});
 
-// Below this many bonds the bond loop runs on one thread. A bond costs about 400 instructions,
-// so the 2009 bonds of the N = 545 plate rig are some 200 µs per step, and on two idle cores a
-// second thread would take up to 1.46× off the rig's step (the bond loop is 63 % of it; the
-// contacts and the gather stay below engine.hpp's thresholds). On the shared 2-core machine at
-// a load of 9 it cost 10× the wall time and 12× the CPU instead (N = 545 to 2 %: 6.9 s wall,
-// 1.6 s CPU on one thread; 65 s, 20 s on two: the team spins at every step's join while its
-// partner waits for a core). So the threshold is the engine's (engine.hpp: a parallel region's
-// barrier can cost a scheduler slice on a loaded machine); results are the same either way.
+// Below this many bonds the bond loop runs on one thread. The threshold is the engine's
+// (engine.hpp): on a loaded machine a parallel region's barrier can cost a scheduler slice, far
+// more than the bonds of a plate rig (docs/models.md, "Where the time goes": threads). Results
+// are the same either way.
 inline constexpr std::int64_t parallel_min_bonds = 4096;
 
 // One evaluation of every intact bond (parallel over bonds, each written once). `motion` holds

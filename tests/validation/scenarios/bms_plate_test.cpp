@@ -192,10 +192,8 @@ TEST(RubberSphere, BmsCompressionIsQuasiStaticAndBalanced) {
   // The shipped config as it is (carved fill, the calibrated elastic network, both plates with
   // a sin² ramp over 10 % to 0.2 m/s, then rising to 1.6 m/s, bond damping ζ = 0.113) keeps the
   // kinetic energy below 1 % of the plates' work, and the two plates carry the same force within
-  // 2 %, from 5 % deformation to 40 %, on one fill. Measured (KE/W, plates apart, max from 5 %):
-  // N = 545 seed 1 0.01 %, 0.41 % (seeds 1-16: at most 0.04 %, 1.88 %); 819 1.75 %, 1322
-  // 1.83 % apart (seed 1; a ramp over 5 % gave 2.1 % at 1322). CI runs N = 545 (about 10 s),
-  // the full validation 1322, where the margin is thin.
+  // 2 %, from 5 % deformation to 40 %, on one fill. CI runs N = 545 (about 10 s), the full
+  // validation 1322, where the margin is thin (docs/measurements.md, "Rubber sphere: balance").
   PlateConfig config = shipped_config();
   ASSERT_GT(config.setup.ramp, 0.0);
   ASSERT_TRUE(config.setup.symmetric);
@@ -238,14 +236,9 @@ MeanForce mean_force_at(const PlateRunOutcome& run, double x) {
 // means of 32 fills of N = 819 and 1322 at every 1 % step from 5 % to 40 %. One fill is one
 // sample (at N = 545 one carved fill's force varies by 17 % at 10 % deformation), so the
 // issue's "< 2 % at every step" is asserted as far as 32 fills resolve 2 %: |difference| <
-// 2 % + 2 standard errors at every step, and < 2 % from 21 % on. Measured (the shipped config,
-// `make -C pipelines/rubber-sphere FILLS=32`, 2026-12-01): N = 545 4.4 % RMS against Tatara;
-// 819 against 1322 -2.2 ± 6.4 % at 5 %, -5.0 ± 4.4 % at 10 %, -2.0 ± 2.3 % at 20 %, -1.0 ± 1.5 %
-// at 30 %, -0.8 ± 1.3 % at 40 % (± one standard error): 21 of 36 steps within 2 %, all 36
-// within 2 % + 2 SE. The strict 2 % at 5-20 % is not resolved: telling 2 % from zero at 10 %
-// would need the standard error of the difference near 1 %, some 600 fills per N. With 128
-// fills per N (docs/bms-carved-convergence-128.csv) 31 of 36 steps are within 2 %; 819 is
-// 1.4-2.05 % softer from 10 % on, the steps over 2 % within 0.05 points of it.
+// 2 % + 2 standard errors at every step, and < 2 % from 21 % on: telling 2 % from zero at 10 %
+// would need the standard error of the difference near 1 %, some 600 fills per N. The measured
+// differences, with 32 and with 128 fills: docs/measurements.md, "The rubber-sphere study".
 TEST(RubberSphere, CalibratedBmsMatchesTataraAndConverges) {
   if (!full_validation()) GTEST_SKIP() << "full study only (SHAPEPRESS_FULL_VALIDATION=1)";
   PlateConfig config = shipped_config();
