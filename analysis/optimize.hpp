@@ -2,7 +2,7 @@
 // Small derivative-free optimisers for calibration (fit model parameters so a run matches a
 // reference curve): Nelder–Mead in n dimensions with box bounds, golden/Brent minimisation and
 // Brent root finding in one dimension. Free functions, plain inputs and outputs, an optional
-// progress callback (STYLE.md).
+// progress callback, so the caller owns logging and stopping.
 #include <functional>
 #include <vector>
 

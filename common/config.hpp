@@ -2,8 +2,7 @@
 // TOML configs where every mistake is an error that names the file, the line and the key:
 // unknown keys (a typo must not be silently ignored), wrong types, NaN, out-of-range values and
 // quantities of the wrong dimension. Keys are read with typed getters; check_unknown_keys()
-// then rejects whatever the stage did not ask for (STYLE.md: "every config key is used or
-// rejected").
+// then rejects whatever the stage did not ask for: every config key is used or rejected.
 #include <cstdint>
 #include <filesystem>
 #include <limits>

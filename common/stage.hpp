@@ -1,5 +1,5 @@
 #pragma once
-// What every stage of the `shapepress` binary is (STYLE.md, after COLMAP's table of stages):
+// What every stage of the `shapepress` binary is (after COLMAP's table of stages):
 // a name, a one-line summary, and a function that adds the stage's options to its CLI11
 // subcommand and returns the runner that main() calls once the command line is parsed.
 #include <functional>

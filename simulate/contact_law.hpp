@@ -1,5 +1,5 @@
 #pragma once
-// The contact law as composable sub-models (STYLE.md, after LAMMPS gran_sub_mod_*):
+// The contact law as composable sub-models (after LAMMPS gran_sub_mod_*):
 //   normal (Hertz) ∘ damping (restitution, LIGGGHTS `gran model hertz`) ∘ tangential (Mindlin
 //   spring with history, Coulomb-truncated) ∘ rolling (constant directional torque, CDT).
 // Each is a small inline function so the pair loop in forces.cpp inlines the whole law. The
@@ -11,7 +11,7 @@
 // relative velocities are those of j's contact point minus i's; the force returned acts on j
 // (i receives its negative).
 //
-// Choice (documented in README's model section): like LIGGGHTS `hertz tangential history`
+// Choice (docs/models.md): like LIGGGHTS `hertz tangential history`
 // without `limitForce`, the damped normal force is not clipped at zero, so it can be attractive
 // at the end of a rebound. This is what makes the measured restitution equal the input e exactly
 // (a clipped force gives a larger e); contacts end when the overlap vanishes.

@@ -2,7 +2,7 @@
 // Normal sub-model: the multi-contact adhesive elastic–plastic law of Giannis et al. 2023, Eq. 6
 // (EEPA-type branches with exponent 3/2, Thakur et al. 2014, plus the multi-contact term
 // β ν A_ij P_ij). Equations and the choices the paper leaves open: models.md "Multi-contact
-// adhesive elastic–plastic law"; docs/models.md and README state them for users.
+// adhesive elastic–plastic law".
 //
 // With x = δ^{3/2} and xp = δp^{3/2} the three branches of Eq. 6 are one clamp,
 //   f_hys = F0 + max(min(k1 x, k2 (x - xp)), -kc x),
@@ -12,7 +12,7 @@
 // and updates the history in one comparison. The history keeps k1 xp (N), the "plastic force"
 // (1 - λp) × the largest loading force: k1 is fixed for a contact (its R* does not change), and
 // keeping the product spares the hot loop a division and, with k1 from E* and kc = 0, any square
-// root beyond Hertz's (multi-contact overhead, README "Models").
+// root beyond Hertz's (docs/measurements.md, "Benchmarks").
 #include <algorithm>
 #include <cmath>
 

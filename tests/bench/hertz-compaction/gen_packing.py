@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Copied from shapepress shared/bench/gen_packing.py (the reference scene of ../README.md).
+# The packing of the reference scene (README.md beside this script).
 """Deterministic initial packing for the peer DEM benchmark (no numpy needed).
 
 Jittered simple-cubic lattice: NX x NY x NZ spheres, spacing S, each coordinate
