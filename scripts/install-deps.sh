@@ -9,7 +9,7 @@ packages=(
   g++ cmake ninja-build pkg-config git make
   libopencv-dev libcgal-dev libeigen3-dev libopenvdb-dev libhdf5-dev libtbb-dev
   libboost-iostreams-dev libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
-  nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+  nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox clang-format
 )
 if [[ "${1:-}" == "--peers" ]]; then
   packages+=(liggghts openmpi-bin python3 time valgrind)
