@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of a BMS particle in the plate rig (docs/stages.md, "calibrate"): the bond stiffnesses
+// Calibration of a BMS particle in the plate rig (docs/stages.md): the bond stiffnesses
 // (and, if asked, the sub-spheres' contact modulus) that make the force–deformation curve match
 // a reference curve, by bounded Nelder–Mead (analysis/optimize.hpp) on the logarithms of the
 // parameters. The objective is the RMS relative force error over a deformation window, the

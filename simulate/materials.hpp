@@ -2,7 +2,7 @@
 // Materials and the per-pair constants the contact loop reads (paper Table 3 layout: each pair of
 // materials, particle–particle and particle–wall, has its own restitution and friction).
 // Everything the force kernel needs that does not depend on the contact's geometry is computed
-// here once, so the hot loop holds no pow and no logarithm (docs/architecture.md, "Inside the engine").
+// here once, so the hot loop holds no pow and no logarithm (docs/architecture.md).
 #include <optional>
 #include <string>
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 // The sub-sphere state as a structure of arrays: each hot quantity is its own contiguous array of
-// doubles (docs/architecture.md, "Inside the engine"), so the contact loop and the integrator stream through memory.
+// doubles (docs/architecture.md), so the contact loop and the integrator stream through memory.
 // body[i] names the particle a sub-sphere belongs to: for plain spheres it is the sphere's own
 // index; bonded agglomerates (BMS) and rigid clumps (CMS) give several sub-spheres one body id,
 // which is how the contact loop will know which pairs are bonded or rigidly joined.
