@@ -3,7 +3,7 @@
 // doubles (docs/architecture.md), so the contact loop and the integrator stream through memory.
 // body[i] names the particle a sub-sphere belongs to: for plain spheres it is the sphere's own
 // index; bonded agglomerates (BMS) and rigid clumps (CMS) give several sub-spheres one body id,
-// which is how the contact loop will know which pairs are bonded or rigidly joined.
+// which is how the contact loop knows which pairs are bonded or rigidly joined.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
