@@ -39,4 +39,10 @@ inline std::string read_text(const std::filesystem::path& path) {
   return text.str();
 }
 
+// A file of tests/data as text, e.g. the TOML preludes the end-to-end tests share
+// (tests/data/scenarios/powder.toml).
+inline std::string test_data_text(const std::filesystem::path& relative) {
+  return read_text(std::filesystem::path(SHAPEPRESS_TEST_DATA) / relative);
+}
+
 }  // namespace shapepress::testing

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <numbers>
+#include <regex>
 #include <string>
 
 #include "common/csv.hpp"
@@ -16,25 +18,25 @@ namespace shapepress {
 namespace {
 
 using shapepress::testing::fresh_directory;
+using shapepress::testing::read_text;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
-const std::string materials = R"(
-[[material]]
-name = "powder"
-youngs_modulus = "100 MPa"
-poisson_ratio = 0.3
-density = "1541 kg/m^3"
+const std::string materials = shapepress::testing::test_data_text("scenarios/powder.toml");
 
-[[interaction]]
-first = "powder"
-second = "powder"
-restitution = 0.5
-sliding_friction = 0.5
+// The bed a compaction pours when no --packing is given.
+const std::string generated_bed = R"(
+[generate]
+count = 150
+diameter_min = "0.8 mm"
+diameter_max = "1.2 mm"
+seed = 3
+settle_time = "20 ms"
 )";
 
-std::string compact_config(const std::string& extra_run = "") {
+std::string compact_config(const std::string& extra_run = "",
+                           const std::string& bed = generated_bed) {
   return materials + R"(
 [run]
 record_every = 50
@@ -46,20 +48,8 @@ gravity = [0.0, 0.0, -9.81]
 x = "6 mm"
 y = "6 mm"
 punch = "20 mm"
-
-[particles]
-material = "powder"
-
-[walls]
-material = "powder"
-
-[generate]
-count = 150
-diameter_min = "0.8 mm"
-diameter_max = "1.2 mm"
-seed = 3
-settle_time = "20 ms"
-
+)" + shapepress::testing::test_data_text("scenarios/powder-die.toml") +
+         bed + R"(
 [punch]
 speed = "0.5 m/s"
 target_strain = 0.1
@@ -142,12 +132,20 @@ TEST(Compact, ReadsAPlainTextPacking) {
   const auto dir = fresh_directory("simulate_packing");
   write_text(dir / "packing.txt",
              "# x y z r\n0.001 0.001 0.0006 0.0005\n0.003 0.003 0.0006 0.0005\n");
-  write_text(dir / "compact.toml", compact_config());
+  // No [generate]: without the packing the run has no spheres and exits 2.
+  write_text(dir / "compact.toml", compact_config("", ""));
   const auto result = run_shapepress("--quiet compact --config " + (dir / "compact.toml").string() +
                                      " --packing " + (dir / "packing.txt").string() +
                                      " --steps 200 --out " + (dir / "run").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_THAT(result.output, HasSubstr("steps=200"));
+  // The run's spheres are the file's: two of radius 0.5 mm (punch.csv states their volume).
+  const std::string punch = read_text(dir / "run" / "punch.csv");
+  std::smatch volume;
+  ASSERT_TRUE(std::regex_search(punch, volume, std::regex(R"(solid volume (\S+) m\^3)"))) << punch;
+  EXPECT_NEAR(
+      std::stod(volume[1]) / (2.0 * 4.0 / 3.0 * std::numbers::pi * 0.5e-3 * 0.5e-3 * 0.5e-3), 1.0,
+      1e-9);
 }
 
 TEST(Compact, UnknownKeyIsExitTwoNamingIt) {

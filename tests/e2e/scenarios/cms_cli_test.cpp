@@ -19,6 +19,7 @@ using shapepress::testing::fresh_directory;
 using shapepress::testing::read_text;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::test_data_text;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
@@ -64,19 +65,7 @@ TEST(CmsPlateCli, SpheresIsForCmsOnly) {
 
 // A few clumps of three overlapping spheres (about 1 mm) with a handful of plain spheres.
 std::string clump_compact_config(const std::string& spheres) {
-  return R"(
-[[material]]
-name = "powder"
-youngs_modulus = "100 MPa"
-poisson_ratio = 0.3
-density = "1541 kg/m^3"
-
-[[interaction]]
-first = "powder"
-second = "powder"
-restitution = 0.5
-sliding_friction = 0.5
-
+  return test_data_text("scenarios/powder.toml") + R"(
 [run]
 record_every = 50
 snapshot_every = 500
@@ -86,13 +75,8 @@ gravity = [0.0, 0.0, -9.81]
 x = "5 mm"
 y = "5 mm"
 punch = "6 mm"
-
-[particles]
-material = "powder"
-
-[walls]
-material = "powder"
-
+)" + test_data_text("scenarios/powder-die.toml") +
+         R"(
 [generate]
 count = 40
 diameter_min = "0.8 mm"

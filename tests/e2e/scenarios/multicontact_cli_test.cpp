@@ -18,23 +18,12 @@ namespace {
 
 using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
+using shapepress::testing::test_data_text;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
 std::string plate_config(const std::string& interaction_extra) {
-  return R"(
-[[material]]
-name = "rubber"
-youngs_modulus = "18.5 MPa"
-poisson_ratio = 0.46
-density = "1100 kg/m^3"
-
-[[interaction]]
-first = "rubber"
-second = "rubber"
-restitution = 0.9
-sliding_friction = 0.5
-)" + interaction_extra +
+  return test_data_text("scenarios/rubber.toml") + interaction_extra +
          R"(
 [sphere]
 radius = "1 mm"
@@ -96,19 +85,7 @@ TEST(MulticontactPlate, BadMultiContactInputExitsWithTwoNamingTheKey) {
 }
 
 std::string compact_config(const std::string& punch_extra) {
-  return R"(
-[[material]]
-name = "powder"
-youngs_modulus = "100 MPa"
-poisson_ratio = 0.3
-density = "1541 kg/m^3"
-
-[[interaction]]
-first = "powder"
-second = "powder"
-restitution = 0.5
-sliding_friction = 0.5
-normal_law = "multicontact"
+  return test_data_text("scenarios/powder.toml") + R"(normal_law = "multicontact"
 plasticity_ratio = 0.3
 multicontact_prefactor = 1.3
 
@@ -119,13 +96,8 @@ record_every = 50
 x = "4 mm"
 y = "4 mm"
 punch = "12 mm"
-
-[particles]
-material = "powder"
-
-[walls]
-material = "powder"
-
+)" + test_data_text("scenarios/powder-die.toml") +
+         R"(
 [generate]
 count = 60
 diameter_min = "0.7 mm"
