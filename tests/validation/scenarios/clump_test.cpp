@@ -2,7 +2,6 @@
 // under gravity and stay there; keep every sub-sphere distance through a 40 % plate
 // compression; give the same bits on one and two threads and after a restart.
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <cmath>
 #include <cstdio>
@@ -23,7 +22,6 @@ namespace {
 
 using testing::expect_same_bits;
 using testing::one_material;
-using testing::resume_through_snapshot;
 
 // A sphere of radius R as a clump by hand: a core ball of 0.6 R and `shell` balls of 0.4 R
 // centred 0.6 R out on Fibonacci directions (reach R), each overlapping the core. The geometry
@@ -340,38 +338,19 @@ int clumps_in_contact(const Engine& engine) {
 const int clump_steps = 1500;
 
 TEST(Clump, OneAndTwoThreadsGiveTheSameBits) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  ClumpScene one = clump_scene();
-  one.setup.max_steps = clump_steps;
-  run_compaction(*one.engine, one.setup, one.punch, {});
-  omp_set_num_threads(2);
-  ClumpScene two = clump_scene();
-  two.setup.max_steps = clump_steps;
-  run_compaction(*two.engine, two.setup, two.punch, {});
-  omp_set_num_threads(threads);
-  EXPECT_GT(clumps_in_contact(*one.engine), 5);
-  expect_same_bits(*one.engine, *two.engine);
-  expect_same_clumps(*one.engine, *two.engine);
+  const testing::ThreadRuns runs = testing::run_on_one_and_two_threads(clump_scene, clump_steps);
+  EXPECT_GT(clumps_in_contact(*runs.one.engine), 5);
+  expect_same_bits(*runs.one.engine, *runs.two.engine);
+  expect_same_clumps(*runs.one.engine, *runs.two.engine);
 }
 
 TEST(Clump, RestartFromSnapshotContinuesWithTheSameBits) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  ClumpScene continuous = clump_scene();
-  continuous.setup.max_steps = clump_steps;
-  run_compaction(*continuous.engine, continuous.setup, continuous.punch, {});
-
-  ClumpScene first = clump_scene();
-  first.setup.max_steps = clump_steps / 2 + 17;
-  run_compaction(*first.engine, first.setup, first.punch, {});
-  const std::unique_ptr<Engine> resumed =
-      resume_through_snapshot(*first.engine, first.punch, continuous.setup, "clump");
-  EXPECT_EQ(resumed->clumps().size(), first.engine->clumps().size());
-  omp_set_num_threads(threads);
-  EXPECT_GT(clumps_in_contact(*resumed), 5);
-  expect_same_bits(*continuous.engine, *resumed);
-  expect_same_clumps(*continuous.engine, *resumed);
+  const testing::RestartRuns runs =
+      testing::run_continuous_and_restarted(clump_scene, clump_steps, "clump");
+  EXPECT_EQ(runs.resumed->clumps().size(), runs.first.engine->clumps().size());
+  EXPECT_GT(clumps_in_contact(*runs.resumed), 5);
+  expect_same_bits(*runs.continuous.engine, *runs.resumed);
+  expect_same_clumps(*runs.continuous.engine, *runs.resumed);
 }
 
 }  // namespace

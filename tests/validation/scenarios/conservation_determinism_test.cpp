@@ -1,7 +1,6 @@
 // Energy conservation of the integrator and the contact loop, and determinism: 1 vs 2 threads
 // and restart vs continuous run give the same bits (issue 3, Validation).
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <cmath>
 #include <cstdio>
@@ -21,7 +20,6 @@ using testing::expect_same_bits;
 using testing::full_validation;
 using testing::one_material;
 using testing::random_gas;
-using testing::resume_through_snapshot;
 
 // Spheres of 0.8–1.2 mm at random in a periodic box between two plates, moving at random.
 TEST(Energy, ElasticFrictionlessBoxConservesTotalEnergy) {
@@ -60,37 +58,17 @@ Scene compaction_scene() {
 const int compaction_steps = 2000;
 
 TEST(Determinism, OneAndTwoThreadsGiveTheSameBits) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  Scene one = compaction_scene();
-  one.setup.max_steps = compaction_steps;
-  run_compaction(*one.engine, one.setup, one.punch, {});
-  omp_set_num_threads(2);
-  Scene two = compaction_scene();
-  two.setup.max_steps = compaction_steps;
-  run_compaction(*two.engine, two.setup, two.punch, {});
-  omp_set_num_threads(threads);
-  EXPECT_GT(one.engine->sphere_contacts(), 1000);  // the bed is really being compacted
-  EXPECT_GT(one.engine->wall_load(1), 0.0);
-  expect_same_bits(*one.engine, *two.engine);
+  const testing::ThreadRuns runs =
+      testing::run_on_one_and_two_threads(compaction_scene, compaction_steps);
+  EXPECT_GT(runs.one.engine->sphere_contacts(), 1000);  // the bed is really being compacted
+  EXPECT_GT(runs.one.engine->wall_load(1), 0.0);
+  expect_same_bits(*runs.one.engine, *runs.two.engine);
 }
 
 TEST(Determinism, RestartFromSnapshotContinuesWithTheSameBits) {
-  // One thread: the thread count is the other test's subject, and a team of two on a loaded
-  // machine spends its time in barriers.
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  Scene continuous = compaction_scene();
-  continuous.setup.max_steps = compaction_steps;
-  run_compaction(*continuous.engine, continuous.setup, continuous.punch, {});
-
-  Scene first = compaction_scene();
-  first.setup.max_steps = compaction_steps / 2 + 17;  // mid-way between list builds
-  run_compaction(*first.engine, first.setup, first.punch, {});
-  const std::unique_ptr<Engine> resumed =
-      resume_through_snapshot(*first.engine, first.punch, continuous.setup, "compaction");
-  omp_set_num_threads(threads);
-  expect_same_bits(*continuous.engine, *resumed);
+  const testing::RestartRuns runs =
+      testing::run_continuous_and_restarted(compaction_scene, compaction_steps, "compaction");
+  expect_same_bits(*runs.continuous.engine, *runs.resumed);
 }
 
 }  // namespace

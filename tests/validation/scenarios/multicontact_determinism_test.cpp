@@ -2,7 +2,6 @@
 // the same bits (the Love–Weber stress is read one step late, so its snapshot must restore it),
 // and the plastic history is really exercised.
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <filesystem>
 #include <random>
@@ -17,7 +16,6 @@ namespace {
 
 using testing::default_time_step;
 using testing::expect_same_bits;
-using testing::resume_through_snapshot;
 
 MaterialTable multicontact_material() {
   MulticontactParameters m;
@@ -37,41 +35,24 @@ Scene scene() {
 constexpr int steps = 1500;
 
 TEST(MulticontactDeterminism, OneAndTwoThreadsGiveTheSameBits) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  Scene one = scene();
-  one.setup.max_steps = steps;
-  run_compaction(*one.engine, one.setup, one.punch, {});
-  omp_set_num_threads(2);
-  Scene two = scene();
-  two.setup.max_steps = steps;
-  run_compaction(*two.engine, two.setup, two.punch, {});
-  omp_set_num_threads(threads);
+  const testing::ThreadRuns runs = testing::run_on_one_and_two_threads(scene, steps);
+  const Engine& one = *runs.one.engine;
   // The law is exercised: contacts with plastic overlap and spheres under pressure.
   int plastic = 0;
-  for (const ContactHistory& h : one.engine->checkpoint().history)
+  for (const ContactHistory& h : one.checkpoint().history)
     plastic += h.plastic_force > 0.0;
   EXPECT_GT(plastic, 500);
   double largest = 0.0;
-  for (std::size_t i = 0; i < one.engine->state().size(); ++i)
-    largest = std::max(largest, one.engine->particle_pressure(i));
+  for (std::size_t i = 0; i < one.state().size(); ++i)
+    largest = std::max(largest, one.particle_pressure(i));
   EXPECT_GT(largest, 0.0);
-  expect_same_bits(*one.engine, *two.engine);
+  expect_same_bits(one, *runs.two.engine);
 }
 
 TEST(MulticontactDeterminism, RestartFromSnapshotContinuesWithTheSameBits) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  Scene continuous = scene();
-  continuous.setup.max_steps = steps;
-  run_compaction(*continuous.engine, continuous.setup, continuous.punch, {});
-  Scene first = scene();
-  first.setup.max_steps = steps / 2 + 17;
-  run_compaction(*first.engine, first.setup, first.punch, {});
-  const std::unique_ptr<Engine> resumed =
-      resume_through_snapshot(*first.engine, first.punch, continuous.setup, "multicontact");
-  omp_set_num_threads(threads);
-  expect_same_bits(*continuous.engine, *resumed);
+  const testing::RestartRuns runs =
+      testing::run_continuous_and_restarted(scene, steps, "multicontact");
+  expect_same_bits(*runs.continuous.engine, *runs.resumed);
 }
 
 }  // namespace

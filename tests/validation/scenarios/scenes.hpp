@@ -1,6 +1,7 @@
 #pragma once
 // Small scenes shared by the engine's validation tests.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cstdint>
 #include <cstdlib>
@@ -123,6 +124,53 @@ inline std::unique_ptr<Engine> resume_through_snapshot(const Engine& first, cons
   PunchState resumed_punch = punch_state_from(loaded.scenario);
   run_compaction(*resumed, setup, resumed_punch, {});
   return resumed;
+}
+
+// The determinism harness every engine feature's scene goes through: `make_scene()` (a
+// CompactionScene) run for `steps` steps on one thread and on two. The caller compares the two
+// with expect_same_bits (and its own checks).
+struct ThreadRuns {
+  CompactionScene one, two;
+};
+template <class MakeScene>
+ThreadRuns run_on_one_and_two_threads(MakeScene make_scene, int steps) {
+  const int threads = omp_get_max_threads();
+  ThreadRuns runs;
+  omp_set_num_threads(1);
+  runs.one = make_scene();
+  runs.one.setup.max_steps = steps;
+  run_compaction(*runs.one.engine, runs.one.setup, runs.one.punch, {});
+  omp_set_num_threads(2);
+  runs.two = make_scene();
+  runs.two.setup.max_steps = steps;
+  run_compaction(*runs.two.engine, runs.two.setup, runs.two.punch, {});
+  omp_set_num_threads(threads);
+  return runs;
+}
+
+// The restart half: `continuous` runs `steps` steps; `first` stops mid-way between list builds
+// (steps / 2 + 17) and goes through a snapshot file (named after `name`) into `resumed`, which
+// runs on to `steps`. One thread: the thread count is the other half's subject, and a team of
+// two on a loaded machine spends its time in barriers.
+struct RestartRuns {
+  CompactionScene continuous, first;
+  std::unique_ptr<Engine> resumed;
+};
+template <class MakeScene>
+RestartRuns run_continuous_and_restarted(MakeScene make_scene, int steps, const std::string& name) {
+  const int threads = omp_get_max_threads();
+  RestartRuns runs;
+  omp_set_num_threads(1);
+  runs.continuous = make_scene();
+  runs.continuous.setup.max_steps = steps;
+  run_compaction(*runs.continuous.engine, runs.continuous.setup, runs.continuous.punch, {});
+  runs.first = make_scene();
+  runs.first.setup.max_steps = steps / 2 + 17;
+  run_compaction(*runs.first.engine, runs.first.setup, runs.first.punch, {});
+  runs.resumed =
+      resume_through_snapshot(*runs.first.engine, runs.first.punch, runs.continuous.setup, name);
+  omp_set_num_threads(threads);
+  return runs;
 }
 
 }  // namespace shapepress::scenarios::testing
