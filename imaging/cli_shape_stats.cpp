@@ -28,6 +28,8 @@ struct ShapeStatsCli {
   std::string polarity = "auto";
   bool keep_edges = false;
   bool no_split = false;
+  std::string split;  // empty: the default (or the preset's)
+  bool imagej = false;
   bool keep_holes = false;
   bool no_overlays = false;
   SegmentOptions segment;
@@ -52,9 +54,27 @@ const std::map<std::string, ThresholdMethod> threshold_choices = {
     {"otsu", ThresholdMethod::otsu},
     {"triangle", ThresholdMethod::triangle},
     {"fixed", ThresholdMethod::fixed},
-    {"adaptive", ThresholdMethod::adaptive}};
+    {"adaptive", ThresholdMethod::adaptive},
+    {"isodata", ThresholdMethod::isodata}};
 const std::map<std::string, Polarity> polarity_choices = {
     {"auto", Polarity::automatic}, {"bright", Polarity::bright}, {"dark", Polarity::dark}};
+
+// --imagej: ImageJ's Analyze Particles as a user runs it (Default threshold, no smoothing or
+// background, 8-connected, include holes, exclude on edges, no watershed unless --split imagej);
+// options given explicitly still win over the preset.
+void apply_imagej_preset(ShapeStatsCli& cli, const CLI::App& app) {
+  auto given = [&](const char* name) { return app.count(name) > 0; };
+  if (!given("--denoise")) cli.denoise = "none";
+  if (!given("--background")) cli.background = "none";
+  if (!given("--threshold")) cli.threshold = "isodata";
+  if (!given("--split") && !given("--no-split")) cli.split = "none";
+}
+
+const std::map<std::string, std::string> split_choices = {
+    {"none", "keep touching particles together"},
+    {"neck", "split at narrow necks (distance map, neck width against the smaller radius)"},
+    {"prominence", "distance-map maxima standing out by --split-prominence, 1 px lines"},
+    {"imagej", "as prominence, on the mask before its holes are filled (ImageJ's order)"}};
 
 int run(const ShapeStatsCli& cli, const RunContext& context) {
   ShapeStatsOptions options;
@@ -64,7 +84,11 @@ int run(const ShapeStatsCli& cli, const RunContext& context) {
   options.segment.threshold = threshold_choices.at(cli.threshold);
   options.segment.polarity = polarity_choices.at(cli.polarity);
   options.segment.exclude_edges = !cli.keep_edges;
-  options.segment.split_touching = !cli.no_split;
+  const std::string split = cli.no_split ? "none" : cli.split.empty() ? "prominence" : cli.split;
+  options.segment.split_touching = split != "none";
+  options.segment.split_rule = split == "neck" ? SplitRule::neck : SplitRule::prominence;
+  options.segment.split_lines = split != "neck";
+  options.segment.fill_holes_after_split = split == "imagej";
   options.segment.fill_holes = !cli.keep_holes;
   options.segment.check();
   if (!cli.pixel_size.empty())
@@ -123,7 +147,7 @@ int run(const ShapeStatsCli& cli, const RunContext& context) {
 
 StageRunner setup_shape_stats_cli(CLI::App& app) {
   auto cli = std::make_shared<ShapeStatsCli>();
-  app.add_option("images", cli->images, "image files (TIFF, PNG, JPEG, BMP, PGM)")->required();
+  app.add_option("images", cli->images, "image files (TIFF, PNG, JPEG, BMP, PGM, GIF)")->required();
   app.add_option("--out", cli->out, "output folder")->required();
   app.add_option("--pixel-size", cli->pixel_size,
                  "pixel size when the file has no SEM metadata, e.g. 0.8um");
@@ -137,7 +161,7 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
                  "px, radius of the rolling background")
       ->capture_default_str();
   bind_choice(app, "--threshold", cli->threshold, threshold_choices,
-              "otsu, triangle, fixed or adaptive");
+              "otsu, triangle, fixed, adaptive or isodata (ImageJ's Default)");
   app.add_option("--threshold-level", cli->segment.fixed_level,
                  "fixed threshold as a fraction of the intensity range")
       ->capture_default_str();
@@ -148,9 +172,23 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
   bind_choice(app, "--polarity", cli->polarity, polarity_choices,
               "bright (particles on dark), dark, or auto");
   app.add_flag("--keep-holes", cli->keep_holes, "do not fill holes in particles");
-  app.add_flag("--no-split", cli->no_split, "do not split touching particles");
+  app.add_flag("--no-split", cli->no_split, "do not split touching particles (= --split none)");
+  std::vector<std::string> split_names;
+  for (const auto& [key, help] : split_choices)
+    split_names.push_back(key);
+  app.add_option("--split", cli->split,
+                 "none, neck, prominence (default; ImageJ-like watershed) or imagej (ImageJ's "
+                 "Watershed, in ImageJ's order: before holes are filled)")
+      ->check(CLI::IsMember(split_names));
+  app.add_flag("--imagej", cli->imagej,
+               "ImageJ's Analyze Particles as a user runs it: Default (IsoData) threshold, no "
+               "smoothing or background, fill holes, exclude on edges, 8-connected; watershed "
+               "with --split imagej; explicit options override");
   app.add_option("--split-neck", cli->segment.split_neck,
                  "split where the neck half-width < this x the smaller particle's inscribed radius")
+      ->capture_default_str();
+  app.add_option("--split-prominence", cli->segment.split_prominence_px,
+                 "px; --split prominence|imagej keep distance-map maxima standing out by more")
       ->capture_default_str();
   app.add_flag("--keep-edge-particles", cli->keep_edges, "keep particles touching the image edge");
   app.add_option("--min-area", cli->segment.min_area_px, "px")->capture_default_str();
@@ -159,7 +197,10 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
                  "px; smaller particles are left out of the mean Fourier spectrum")
       ->capture_default_str();
   app.add_flag("--no-overlays", cli->no_overlays, "skip overlay and plot PNGs");
-  return [cli](const RunContext& context) { return run(*cli, context); };
+  return [cli, &app](const RunContext& context) {
+    if (cli->imagej) apply_imagej_preset(*cli, app);
+    return run(*cli, context);
+  };
 }
 
 }  // namespace shapepress::imaging

@@ -2,7 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <gif_lib.h>
+
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <unordered_map>
@@ -11,6 +16,64 @@
 #include "imaging/sem_tiff.hpp"
 
 namespace shapepress::imaging {
+
+namespace {
+
+bool is_gif(const std::filesystem::path& path) {
+  std::array<char, 4> magic{};
+  std::ifstream in(path, std::ios::binary);
+  in.read(magic.data(), magic.size());
+  return in && std::string_view(magic.data(), magic.size()) == "GIF8";
+}
+
+// OpenCV 4.6 (Debian 12) reads no GIF, and ImageJ's own samples are GIFs: giflib decodes the
+// first frame; the palette is applied (the image as it looks, as for any colour file), so a
+// gray ramp gives one channel and any other palette three (BGR, like cv::imread).
+cv::Mat read_gif(const std::filesystem::path& path) {
+  int error = 0;
+  GifFileType* gif = DGifOpenFileName(path.c_str(), &error);
+  if (!gif) return {};
+  struct Closer {
+    GifFileType* gif;
+    ~Closer() {
+      int ignored = 0;
+      DGifCloseFile(gif, &ignored);
+    }
+  } closer{gif};
+  if (DGifSlurp(gif) != GIF_OK || gif->ImageCount < 1 || gif->SWidth <= 0 || gif->SHeight <= 0)
+    return {};
+  const SavedImage& frame = gif->SavedImages[0];
+  const ColorMapObject* palette =
+      frame.ImageDesc.ColorMap ? frame.ImageDesc.ColorMap : gif->SColorMap;
+  if (!palette || !frame.RasterBits) return {};
+  bool gray = true;
+  for (int i = 0; i < palette->ColorCount; ++i) {
+    const GifColorType& c = palette->Colors[i];
+    gray = gray && c.Red == c.Green && c.Green == c.Blue;
+  }
+  auto color = [&](int index) -> const GifColorType& {
+    return palette->Colors[std::clamp(index, 0, palette->ColorCount - 1)];
+  };
+  // Pixels outside the first frame's rectangle show the screen's background colour.
+  const GifColorType& fill = color(gif->SBackGroundColor);
+  cv::Mat out(gif->SHeight, gif->SWidth, gray ? CV_8UC1 : CV_8UC3,
+              gray ? cv::Scalar(fill.Red) : cv::Scalar(fill.Blue, fill.Green, fill.Red));
+  const GifImageDesc& d = frame.ImageDesc;
+  for (int y = 0; y < d.Height; ++y) {
+    for (int x = 0; x < d.Width; ++x) {
+      const int ox = d.Left + x, oy = d.Top + y;
+      if (ox < 0 || oy < 0 || ox >= out.cols || oy >= out.rows) continue;
+      const GifColorType& c = color(frame.RasterBits[static_cast<std::size_t>(y) * d.Width + x]);
+      if (gray)
+        out.at<std::uint8_t>(oy, ox) = c.Red;
+      else
+        out.at<cv::Vec3b>(oy, ox) = cv::Vec3b(c.Blue, c.Green, c.Red);
+    }
+  }
+  return out;
+}
+
+}  // namespace
 
 LoadedImage load_image(const std::filesystem::path& path) {
   std::error_code ec;
@@ -21,10 +84,12 @@ LoadedImage load_image(const std::filesystem::path& path) {
   if (std::filesystem::file_size(path, ec) == 0)
     throw InputError(fmt::format("{}: empty file (0 bytes)", path.string()));
 
-  cv::Mat raw = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  cv::Mat raw = is_gif(path) ? read_gif(path)
+                             : cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (raw.empty())
-    throw InputError(fmt::format(
-        "{}: cannot be read as an image (expected TIFF, PNG, JPEG, BMP or PGM)", path.string()));
+    throw InputError(
+        fmt::format("{}: cannot be read as an image (expected TIFF, PNG, JPEG, BMP, PGM or GIF)",
+                    path.string()));
   LoadedImage loaded;
   loaded.channels = raw.channels();
   loaded.bit_depth = raw.depth() == CV_8U ? 8 : raw.depth() == CV_16U ? 16 : 32;
@@ -42,6 +107,8 @@ LoadedImage load_image(const std::filesystem::path& path) {
         fmt::format("{}: the image is uniform (every pixel is {}): nothing to "
                     "segment",
                     path.string(), lo));
+  loaded.raw_min = lo;
+  loaded.raw_max = hi;
   cv::Mat scaled;
   gray.convertTo(scaled, CV_32F, 1.0 / (hi - lo), -lo / (hi - lo));
   cv::min(cv::max(scaled, 0.0), 1.0, scaled);  // rounding of the scaling must not leave [0, 1]
@@ -97,6 +164,20 @@ int detect_info_bar_rows(const GrayImage& image) {
   // plain background has no bar: cropping would cut into its particles.
   float above = 0.0f;
   return mode_fraction(image, image.height - rows - 1, &above) < text_row_fraction ? rows : 0;
+}
+
+GrayImage imagej_8bit_levels(const GrayImage& image, const LoadedImage& loaded) {
+  GrayImage out = image;
+  const bool eight_bit = loaded.bit_depth == 8;
+  const double range = loaded.raw_max - loaded.raw_min;
+  for (float& v : out.pixels) {
+    // 8-bit: the stored value back (exact); deeper: ImageJ's "8-bit" conversion, which maps
+    // min..max onto 256 equal bins.
+    const double level =
+        eight_bit ? std::round(v * range + loaded.raw_min) : std::min(255.0, std::floor(v * 256.0));
+    v = static_cast<float>(level / 255.0);
+  }
+  return out;
 }
 
 GrayImage crop_rows(const GrayImage& image, int rows) {

@@ -24,6 +24,8 @@ void SegmentOptions::check() const {
   if (adaptive_block_px < 3 || adaptive_block_px % 2 == 0)
     fail("adaptive-block", adaptive_block_px, "an odd window >= 3 px");
   if (!(split_neck > 0 && split_neck < 1)) fail("split-neck", split_neck, "0 < ratio < 1");
+  if (!(split_prominence_px >= 0))
+    fail("split-prominence", split_prominence_px, "a height >= 0 px");
   if (min_area_px < 1) fail("min-area", min_area_px, "an area >= 1 px");
   if (max_area_px != 0 && max_area_px < min_area_px)
     fail("max-area", max_area_px, "0 (no limit) or an area >= --min-area");
@@ -39,6 +41,8 @@ std::string to_string(ThresholdMethod method) {
       return "fixed";
     case ThresholdMethod::adaptive:
       return "adaptive";
+    case ThresholdMethod::isodata:
+      return "isodata";
   }
   return "otsu";
 }
@@ -160,6 +164,15 @@ struct UnionFind {
 
 LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
                                     double split_neck) {
+  SegmentOptions options;
+  options.split_rule = SplitRule::neck;
+  options.split_lines = false;
+  options.split_neck = split_neck;
+  return split_touching_particles(mask, width, height, options);
+}
+
+LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
+                                    const SegmentOptions& options) {
   cv::Mat m(height, width, CV_8U, const_cast<std::uint8_t*>(mask.data()));
   cv::Mat binary = m != 0, dist;
   cv::distanceTransform(binary, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
@@ -173,8 +186,11 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
   // Flooding the inverted distance map from its maxima: a pixel joins the basin of its highest
   // processed neighbour (steepest ascent); two basins meeting at a saddle merge when the neck
   // there is wide compared with the smaller basin's inscribed radius, or within a pixel of it
-  // (digital noise on the distance map).
+  // (digital noise on the distance map). The prominence rule merges them when the smaller
+  // peak stands no more than split_prominence_px above the saddle: ImageJ's maxima finder
+  // with its tolerance, which keeps each ultimate eroded point that stands out by more.
   constexpr double noise_px = 1.0;
+  const bool by_prominence = options.split_rule == SplitRule::prominence;
   UnionFind sets{std::vector<std::int32_t>(n, -1)};
   std::vector<float> peak(n, 0.0f);
   std::array<std::int32_t, 8> roots{};
@@ -208,8 +224,10 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
       std::int32_t other = roots[k];
       if (other == deepest) continue;
       double smaller = peak[other];
-      bool wide_neck = d[p] >= split_neck * smaller || smaller - d[p] < noise_px;
-      if (wide_neck) sets.parent[other] = deepest;
+      bool merge = by_prominence
+                       ? smaller - d[p] <= options.split_prominence_px
+                       : d[p] >= options.split_neck * smaller || smaller - d[p] < noise_px;
+      if (merge) sets.parent[other] = deepest;
     }
     sets.parent[p] = sets.root(uphill);
   }
@@ -222,7 +240,65 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
     if (label_of_root[r] == 0) label_of_root[r] = ++labels.count;
     labels.labels[i] = label_of_root[r];
   }
+  if (!options.split_lines) return labels;
+
+  // Of every two 8-neighbours with different labels, the one nearer the background (lower
+  // distance; on a tie, the later in raster order) is cleared: afterwards no two particles
+  // touch even diagonally, as after ImageJ's watershed lines, and the line is about one pixel
+  // wide. The pieces are then counted as 8-connected blobs, as ImageJ counts them.
+  std::vector<std::uint8_t> kept(mask.begin(), mask.end());
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::int32_t p = y * width + x, lp = labels.labels[p];
+      if (lp == 0) continue;
+      for (int dy = -1; dy <= 1 && kept[p]; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+          const std::int32_t q = ny * width + nx, lq = labels.labels[q];
+          if (lq == 0 || lq == lp) continue;
+          if (d[p] < d[q] || (d[p] == d[q] && p > q)) {
+            kept[p] = 0;
+            break;
+          }
+        }
+      }
+    }
+  }
+  cv::Mat lab, kept_mat(height, width, CV_8U, kept.data());
+  labels.count = cv::connectedComponents(kept_mat, lab, 8, CV_32S) - 1;
+  labels.labels.assign(lab.ptr<std::int32_t>(0), lab.ptr<std::int32_t>(0) + lab.total());
   return labels;
+}
+
+int imagej_default_threshold(std::array<long, 256> data) {
+  // As ImageJ 1.53's AutoThresholder "Default" (ij.process.ImageProcessor's IJ_IsoData):
+  // the extreme bins are ignored (saturated or erased areas), then the level moves up from
+  // the lowest occupied bin until it passes the mean of the two classes' means.
+  data[0] = 0;
+  data[255] = 0;
+  int min = 0, max = 255;
+  while (data[min] == 0 && min < 255)
+    ++min;
+  while (data[max] == 0 && max > 0)
+    --max;
+  if (min >= max) return 128;
+  int moving = min;
+  double result = 0.0;
+  do {
+    double sum1 = 0, sum2 = 0, sum3 = 0, sum4 = 0;
+    for (int i = min; i <= moving; ++i) {
+      sum1 += static_cast<double>(i) * data[i];
+      sum2 += static_cast<double>(data[i]);
+    }
+    for (int i = moving + 1; i <= max; ++i) {
+      sum3 += static_cast<double>(i) * data[i];
+      sum4 += static_cast<double>(data[i]);
+    }
+    result = (sum1 / sum2 + sum3 / sum4) / 2.0;
+    ++moving;
+  } while ((moving + 1) <= result && moving < max - 1);
+  return static_cast<int>(std::lround(result));
 }
 
 namespace {
@@ -233,6 +309,51 @@ LabelImage connected_particles(const cv::Mat& mask) {
   LabelImage labels{mask.cols, mask.rows, count - 1, {}};
   labels.labels.assign(lab.ptr<std::int32_t>(0), lab.ptr<std::int32_t>(0) + lab.total());
   return labels;
+}
+
+// Each particle's holes filled with its label, in raster order of the particles' first pixels
+// (ImageJ's scan order): a particle lying in another's hole becomes part of it, as with
+// ImageJ's "include holes", which fills the traced outline. Labels left unused are dropped.
+void fill_holes_per_particle(LabelImage& labels) {
+  const int n = labels.count;
+  std::vector<int> x0(n + 1, labels.width), y0(n + 1, labels.height), x1(n + 1, -1), y1(n + 1, -1);
+  for (int y = 0; y < labels.height; ++y) {
+    for (int x = 0; x < labels.width; ++x) {
+      const int l = labels.at(x, y);
+      if (l == 0) continue;
+      x0[l] = std::min(x0[l], x);
+      y0[l] = std::min(y0[l], y);
+      x1[l] = std::max(x1[l], x);
+      y1[l] = std::max(y1[l], y);
+    }
+  }
+  std::vector<char> alive(n + 1, 0);
+  for (int l = 1; l <= n; ++l)
+    alive[l] = x1[l] >= 0;
+  for (int l = 1; l <= n; ++l) {
+    if (!alive[l]) continue;
+    const cv::Rect box(x0[l], y0[l], x1[l] - x0[l] + 1, y1[l] - y0[l] + 1);
+    cv::Mat piece(box.size(), CV_8U);
+    for (int y = 0; y < box.height; ++y)
+      for (int x = 0; x < box.width; ++x)
+        piece.at<std::uint8_t>(y, x) = labels.at(box.x + x, box.y + y) == l ? 255 : 0;
+    fill_holes(piece);
+    for (int y = 0; y < box.height; ++y) {
+      for (int x = 0; x < box.width; ++x) {
+        if (!piece.at<std::uint8_t>(y, x)) continue;
+        auto& v = labels.labels[static_cast<std::size_t>(box.y + y) * labels.width + box.x + x];
+        if (v != l && v != 0) alive[v] = 0;  // swallowed (ImageJ erases it with the fill)
+        v = l;
+      }
+    }
+  }
+  std::vector<std::int32_t> renumber(n + 1, 0);
+  int kept = 0;
+  for (int l = 1; l <= n; ++l)
+    if (alive[l]) renumber[l] = ++kept;
+  for (auto& v : labels.labels)
+    v = renumber[v];
+  labels.count = kept;
 }
 
 // Drops particles on the image edge and outside the size range; renumbers the rest 1..n.
@@ -307,6 +428,29 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
       result.threshold =
           cv::threshold(flat8, mask, options.fixed_level * 255.0, 255, cv::THRESH_BINARY);
       break;
+    case ThresholdMethod::isodata: {
+      // Without background flattening, the histogram is the image's own 256 levels (the input
+      // holds them / 255, see imagej_8bit_levels) in the file's orientation, and the side is
+      // chosen as ImageJ's "Dark background" box does: bright particles above the level, dark
+      // ones at or below it. Flattened images are thresholded on their 8-bit rescaling.
+      const bool own_levels = options.background == Background::none;
+      cv::Mat levels;
+      if (own_levels) {
+        cv::Mat original = result.bright_particles ? smooth : 1.0 - smooth;
+        original.convertTo(levels, CV_8U, 255.0);  // rounds to the nearest level
+      } else {
+        levels = flat8;
+      }
+      std::array<long, 256> histogram{};
+      for (int y = 0; y < levels.rows; ++y)
+        for (int x = 0; x < levels.cols; ++x)
+          ++histogram[levels.at<std::uint8_t>(y, x)];
+      const int t = imagej_default_threshold(histogram);
+      mask = own_levels && !result.bright_particles ? levels <= t : levels > t;
+      // No single level of the rescaled image matches in general: outlines at pixel edges.
+      result.threshold = -1.0;
+      break;
+    }
     case ThresholdMethod::adaptive:
       cv::adaptiveThreshold(flat8, mask, 255, cv::ADAPTIVE_THRESH_GAUSSIAN_C, cv::THRESH_BINARY,
                             options.adaptive_block_px, -options.adaptive_offset * 255.0);
@@ -320,12 +464,17 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
     for (int y = 0; y < unit.rows; ++y)
       std::copy_n(unit.ptr<float>(y), unit.cols, &result.flattened.at(0, y));
   }
-  if (options.fill_holes) fill_holes(mask);
+  // ImageJ's order for its watershed: split the mask as thresholded, then fill each piece's
+  // holes ("include holes" of Analyze Particles). Otherwise holes are filled first, so that a
+  // hole (a bright coin's dark relief) makes no distance-map maxima to split at.
+  const bool imagej_order = options.split_touching && options.fill_holes_after_split;
+  if (options.fill_holes && !imagej_order) fill_holes(mask);
 
   if (options.split_touching) {
     std::vector<std::uint8_t> bits(mask.ptr<std::uint8_t>(0),
                                    mask.ptr<std::uint8_t>(0) + mask.total());
-    result.labels = split_touching_particles(bits, mask.cols, mask.rows, options.split_neck);
+    result.labels = split_touching_particles(bits, mask.cols, mask.rows, options);
+    if (options.fill_holes && imagej_order) fill_holes_per_particle(result.labels);
   } else {
     result.labels = connected_particles(mask);
   }

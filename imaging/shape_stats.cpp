@@ -40,6 +40,9 @@ ImageResult process_image(const std::filesystem::path& path, const ShapeStatsOpt
                                  bar_rows, loaded.image.height));
   result.image = bar_rows > 0 ? crop_rows(loaded.image, loaded.image.height - bar_rows)
                               : std::move(loaded.image);
+  // ImageJ's "Default" threshold works on the file's 8-bit levels, not on the stretched ones.
+  if (options.segment.threshold == ThresholdMethod::isodata)
+    result.image = imagej_8bit_levels(result.image, loaded);
   report.width = result.image.width;
   report.height = result.image.height;
   report.info_bar_rows = bar_rows;

@@ -11,6 +11,7 @@ packages=(
   libboost-iostreams-dev libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox clang-format
 )
+packages+=(libgif-dev)  # imaging: GIF input (ImageJ's samples; OpenCV 4.6 reads no GIF)
 if [[ "${1:-}" == "--peers" ]]; then
   packages+=(liggghts openmpi-bin python3 time valgrind)
 elif [[ -n "${1:-}" ]]; then

@@ -173,5 +173,28 @@ TEST_F(ShapeStatsCli, BlobsSampleImage) {
   EXPECT_LE(n, 60);
 }
 
+// Issue 22: ImageJ's sample GIF read, the --imagej preset giving ImageJ's own count on a real
+// photograph (tests/data/imaging/coins_ij_ws0.csv: 23), and a file that is not a readable
+// image (a truncated GIF) an exit 2 naming it.
+TEST_F(ShapeStatsCli, ImageJPresetAndGifInput) {
+  const std::string data = std::string(SHAPEPRESS_TEST_DATA) + "/imaging/";
+  auto coins = run_shapepress("-q shape-stats " + data + "coins.png --imagej --polarity bright " +
+                              "--pixel-size 1um --no-overlays --out " + path("coins"));
+  ASSERT_EQ(coins.exit_code, 0) << coins.output;
+  EXPECT_EQ(data_rows(path("coins/particles.csv")), 23);
+
+  auto blobs = run_shapepress("-q shape-stats " + data + "blobs.gif --imagej --split imagej " +
+                              "--pixel-size 1um --no-overlays --out " + path("blobs"));
+  ASSERT_EQ(blobs.exit_code, 0) << blobs.output;
+  EXPECT_NEAR(data_rows(path("blobs/particles.csv")), 47, 4.7);  // ImageJ's Watershed: 47
+
+  { std::ofstream(path("truncated.gif"), std::ios::binary) << "GIF89a"; }
+  auto bad = run_shapepress("-q shape-stats " + path("truncated.gif") + " --pixel-size 1um --out " +
+                            path("bad"));
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("truncated.gif: cannot be read as an image"), std::string::npos)
+      << bad.output;
+}
+
 }  // namespace
 }  // namespace shapepress::imaging

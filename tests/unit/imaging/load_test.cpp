@@ -2,6 +2,7 @@
 // information bar is found.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -101,6 +102,42 @@ TEST(Load, InformationBarIsDetectedAndNoisyScansAreNot) {
     for (int x = 50; x < 150; ++x)
       clean.at(x, y) = 1.0f;
   EXPECT_EQ(detect_info_bar_rows(clean), 0);
+}
+
+// ImageJ's sample blobs.gif (8-bit, inverting lookup table) and an ImageJ-written 16-bit TIFF
+// of it (raw values × 257) against blobs_raw.pgm, the same raw values as a plain file.
+const std::string data = std::string(SHAPEPRESS_TEST_DATA) + "/imaging/";
+
+TEST(Load, GifAppliesItsPaletteAndSixteenBitTiffKeepsItsValues) {
+  LoadedImage raw = load_image(data + "blobs_raw.pgm");
+  LoadedImage gif = load_image(data + "blobs.gif");
+  ASSERT_EQ(gif.image.width, 256);
+  ASSERT_EQ(gif.image.height, 254);
+  EXPECT_EQ(gif.bit_depth, 8);
+  EXPECT_EQ(gif.channels, 1);  // a gray palette gives a gray image
+  // The inverting palette shows value v as 255 - v: the blobs look dark, as in ImageJ.
+  EXPECT_DOUBLE_EQ(gif.raw_min, 255 - raw.raw_max);
+  EXPECT_DOUBLE_EQ(gif.raw_max, 255 - raw.raw_min);
+  for (std::size_t i = 0; i < raw.image.pixels.size(); ++i)
+    ASSERT_NEAR(gif.image.pixels[i], 1.0f - raw.image.pixels[i], 1e-6f) << "pixel " << i;
+  // imagej_8bit_levels gives the file's values back exactly.
+  GrayImage levels = imagej_8bit_levels(gif.image, gif);
+  GrayImage raw_levels = imagej_8bit_levels(raw.image, raw);
+  for (std::size_t i = 0; i < raw.image.pixels.size(); ++i)
+    ASSERT_FLOAT_EQ(levels.pixels[i] * 255.0f, 255.0f - std::round(raw_levels.pixels[i] * 255.0f));
+
+  LoadedImage deep = load_image(data + "blobs16.tif");
+  EXPECT_EQ(deep.bit_depth, 16);
+  EXPECT_DOUBLE_EQ(deep.raw_min, raw.raw_min * 257);
+  EXPECT_DOUBLE_EQ(deep.raw_max, raw.raw_max * 257);
+  for (std::size_t i = 0; i < raw.image.pixels.size(); ++i)
+    ASSERT_NEAR(deep.image.pixels[i], raw.image.pixels[i], 1e-6f) << "pixel " << i;
+}
+
+TEST(Load, TruncatedGifIsNamedAsUnreadable) {
+  fs::path gif = temp_path("truncated.gif");
+  std::ofstream(gif, std::ios::binary) << "GIF89a\x10\x00";
+  expect_input_error(gif, "cannot be read as an image");
 }
 
 }  // namespace

@@ -2,9 +2,12 @@
 // hole filling, edge exclusion and the size filter.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <string>
 
 #include "common/error.hpp"
+#include "imaging/load.hpp"
 #include "imaging/segment.hpp"
 
 namespace shapepress::imaging {
@@ -139,6 +142,24 @@ TEST(Segment, BadOptionsNameTheField) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--split-neck"), std::string::npos);
   }
+}
+
+// ImageJ 1.53t's "Default" levels on real images, as imagej_analyze.ijm printed them
+// (tests/data/imaging): objects above 107 (coins.png) and 116 (gravel256.png), and raw blob
+// values above 125 in blobs_raw.pgm.
+int imagej_level_of(const std::string& file) {
+  LoadedImage loaded = load_image(std::string(SHAPEPRESS_TEST_DATA) + "/imaging/" + file);
+  GrayImage levels = imagej_8bit_levels(loaded.image, loaded);
+  std::array<long, 256> histogram{};
+  for (float v : levels.pixels)
+    ++histogram[static_cast<std::size_t>(std::lround(v * 255.0f))];
+  return imagej_default_threshold(histogram);
+}
+
+TEST(Segment, ImageJDefaultThresholdOnRealImages) {
+  EXPECT_EQ(imagej_level_of("coins.png"), 107);
+  EXPECT_EQ(imagej_level_of("gravel256.png"), 116);
+  EXPECT_EQ(imagej_level_of("blobs_raw.pgm"), 125);
 }
 
 }  // namespace
