@@ -54,18 +54,14 @@ int run(const PlateCli& cli, const RunContext& context) {
     if (cli.fills > 0) config.bms->fills = cli.fills;
     if (cli.seed >= 0) config.bms->seed = static_cast<std::uint64_t>(cli.seed);
   }
+  if (kind == PlateParticleKind::cms && !config.cms) {  // [cms] is optional: its defaults
+    config.cms = CmsConfig{};
+    config.cms->material = config.sphere_material;
+  }
   if (cli.spheres > 0) {
     if (kind != PlateParticleKind::cms)
       throw InputError("--spheres is the number of overlapping sub-spheres of --particle cms");
-    if (!config.cms) {
-      config.cms = CmsConfig{};
-      config.cms->material = config.sphere_material;
-    }
     config.cms->count = cli.spheres;
-  }
-  if (kind == PlateParticleKind::cms && !config.cms) {
-    config.cms = CmsConfig{};
-    config.cms->material = config.sphere_material;
   }
   const std::filesystem::path out(cli.out);
   std::filesystem::create_directories(out);
