@@ -12,6 +12,8 @@ class App;
 
 namespace shapepress {
 
+struct StageOptions;  // common/options.hpp
+
 // Global options, parsed by main() before any stage runs.
 struct RunContext {
   std::string command_line;  // for provenance
@@ -27,6 +29,9 @@ struct Stage {
   std::string_view name;
   std::string_view summary;
   StageSetup setup;
+  // The keys of the stage's config file, for `--help-config` and docs/config-reference.md; null
+  // for a stage without one.
+  StageOptions (*config_options)() = nullptr;
 };
 
 }  // namespace shapepress

@@ -1,5 +1,6 @@
 #pragma once
 // The geometry stages of the `shapepress` binary: generate, describe, fill.
+#include "common/options.hpp"
 #include "common/stage.hpp"
 
 namespace shapepress::geometry {
@@ -7,5 +8,7 @@ namespace shapepress::geometry {
 StageRunner setup_generate_cli(CLI::App& app);
 StageRunner setup_describe_cli(CLI::App& app);
 StageRunner setup_fill_cli(CLI::App& app);
+// The keys of generate's --targets TOML.
+StageOptions generate_options();
 
 }  // namespace shapepress::geometry

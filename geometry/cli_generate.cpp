@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "common/csv.hpp"
 #include "common/progress.hpp"
 #include "geometry/cli.hpp"
@@ -31,6 +32,11 @@ int run(const GenerateCli& cli, const RunContext& context) {
   progress.finish();
   const std::filesystem::path out(cli.out);
   std::filesystem::create_directories(out);
+  // The targets the run used, as TOML (`generate --targets effective.toml` reads them back).
+  write_file_atomically(
+      out / "effective.toml",
+      fmt::format("# {}\n# the targets of this generate run\n", context.command_line) +
+          shape_targets_toml(targets));
   CsvWriter csv(out / "shapes.csv",
                 {"file", "seed", "redraws", "size_target_m", "elongation_target", "flatness_target",
                  "volume_m3", "L_m", "I_m", "S_m", "asr", "elongation", "flatness", "sphericity",
@@ -78,6 +84,10 @@ int run(const GenerateCli& cli, const RunContext& context) {
 
 }  // namespace
 
+StageOptions generate_options() {
+  return shape_targets_options();
+}
+
 StageRunner setup_generate_cli(CLI::App& app) {
   auto cli = std::make_shared<GenerateCli>();
   app.add_option("--targets", cli->targets,
@@ -96,7 +106,8 @@ StageRunner setup_generate_cli(CLI::App& app) {
   app.add_option("--directions", cli->directions, "views per particle for shapes.csv")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
-  app.add_option("--out", cli->out, "output folder (meshes + shapes.csv)")->required();
+  app.add_option("--out", cli->out, "output folder (meshes, shapes.csv, effective.toml)")
+      ->required();
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -9,6 +9,7 @@
 
 #include "common/config.hpp"
 #include "common/error.hpp"
+#include "common/options.hpp"
 
 namespace shapepress::geometry {
 namespace {
@@ -71,31 +72,67 @@ ShapeTargets from_json(const std::filesystem::path& path) {
   return t;
 }
 
+const OptionTable<ShapeTargets>& fourier_table() {
+  static const OptionTable<ShapeTargets> t = [] {
+    OptionTable<ShapeTargets> f("fourier", "outline Fourier descriptors (shape-stats)");
+    f.number("D2", &ShapeTargets::D2, Range::closed(0.0, 1.0), "elongation descriptor")
+        .number("D3", &ShapeTargets::D3, Range::closed(0.0, 0.5), "triangularity descriptor")
+        .required()
+        .number("D8", &ShapeTargets::D8, Range::closed(0.0, 0.5), "roughness descriptor")
+        .required()
+        .number("decay_exponent", &ShapeTargets::decay_exponent, Range::closed(0.0, 10.0),
+                "decay of the higher descriptors with the degree");
+    return f;
+  }();
+  return t;
+}
+
+const OptionTable<ShapeTargets>& asr_table() {
+  static const OptionTable<ShapeTargets> t = [] {
+    OptionTable<ShapeTargets> a(
+        "asr", "aspect ratio: the projected distribution (quantiles) or 3D box targets (mean)");
+    a.numbers("quantiles", &ShapeTargets::asr_quantiles, dim::dimensionless,
+              Range::open_closed(0.0, 1.0), "projected ASR (Feret min/max) at quantile_levels")
+        .numbers("quantile_levels", &ShapeTargets::asr_levels, dim::dimensionless,
+                 Range::closed(0.0, 1.0), "cumulative levels of quantiles")
+        .default_text("0.05, 0.10, ..., 0.95")
+        .when([](const ShapeTargets& s) { return s.projected_distribution(); },
+              "without asr.quantiles")
+        .number("mean", &ShapeTargets::asr_mean, Range::open_closed(0.0, 1.0),
+                "3D S/L on average (without quantiles)")
+        .number("elongation", &ShapeTargets::elongation, Range::open_closed(0.0, 1.0),
+                "3D I/L on average")
+        .default_text("from mean")
+        .number("flatness", &ShapeTargets::flatness, Range::open_closed(0.0, 1.0),
+                "3D S/I on average")
+        .default_text("from mean");
+    return a;
+  }();
+  return t;
+}
+
+const OptionTable<ShapeTargets>& size_table() {
+  static const OptionTable<ShapeTargets> t = [] {
+    OptionTable<ShapeTargets> z("size", "equivalent circle diameters");
+    z.quantity("x10_m", &ShapeTargets::x10_m, dim::length, Range::positive(), "10 % quantile")
+        .required()
+        .quantity("x50_m", &ShapeTargets::x50_m, dim::length, Range::positive(), "median")
+        .required()
+        .quantity("x90_m", &ShapeTargets::x90_m, dim::length, Range::positive(), "90 % quantile")
+        .required();
+    return z;
+  }();
+  return t;
+}
+
 ShapeTargets from_toml(const std::filesystem::path& path) {
   const ConfigTable config = ConfigTable::load_file(path);
   ShapeTargets t;
   t.source = path.string();
-  const ConfigTable fourier = config.table("fourier");
-  t.D2 = fourier.number("D2", 0.0, Range::closed(0.0, 1.0));
-  t.D3 = fourier.number("D3", std::nullopt, Range::closed(0.0, 0.5));
-  t.D8 = fourier.number("D8", std::nullopt, Range::closed(0.0, 0.5));
-  t.decay_exponent = fourier.number("decay_exponent", 2.0, Range::closed(0.0, 10.0));
-  const ConfigTable asr = config.table("asr");
-  if (asr.has("quantiles")) {
-    t.asr_quantiles = asr.numbers("quantiles", Range::open_closed(0.0, 1.0));
-    t.asr_levels = asr.has("quantile_levels")
-                       ? asr.numbers("quantile_levels", Range::closed(0.0, 1.0))
-                       : default_levels;
-  }
-  if (asr.has("mean")) t.asr_mean = asr.number("mean", std::nullopt, Range::open_closed(0.0, 1.0));
-  if (asr.has("elongation"))
-    t.elongation = asr.number("elongation", std::nullopt, Range::open_closed(0.0, 1.0));
-  if (asr.has("flatness"))
-    t.flatness = asr.number("flatness", std::nullopt, Range::open_closed(0.0, 1.0));
-  const ConfigTable size = config.table("size");
-  t.x10_m = size.quantity("x10_m", dim::length, std::nullopt, Range::positive());
-  t.x50_m = size.quantity("x50_m", dim::length, std::nullopt, Range::positive());
-  t.x90_m = size.quantity("x90_m", dim::length, std::nullopt, Range::positive());
+  fourier_table().read(config.table("fourier"), t);
+  asr_table().read(config.table("asr"), t);
+  if (t.projected_distribution() && t.asr_levels.empty()) t.asr_levels = default_levels;
+  size_table().read(config.table("size"), t);
   config.check_unknown_keys();
   return t;
 }
@@ -148,6 +185,18 @@ void ShapeTargets::check() const {
   const double e = target_elongation(), f = target_flatness();
   if (!(e > 0.0 && e <= 1.0 && f > 0.0 && f <= 1.0))
     bad(fmt::format("elongation {} and flatness {} must be in (0, 1]", e, f));
+}
+
+std::string shape_targets_toml(const ShapeTargets& targets) {
+  return fourier_table().write(targets) + "\n" + asr_table().write(targets) + "\n" +
+         size_table().write(targets);
+}
+
+StageOptions shape_targets_options() {
+  return {"generate",
+          "generate --targets: a TOML with these keys (or the shape-stats summary.json, which "
+          "has the same ones)",
+          {fourier_table().docs(), asr_table().docs(), size_table().docs()}};
 }
 
 ShapeTargets read_shape_targets(const std::filesystem::path& path) {

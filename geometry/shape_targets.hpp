@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "common/options.hpp"
+
 namespace shapepress::geometry {
 
 struct ShapeTargets {
@@ -39,5 +41,10 @@ struct ShapeTargets {
 
 // .json (shape-stats summary) or .toml by extension; InputError naming the file and key.
 ShapeTargets read_shape_targets(const std::filesystem::path& path);
+// The targets as the TOML read_shape_targets reads back to the same values (generate's
+// effective.toml, whichever file they came from).
+std::string shape_targets_toml(const ShapeTargets& targets);
+// The TOML's keys, for generate --help-config and docs/config-reference.md.
+StageOptions shape_targets_options();
 
 }  // namespace shapepress::geometry

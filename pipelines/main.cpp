@@ -16,6 +16,7 @@
 
 #include "common/error.hpp"
 #include "common/logging.hpp"
+#include "common/options.hpp"
 #include "common/provenance.hpp"
 #include "pipelines/stages.hpp"
 #include "pipelines/suggest.hpp"
@@ -116,6 +117,17 @@ int main(int argc, char** argv) {
     CLI::App* sub = app.add_subcommand(std::string(stage.name), std::string(stage.summary));
     sub->allow_extras();  // reported below with a suggestion instead of CLI11's bare message
     runners.emplace_back(sub, stage.setup(*sub));
+    if (stage.config_options) {
+      // Runs as soon as it is parsed, before the stage's required options are checked.
+      sub->add_flag_callback(
+             "--help-config",
+             [options = stage.config_options] {
+               std::fputs(options_text(options()).c_str(), stdout);
+               throw CLI::Success();
+             },
+             "print the config file's keys (units, ranges, defaults) and exit")
+          ->trigger_on_parse();
+    }
     stage_names.emplace_back(stage.name);
   }
 

@@ -1,11 +1,18 @@
 #pragma once
 // The table of stages the `shapepress` binary offers. A stage is listed only when it is real.
 #include <span>
+#include <string>
 
 #include "common/stage.hpp"
 
 namespace shapepress {
 
 std::span<const Stage> registered_stages();
+
+// shapepress help-config [--markdown] [STAGE]: the config keys of the stages that read a config,
+// as text or as the Markdown of docs/config-reference.md (a test keeps that file equal to it).
+StageRunner setup_help_config_cli(CLI::App& app);
+// The Markdown of docs/config-reference.md.
+std::string config_reference_markdown();
 
 }  // namespace shapepress

@@ -1,4 +1,5 @@
 #pragma once
+#include "common/options.hpp"
 #include "common/stage.hpp"
 #include "scenarios/namespaces.hpp"
 
@@ -10,5 +11,10 @@ StageRunner setup_plate_cli(CLI::App& app);
 StageRunner setup_compact_cli(CLI::App& app);
 // shapepress calibrate --config plate.toml --reference curve.csv [--fit ...] --out DIR
 StageRunner setup_calibrate_cli(CLI::App& app);
+
+// Their config keys (config_io.hpp), for --help-config and docs/config-reference.md.
+StageOptions plate_options();
+StageOptions calibrate_options();
+StageOptions compact_options();
 
 }  // namespace shapepress::scenarios

@@ -135,6 +135,10 @@ int run(const CalibrateCli& cli) {
 
 }  // namespace
 
+StageOptions calibrate_options() {
+  return plate_config_options("calibrate");
+}
+
 StageRunner setup_calibrate_cli(CLI::App& app) {
   auto cli = std::make_shared<CalibrateCli>();
   app.add_option("--config", cli->config, "plate config with [bms] and [bond] (the start values)")

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "common/config.hpp"
 #include "common/csv.hpp"
 #include "common/progress.hpp"
@@ -28,7 +29,7 @@ int run(const CompactCli& cli, const RunContext& context) {
   const ConfigTable root = ConfigTable::load_file(cli.config);
   CompactConfig config = read_compact_config(root);
   root.check_unknown_keys();
-  if (cli.steps >= 0) config.run.steps = cli.steps;
+  if (cli.steps >= 0) config.setup.max_steps = cli.steps;
   PreparedCompaction prepared;
   if (!cli.restart.empty()) {
     prepared = resume_compaction(config, read_snapshot(cli.restart));
@@ -47,6 +48,11 @@ int run(const CompactCli& cli, const RunContext& context) {
 
   const std::filesystem::path out(cli.out);
   std::filesystem::create_directories(out / "snapshots");
+  // What the run used, every key with its value (defaults and --steps included).
+  write_file_atomically(
+      out / "effective.toml",
+      fmt::format("# {}\n# the effective config of this compact run\n", context.command_line) +
+          compact_config_toml(config));
   const Provenance provenance{
       context.command_line, root.text(),
       config.generate ? std::optional(config.generate->seed) : std::nullopt};
@@ -56,7 +62,7 @@ int run(const CompactCli& cli, const RunContext& context) {
                  "contacts_per_particle", "intact_bonds"});
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
-                          setup.reference_gap, setup.die_area));
+                          prepared.punch.reference_gap, setup.die_area));
   csv.comment(setup.strain_from_fill
                   ? "H0 is the loose fill height (generate.height, punch.strain_reference = fill)"
                   : "H0 is the gap when loading starts (punch.strain_reference = start)");
@@ -67,7 +73,7 @@ int run(const CompactCli& cli, const RunContext& context) {
         "loading stops at the solid fraction ceiling {} (gap {:.10g} m, strain {:.6g}) before "
         "the target gap {:.10g} m",
         setup.max_solid_fraction, *setup.program.min_gap,
-        1.0 - *setup.program.min_gap / setup.reference_gap, *setup.program.target_gap));
+        1.0 - *setup.program.min_gap / prepared.punch.reference_gap, *setup.program.target_gap));
   csv.comment("phase: 0 load, 1 hold, 2 unload, 3 done");
   std::vector<SnapshotIndexEntry> index;
   CompactionHooks hooks;
@@ -85,10 +91,12 @@ int run(const CompactCli& cli, const RunContext& context) {
                      e.clumps().size()});
     write_xdmf(out / "snapshots.xdmf", index);
   };
-  const double total = config.run.steps > 0 ? static_cast<double>(config.run.steps) : 0.0;
+  const double total =
+      config.setup.max_steps > 0 ? static_cast<double>(config.setup.max_steps) : 0.0;
   ProgressReporter progress("compact", total, {.quiet = context.quiet});
   if (total > 0)
     hooks.progress = [&](std::int64_t step) { progress.update(static_cast<double>(step)); };
+  const double h0 = prepared.punch.reference_gap;
   const CompactionSummary summary = run_compaction(engine, prepared.setup, prepared.punch, hooks);
   progress.finish();
   csv.commit();
@@ -103,11 +111,15 @@ int run(const CompactCli& cli, const RunContext& context) {
                                      static_cast<double>(summary.steps) / summary.loop_seconds
                                : 0.0,
       last.top_force, last.bottom_force, summary.max_stress, last.contacts_per_particle,
-      last.kinetic_energy, static_cast<long long>(engine.list_builds()), setup.reference_gap);
+      last.kinetic_energy, static_cast<long long>(engine.list_builds()), h0);
   return 0;
 }
 
 }  // namespace
+
+StageOptions compact_options() {
+  return compact_config_options();
+}
 
 StageRunner setup_compact_cli(CLI::App& app) {
   auto cli = std::make_shared<CompactCli>();
@@ -120,7 +132,8 @@ StageRunner setup_compact_cli(CLI::App& app) {
   app.add_option("--restart", cli->restart, "continue from a snapshot written by compact")
       ->excludes(packing);
   app.add_option("--steps", cli->steps, "stop at this total step count (overrides run.steps)");
-  app.add_option("--out", cli->out, "output folder (punch.csv, snapshots/, snapshots.xdmf)")
+  app.add_option("--out", cli->out,
+                 "output folder (punch.csv, snapshots/, snapshots.xdmf, effective.toml)")
       ->required();
   return [cli](const RunContext& context) { return run(*cli, context); };
 }

@@ -5,16 +5,13 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "common/config.hpp"
 #include "common/error.hpp"
 #include "common/provenance.hpp"
-#include "scenarios/bms_particle.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/config_io.hpp"
 #include "scenarios/plate_run.hpp"
-#include "simulate/engine.hpp"
-#include "simulate/snapshot.hpp"
-#include "simulate/timestep.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -57,28 +54,30 @@ int run(const PlateCli& cli, const RunContext& context) {
     if (cli.fills > 0) config.bms->fills = cli.fills;
     if (cli.seed >= 0) config.bms->seed = static_cast<std::uint64_t>(cli.seed);
   }
+  if (kind == PlateParticleKind::cms && !config.cms) {  // [cms] is optional: its defaults
+    config.cms = CmsConfig{};
+    config.cms->material = config.sphere_material;
+  }
   if (cli.spheres > 0) {
     if (kind != PlateParticleKind::cms)
       throw InputError("--spheres is the number of overlapping sub-spheres of --particle cms");
-    if (!config.cms) config.cms = CmsConfig{};
     config.cms->count = cli.spheres;
   }
   const std::filesystem::path out(cli.out);
   std::filesystem::create_directories(out);
+  // What the run used, every key with its value (defaults and command-line overrides included):
+  // `plate --config effective.toml` with the same --particle runs it again.
+  write_file_atomically(out / "effective.toml",
+                        fmt::format("# {}\n# the effective config of a plate --particle {} run\n",
+                                    context.command_line, cli.particle) +
+                            plate_config_toml(config));
   const PlateRunOutcome outcome =
       run_plate_config(config, kind, [](const std::string& line) { spdlog::info("{}", line); });
   write_force_csv(out / "force.csv", outcome, config, kind);
-  if (cli.snapshot && outcome.final_snapshot) {
-    // The last state, for ParaView (sub-spheres as points, bonds as lines, plates as quads).
-    const Provenance provenance{context.command_line, root.text(),
-                                config.bms ? std::optional(config.bms->seed) : std::nullopt};
-    write_snapshot(out / "final.h5", *outcome.final_snapshot, ScenarioState{}, provenance);
-    write_xdmf(out / "final.xdmf",
-               {{"final.h5", outcome.final_snapshot->time(), outcome.final_snapshot->state().size(),
-                 outcome.final_snapshot->walls().size(),
-                 outcome.final_snapshot->computes_particle_stress(),
-                 outcome.final_snapshot->bonds().size(), outcome.final_snapshot->clumps().size()}});
-  }
+  if (cli.snapshot)
+    write_plate_snapshot(out, outcome,
+                         Provenance{context.command_line, root.text(),
+                                    config.bms ? std::optional(config.bms->seed) : std::nullopt});
   const PlateRow& last = outcome.rows.back();
   spdlog::info("plate: {} rows in {}; {} of {} bonds intact; {:.3g} s wall, {:.3g} s CPU",
                outcome.rows.size(), (out / "force.csv").string(), last.intact_bonds, outcome.bonds,
@@ -88,11 +87,15 @@ int run(const PlateCli& cli, const RunContext& context) {
 
 }  // namespace
 
+StageOptions plate_options() {
+  return plate_config_options("plate");
+}
+
 StageRunner setup_plate_cli(CLI::App& app) {
   auto cli = std::make_shared<PlateCli>();
   app.add_option("--config", cli->config, "plate config TOML (materials, sphere, plate, bms, bond)")
       ->required();
-  app.add_option("--out", cli->out, "output folder (force.csv)")->required();
+  app.add_option("--out", cli->out, "output folder (force.csv, effective.toml)")->required();
   app.add_option("--model", cli->model,
                  "normal law of every interaction, overriding the config's normal_law "
                  "(multicontact: paper Eq. 6 with the interaction's parameters)")

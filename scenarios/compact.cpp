@@ -12,7 +12,7 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   r.step = engine.step_index();
   r.time = engine.time();
   r.gap = walls[setup.punch_wall].position - walls[setup.bottom_wall].position;
-  r.strain = (setup.reference_gap - r.gap) / setup.reference_gap;
+  r.strain = (punch.reference_gap - r.gap) / punch.reference_gap;
   r.top_force = engine.wall_load(setup.punch_wall);
   r.bottom_force = engine.wall_load(setup.bottom_wall);
   r.stress = r.top_force / setup.die_area;

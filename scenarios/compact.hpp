@@ -13,12 +13,12 @@ namespace shapepress::scenarios {
 
 struct CompactionSetup {
   PunchProgram program;
-  double die_area = 0.0;       // m², the periodic cross-section
-  double reference_gap = 0.0;  // H0 of the strain ε = (H0 - H)/H0: the gap at the run's start
-                               // or the loose fill height (config punch.strain_reference)
+  double die_area = 0.0;  // m², the periodic cross-section
+  // H0 of the strain is PunchState::reference_gap (saved with the punch for a restart): the gap
+  // at the run's start, or the loose fill height when this is set (punch.strain_reference).
   bool strain_from_fill = false;
-  double solid_volume = 0.0;        // m³, Σ sphere volumes
-  double max_solid_fraction = 1.0;  // the ceiling behind program.min_gap
+  double solid_volume = 0.0;         // m³, Σ sphere volumes
+  double max_solid_fraction = 0.95;  // the ceiling behind program.min_gap
   // The target gap would pass the ceiling: loading stops at program.min_gap instead.
   bool ceiling_limits_load = false;
   std::int64_t max_steps = 0;  // total step index to stop at; 0: when the program is done

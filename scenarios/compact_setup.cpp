@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -14,24 +15,21 @@ namespace shapepress::scenarios {
 namespace {
 
 double expected_speed(const CompactConfig& c, const SphereState& s) {
-  double v = std::max({c.program.speed, c.program.unload_speed, c.program.max_speed});
+  double v =
+      std::max({c.setup.program.speed, c.setup.program.unload_speed, c.setup.program.max_speed});
   for (std::size_t i = 0; i < s.size(); ++i)
     v = std::max(v,
                  std::sqrt(s.velocity.x[i] * s.velocity.x[i] + s.velocity.y[i] * s.velocity.y[i] +
                            s.velocity.z[i] * s.velocity.z[i]));
-  const double g = std::hypot(c.run.gravity[0], c.run.gravity[1], c.run.gravity[2]);
+  const std::array<double, 3>& gravity = c.run.engine.gravity;
+  const double g = std::hypot(gravity[0], gravity[1], gravity[2]);
   return std::max(v, std::sqrt(2.0 * std::max(g, c.generate ? 9.81 : 0.0) * (c.punch - c.bottom)));
 }
 
+// The skin defaults to 0.1 of the smallest diameter.
 EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double dt) {
-  EngineSettings settings;
-  settings.time_step = dt;
-  settings.gravity = c.run.gravity;
   const double d_min = 2.0 * *std::min_element(s.radius.begin(), s.radius.end());
-  settings.skin = c.run.skin ? *c.run.skin : 0.1 * d_min;
-  settings.max_overlap_fraction = c.run.max_overlap_fraction;
-  settings.local_damping = c.run.local_damping;
-  return settings;
+  return c.run.engine_settings(dt, 0.1 * d_min);
 }
 
 // Plain spheres' volumes plus each clump's union volume (its sub-spheres overlap).
@@ -48,14 +46,11 @@ double solid_volume(const SphereState& s, const ClumpSet& clumps) {
 
 CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
                                  const SphereState& state, const ClumpSet& clumps) {
-  CompactionSetup setup;
-  setup.program = c.program;
+  CompactionSetup setup = c.setup;
   if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
-  setup.strain_from_fill = c.strain_from_fill;
   setup.solid_volume = solid_volume(state, clumps);
-  setup.max_solid_fraction = c.max_solid_fraction;
   // Solid-fraction ceiling: D = V / (A H) reaches it at H = V / (A D_max).
-  const double min_gap = setup.solid_volume / (c.box_x * c.box_y * c.max_solid_fraction);
+  const double min_gap = setup.solid_volume / (c.box_x * c.box_y * setup.max_solid_fraction);
   setup.program.min_gap = min_gap;
   if (setup.program.target_gap && *setup.program.target_gap < min_gap) {
     setup.ceiling_limits_load = true;
@@ -64,14 +59,10 @@ CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
         "fraction {:.3f}, above the ceiling punch.max_solid_fraction = {}: loading stops at gap "
         "{:.6g} m (strain {:.4g})",
         *setup.program.target_gap, 1.0 - *setup.program.target_gap / reference_gap, reference_gap,
-        setup.solid_volume / (c.box_x * c.box_y * *setup.program.target_gap), c.max_solid_fraction,
-        min_gap, 1.0 - min_gap / reference_gap);
+        setup.solid_volume / (c.box_x * c.box_y * *setup.program.target_gap),
+        setup.max_solid_fraction, min_gap, 1.0 - min_gap / reference_gap);
   }
   setup.die_area = c.box_x * c.box_y;
-  setup.reference_gap = reference_gap;
-  setup.max_steps = c.run.steps;
-  setup.record_every = c.run.record_every;
-  setup.snapshot_every = c.run.snapshot_every;
   if (setup.max_steps == 0 && !setup.program.target_gap &&
       setup.program.mode == PunchProgram::Mode::displacement)
     throw InputError("punch: give target_gap or target_strain, or run.steps to stop the run");
@@ -144,7 +135,7 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
       std::make_unique<Engine>(std::move(state), box, table, walls, settings, BondSet{}, clumps);
   // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
   // paper's "maximum initial height"), which strains like its 57 % need (docs/stages.md, H0).
-  out.punch.reference_gap = c.strain_from_fill && c.generate
+  out.punch.reference_gap = c.setup.strain_from_fill && c.generate
                                 ? c.generate->z_high - c.generate->z_low
                                 : walls[1].position - walls[0].position;
   out.setup =

@@ -10,16 +10,89 @@
 
 namespace shapepress::scenarios {
 
+namespace {
+
+const OptionTable<Material>& material_table() {
+  static const OptionTable<Material> t = [] {
+    OptionTable<Material> m("material",
+                            "one per material, named for [[interaction]] and the "
+                            "particle, wall and plate tables");
+    m.string("name", &Material::name, "the name other tables use")
+        .required()
+        .quantity("youngs_modulus", &Material::youngs_modulus, dim::pressure, Range::positive(),
+                  "Young's modulus E")
+        .required()
+        .number("poisson_ratio", &Material::poisson_ratio, Range{-1.0, 0.5, false, false},
+                "Poisson's ratio")
+        .required()
+        .quantity("density", &Material::density, dim::density, Range::non_negative(),
+                  "density (unused for walls and plates)");
+    return m;
+  }();
+  return t;
+}
+
+// The contact-law keys are read by read_materials below (their tables move to the laws).
+std::vector<OptionDoc> interaction_docs() {
+  return {
+      {"first", "", "text", "required", "material name of one side"},
+      {"second", "", "text", "required", "material name of the other side"},
+      {"restitution", "", "in (0, 1]", "required", "coefficient of restitution e"},
+      {"sliding_friction", "", ">= 0", "required", "sliding friction coefficient"},
+      {"rolling_friction", "", ">= 0", "0", "rolling friction coefficient"},
+      {"effective_modulus", "Pa", "> 0", "from the materials",
+       "E* of the pair, replacing the one the materials' E and nu give"},
+      {"normal_law", "", "hertz | multicontact", "\"hertz\"", "normal contact law"},
+      {"plasticity_ratio", "", "in (0, 1]", "1", "multicontact: lambda_p = k1/k2"},
+      {"loading_stiffness", "N/m^1.5", "> 0", "4/3 E* sqrt(R*)", "multicontact: k1"},
+      {"adhesion_stiffness", "N/m^1.5", ">= 0", "0", "multicontact: kc"},
+      {"pull_off_force", "N", "<= 0", "0", "multicontact: F0"},
+      {"multicontact_prefactor", "", ">= 0", "0", "multicontact: beta"},
+  };
+}
+
+std::string materials_toml(const MaterialConfig& c) {
+  std::string out;
+  for (const Material& m : c.materials)
+    out += "[[material]]\n" + material_table().lines(m) + "\n";
+  for (const Interaction& in : c.interactions) {
+    out += fmt::format(
+        "[[interaction]]\nfirst = {}\nsecond = {}\nrestitution = {}\nsliding_friction = {}\n"
+        "rolling_friction = {}\n",
+        toml_string(in.first), toml_string(in.second), toml_number(in.restitution),
+        toml_number(in.sliding_friction), toml_number(in.rolling_friction));
+    if (in.effective_modulus)
+      out += fmt::format("effective_modulus = {}\n", toml_number(*in.effective_modulus));
+    // The law's parameters go with its name: with hertz they would be refused on reading back.
+    if (in.normal_law == NormalLaw::multicontact) out += "normal_law = \"multicontact\"\n";
+    if (in.normal_law == NormalLaw::multicontact && in.multicontact) {
+      const MulticontactParameters& p = *in.multicontact;
+      out += fmt::format("plasticity_ratio = {}\n", toml_number(p.plasticity_ratio));
+      if (p.loading_stiffness)
+        out += fmt::format("loading_stiffness = {}\n", toml_number(*p.loading_stiffness));
+      out +=
+          fmt::format("adhesion_stiffness = {}\npull_off_force = {}\nmulticontact_prefactor = {}\n",
+                      toml_number(p.adhesion_stiffness), toml_number(p.pull_off_force),
+                      toml_number(p.prefactor));
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+void add_material_sections(StageOptions& options) {
+  options.sections.push_back(material_table().docs());
+  options.sections.back().repeated = true;
+  options.sections.push_back(
+      {"interaction", "one per pair of materials that touch", true, interaction_docs()});
+}
+
+}  // namespace
+
 MaterialConfig read_materials(const ConfigTable& root) {
   MaterialConfig out;
-  for (const ConfigTable& t : root.tables("material")) {
-    Material m;
-    m.name = t.string("name");
-    m.youngs_modulus = t.quantity("youngs_modulus", dim::pressure, std::nullopt, Range::positive());
-    m.poisson_ratio = t.number("poisson_ratio", std::nullopt, Range{-1.0, 0.5, false, false});
-    m.density = t.quantity("density", dim::density, 0.0, Range::non_negative());
-    out.materials.push_back(m);
-  }
+  for (const ConfigTable& t : root.tables("material"))
+    out.materials.push_back(material_table().read(t));
   for (const ConfigTable& t : root.tables("interaction")) {
     Interaction in;
     in.first = t.string("first");
@@ -55,50 +128,502 @@ MaterialConfig read_materials(const ConfigTable& root) {
   return out;
 }
 
-RunConfig read_run(const ConfigTable& root) {
-  RunConfig run;
-  if (!root.has("run")) return run;
-  const ConfigTable t = root.table("run");
-  if (t.has("time_step"))
-    run.time_step = t.quantity("time_step", dim::time, std::nullopt, Range::positive());
-  run.time_step_fraction = t.number("time_step_fraction", 0.2, Range::open_closed(0.0, 1.0));
-  run.steps = t.integer("steps", 0, Range::non_negative());
-  run.record_every = t.integer("record_every", 100, Range::at_least(1));
-  run.snapshot_every = t.integer("snapshot_every", 0, Range::non_negative());
-  if (t.has("skin"))
-    run.skin = t.quantity("skin", dim::length, std::nullopt, Range::non_negative());
-  if (t.has("gravity")) {
-    const std::vector<double> g = t.numbers("gravity");
-    if (g.size() != 3)
-      throw InputError(root.source_name() + ": run.gravity must be [gx, gy, gz] in m/s^2");
-    run.gravity = {g[0], g[1], g[2]};
-  }
-  run.max_overlap_fraction = t.number("max_overlap_fraction", 0.5, Range::open_closed(0.0, 1.0));
-  run.local_damping = t.number("local_damping", 0.0, Range{0.0, 1.0, true, false});
-  return run;
+EngineSettings RunSettings::engine_settings(double step, double default_skin) const {
+  EngineSettings settings = engine;
+  settings.time_step = step;
+  settings.skin = skin.value_or(default_skin);
+  return settings;
 }
 
 namespace {
 
-PunchProgram read_punch(const ConfigTable& t, std::optional<double>& target_strain) {
-  PunchProgram p;
-  const std::string mode = t.choice("mode", {"displacement", "servo"}, "displacement");
-  p.hold_time = t.quantity("hold_time", dim::time, 0.0, Range::non_negative());
-  p.unload_speed = t.quantity("unload_speed", dim::velocity, 0.0, Range::non_negative());
-  if (mode == "servo") {
-    p.mode = PunchProgram::Mode::servo;
-    p.target_stress = t.quantity("target_stress", dim::pressure, std::nullopt, Range::positive());
-    p.max_speed = t.quantity("max_speed", dim::velocity, std::nullopt, Range::positive());
+// The [run] keys both engine stages honour. `run` maps the stage's config to its RunSettings.
+template <class S, class Run>
+void add_run_rows(OptionTable<S>& t, Run run, std::string skin_default) {
+  t.quantity(
+       "time_step", [run](auto& c) -> auto& { return run(c).time_step; }, dim::time,
+       Range::positive(), "fixed time step, refused above the stability limit")
+      .default_text("time_step_fraction of the critical step")
+      .number(
+          "time_step_fraction", [run](auto& c) -> auto& { return run(c).time_step_fraction; },
+          Range::open_closed(0.0, 1.0),
+          "time step as a fraction of the Rayleigh time (and of the bond and clump period "
+          "bounds)")
+      .quantity(
+          "skin", [run](auto& c) -> auto& { return run(c).skin; }, dim::length,
+          Range::non_negative(), "Verlet list skin")
+      .default_text(std::move(skin_default))
+      .number(
+          "max_overlap_fraction",
+          [run](auto& c) -> auto& { return run(c).engine.max_overlap_fraction; },
+          Range::open_closed(0.0, 1.0),
+          "divergence check: an overlap beyond this fraction of a radius stops the run")
+      .number(
+          "local_damping", [run](auto& c) -> auto& { return run(c).engine.local_damping; },
+          Range{0.0, 1.0, true, false},
+          "Cundall's local damping alpha on every sphere, for quasi-static loading only "
+          "(engine.hpp)");
+}
+
+const auto plate_run = [](auto& c) -> auto& {
+  return c.run;
+};
+
+const OptionTable<PlateConfig>& plate_run_table() {
+  static const OptionTable<PlateConfig> t = [] {
+    OptionTable<PlateConfig> r("run", "time step and engine settings");
+    add_run_rows(r, plate_run, "0.1 x the smallest (sub-)sphere radius");
+    r.unused("steps", "plate runs until plate.max_deformation")
+        .unused("record_every", "plate records plate.records rows, evenly spaced in approach")
+        .unused("snapshot_every", "plate --snapshot writes the state at the last row")
+        .unused("gravity", "the plate rig presses its particle without gravity");
+    return r;
+  }();
+  return t;
+}
+
+const OptionTable<PlateConfig>& sphere_table() {
+  static const OptionTable<PlateConfig> t = [] {
+    OptionTable<PlateConfig> s("sphere", "the sphere pressed (or filled by --particle bms | cms)");
+    s.quantity(
+         "radius", [](auto& c) -> auto& { return c.setup.radius; }, dim::length, Range::positive(),
+         "radius R")
+        .required()
+        .string("material", &PlateConfig::sphere_material, "its [[material]]")
+        .required();
+    return s;
+  }();
+  return t;
+}
+
+const OptionTable<PlateConfig>& plate_table() {
+  static const OptionTable<PlateConfig> t = [] {
+    OptionTable<PlateConfig> p("plate", "the two plates and their approach");
+    const auto setup = [](auto& c) -> auto& {
+      return c.setup;
+    };
+    p.string("material", &PlateConfig::plate_material, "the plates' [[material]]")
+        .required()
+        .quantity(
+            "speed", [setup](auto& c) -> auto& { return setup(c).speed; }, dim::velocity,
+            Range::positive(), "approach speed of the top plate")
+        .required()
+        .number(
+            "max_deformation", [setup](auto& c) -> auto& { return setup(c).max_deformation; },
+            Range{0.0, 0.5, false, false}, "approach / 2R at the end of the run")
+        .integer(
+            "records", [setup](auto& c) -> auto& { return setup(c).records; },
+            Range::closed(1, 100000), "rows of force.csv, evenly spaced in approach")
+        .number(
+            "ramp", [setup](auto& c) -> auto& { return setup(c).ramp; }, Range::any(),
+            "deformation over which the top plate speeds up from rest (sin^2)")
+        .range_from(
+            [](const PlateConfig& c) {
+              return Range{0.0, c.setup.max_deformation, true, false};
+            },
+            "in [0, max_deformation)")
+        .boolean(
+            "symmetric", [setup](auto& c) -> auto& { return setup(c).symmetric; },
+            "both plates approach, each at half the speed")
+        .quantity(
+            "final_speed", [setup](auto& c) -> auto& { return setup(c).final_speed; },
+            dim::velocity, Range::positive(),
+            "speed at max_deformation, reached linearly in deformation after the ramp")
+        .default_text("speed")
+        .write_when([](const PlateConfig& c) { return c.setup.final_speed > 0.0; });
     return p;
+  }();
+  return t;
+}
+
+const OptionTable<BmsConfig>& bms_table() {
+  static const OptionTable<BmsConfig> t = [] {
+    OptionTable<BmsConfig> b("bms", "plate --particle bms: bonded sub-spheres filling the sphere");
+    std::vector<std::pair<std::string, std::string>> lattices;
+    for (const char* name : geometry::lattice_names)
+      lattices.emplace_back(name, name);
+    b.integer("count", &BmsConfig::count, Range::closed(1, 1000000), "sub-spheres")
+        .choice("lattice", &BmsConfig::lattice, lattices, "arrangement of the sub-spheres")
+        .choice("placement", &BmsConfig::placement,
+                std::vector<std::pair<std::string, std::string>>{{"inside", "inside"},
+                                                                 {"centre", "centre"}},
+                "sub-spheres wholly inside the sphere, or their centres")
+        .integer("seed", &BmsConfig::seed, Range::non_negative(), "seed of the (first) fill")
+        .integer("fills", &BmsConfig::fills, Range::closed(1, 1000),
+                 "the mean curve of this many fills, seeds seed, seed + 1, ...")
+        // m_b <= 1 is refused by create_bonds with the reason.
+        .number("bond_multiplier", &BmsConfig::bond_multiplier, Range::any(),
+                "m_b: sub-spheres closer than m_b (ri + rj) are bonded (> 1)")
+        .string("material", &BmsConfig::material, "the sub-spheres' contact [[material]]")
+        .default_text("the sphere's");
+    return b;
+  }();
+  return t;
+}
+
+// [bond] comes in two forms, chosen by the keys given (read_bond).
+const OptionTable<BondParameters>& bond_modulus_table() {
+  static const OptionTable<BondParameters> t = [] {
+    OptionTable<BondParameters> b("bond");
+    b.quantity("modulus", &BondParameters::modulus, dim::pressure, Range::any(),
+               "bond Young's modulus E (one form of the stiffness: kn = E / (ri + rj))")
+        .required()
+        .default_text("required in this form")
+        .number("shear_ratio", &BondParameters::shear_ratio, Range::any(), "ks / kn, with modulus");
+    return b;
+  }();
+  return t;
+}
+
+const OptionTable<BondParameters>& bond_stiffness_table() {
+  static const OptionTable<BondParameters> t = [] {
+    OptionTable<BondParameters> b("bond");
+    b.quantity("normal_stiffness", &BondParameters::normal_stiffness, dim::stiffness_per_area,
+               Range::any(), "kn per unit bond area (the other form, instead of modulus)")
+        .required()
+        .default_text("required in this form")
+        .quantity("shear_stiffness", &BondParameters::shear_stiffness, dim::stiffness_per_area,
+                  Range::any(), "ks per unit bond area, with normal_stiffness")
+        .required()
+        .default_text("required in this form");
+    return b;
+  }();
+  return t;
+}
+
+const OptionTable<BondParameters>& bond_table() {
+  static const OptionTable<BondParameters> t = [] {
+    // Signs are checked by BondParameters::check() so that every cause reads the same way.
+    OptionTable<BondParameters> b(
+        "bond",
+        "the parallel bonds of --particle bms: modulus (with shear_ratio) or "
+        "normal_stiffness and shear_stiffness, not both");
+    b.number("radius_multiplier", &BondParameters::radius_multiplier, Range::any(),
+             "lambda: bond radius / smaller sub-sphere radius")
+        .quantity("tensile_strength", &BondParameters::tensile_strength, dim::pressure,
+                  Range::any(), "tensile strength (inf: unbreakable)")
+        .quantity("shear_strength", &BondParameters::shear_strength, dim::pressure, Range::any(),
+                  "shear strength (inf: unbreakable)")
+        .number("damping_ratio", &BondParameters::damping_ratio, Range::any(),
+                "viscous damping of every bond mode, of the critical")
+        .boolean("contact_when_bonded", &BondParameters::contact_when_bonded,
+                 "bonded sub-spheres that overlap also interact through the contact law");
+    return b;
+  }();
+  return t;
+}
+
+const OptionTable<CmsConfig>& cms_table() {
+  static const OptionTable<CmsConfig> t = [] {
+    OptionTable<CmsConfig> m("cms", "plate --particle cms: one rigid clump filling the sphere");
+    m.integer("count", &CmsConfig::count, Range::closed(1, 1000000),
+              "sub-spheres asked of the filler (plate --spheres)")
+        .integer("resolution", &CmsConfig::resolution, Range::closed(8, 1024),
+                 "filler grid cells along the diameter")
+        .number("min_radius_fraction", &CmsConfig::min_radius_fraction,
+                Range{0.0, 1.0, true, false}, "smallest sub-sphere / largest")
+        .boolean("match_volume", &CmsConfig::match_volume,
+                 "grow the radii until the union has the sphere's volume")
+        .integer("integration_cells", &CmsConfig::integration_cells, Range::closed(8, 1024),
+                 "voxels along the clump's longest side (mass, inertia)")
+        .string("material", &CmsConfig::material, "the sub-spheres' [[material]]")
+        .default_text("the sphere's");
+    return m;
+  }();
+  return t;
+}
+
+BondParameters read_bond(const ConfigTable& root) {
+  const ConfigTable k = root.table("bond");
+  BondParameters p;
+  if (k.has("modulus")) {
+    if (k.has("normal_stiffness") || k.has("shear_stiffness"))
+      throw InputError(root.source_name() +
+                       ": bond: give modulus (with shear_ratio) or normal_stiffness and "
+                       "shear_stiffness, not both");
+    bond_modulus_table().read(k, p);
+  } else {
+    if (k.has("shear_ratio"))
+      throw InputError(root.source_name() +
+                       ": key 'bond.shear_ratio' is not used without bond.modulus (give "
+                       "shear_stiffness)");
+    bond_stiffness_table().read(k, p);
   }
-  p.speed = t.quantity("speed", dim::velocity, std::nullopt, Range::positive());
-  if (t.has("target_gap") && t.has("target_strain"))
-    throw InputError(t.source_name() + ": give punch.target_gap or punch.target_strain, not both");
-  if (t.has("target_gap"))
-    p.target_gap = t.quantity("target_gap", dim::length, std::nullopt, Range::positive());
-  if (t.has("target_strain"))
-    target_strain = t.number("target_strain", std::nullopt, Range{0.0, 1.0, false, false});
+  bond_table().read(k, p);
+  try {
+    p.check();
+  } catch (const InputError& e) {
+    throw InputError(root.source_name() + ": [bond] " + e.what());
+  }
   return p;
+}
+
+std::string bond_toml(const BondParameters& p) {
+  return "[bond]\n" +
+         (p.modulus > 0.0 ? bond_modulus_table().lines(p) : bond_stiffness_table().lines(p)) +
+         bond_table().lines(p);
+}
+
+}  // namespace
+
+PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> normal_law) {
+  PlateConfig c;
+  c.materials = read_materials(root);
+  if (normal_law)
+    for (Interaction& in : c.materials.interactions)
+      in.normal_law = *normal_law;
+  if (root.has("run")) plate_run_table().read(root.table("run"), c);
+  const MaterialTable table = c.materials.table();
+  sphere_table().read(root.table("sphere"), c);
+  c.setup.sphere_material = table.index_of(c.sphere_material);
+  plate_table().read(root.table("plate"), c);
+  c.setup.plate_material = table.index_of(c.plate_material);
+  if (root.has("bms")) {
+    BmsConfig b = bms_table().read(root.table("bms"));
+    if (b.material.empty()) b.material = c.sphere_material;
+    table.index_of(b.material);
+    b.bond = read_bond(root);
+    c.bms = b;
+  }
+  if (root.has("cms")) {
+    CmsConfig m = cms_table().read(root.table("cms"));
+    if (m.material.empty()) m.material = c.sphere_material;
+    table.index_of(m.material);
+    c.cms = m;
+  }
+  return c;
+}
+
+std::string plate_config_toml(const PlateConfig& c) {
+  std::string out = materials_toml(c.materials) + plate_run_table().write(c) + "\n" +
+                    sphere_table().write(c) + "\n" + plate_table().write(c);
+  if (c.cms) out += "\n" + cms_table().write(*c.cms);
+  if (c.bms) out += "\n" + bms_table().write(*c.bms) + "\n" + bond_toml(c.bms->bond);
+  return out;
+}
+
+StageOptions plate_config_options(std::string stage) {
+  StageOptions o{std::move(stage),
+                 "The plate rig: one particle between two plates (a quantity is a number in the "
+                 "SI unit or a string with a unit).",
+                 {}};
+  add_material_sections(o);
+  for (const auto* t : {&plate_run_table(), &sphere_table(), &plate_table()})
+    o.sections.push_back(t->docs());
+  o.sections.push_back(bms_table().docs());
+  OptionSection bond = bond_table().docs();
+  std::vector<OptionDoc> rows = bond_modulus_table().docs().rows;
+  for (const OptionDoc& row : bond_stiffness_table().docs().rows)
+    rows.push_back(row);
+  rows.insert(rows.end(), bond.rows.begin(), bond.rows.end());
+  bond.rows = rows;
+  o.sections.push_back(bond);
+  o.sections.push_back(cms_table().docs());
+  return o;
+}
+
+namespace {
+
+const auto compact_run = [](auto& c) -> auto& {
+  return c.run;
+};
+
+const OptionTable<CompactConfig>& compact_run_table() {
+  static const OptionTable<CompactConfig> t = [] {
+    OptionTable<CompactConfig> r("run", "time step, engine settings, length of the run");
+    add_run_rows(r, compact_run, "0.1 x the smallest sphere diameter");
+    const auto setup = [](auto& c) -> auto& {
+      return c.setup;
+    };
+    r.integer(
+         "steps", [setup](auto& c) -> auto& { return setup(c).max_steps; }, Range::non_negative(),
+         "total step count to stop at (0: when the punch program ends)")
+        .integer(
+            "record_every", [setup](auto& c) -> auto& { return setup(c).record_every; },
+            Range::at_least(1), "steps between rows of punch.csv")
+        .integer(
+            "snapshot_every", [setup](auto& c) -> auto& { return setup(c).snapshot_every; },
+            Range::non_negative(), "steps between snapshots (0: none)")
+        .numbers(
+            "gravity", [](auto& c) -> auto& { return c.run.engine.gravity; }, dim::acceleration,
+            Range::any(), "[gx, gy, gz]");
+    return r;
+  }();
+  return t;
+}
+
+const OptionTable<CompactConfig>& box_table() {
+  static const OptionTable<CompactConfig> t = [] {
+    OptionTable<CompactConfig> b("box", "the die: periodic in x and y, plates below and above");
+    b.quantity("x", &CompactConfig::box_x, dim::length, Range::positive(), "periodic length in x")
+        .required()
+        .quantity("y", &CompactConfig::box_y, dim::length, Range::positive(),
+                  "periodic length in y")
+        .required()
+        .quantity("bottom", &CompactConfig::bottom, dim::length, Range::any(),
+                  "height of the bottom plate")
+        .quantity("punch", &CompactConfig::punch, dim::length, Range::any(),
+                  "initial height of the punch, above bottom")
+        .required();
+    return b;
+  }();
+  return t;
+}
+
+const OptionTable<CompactConfig>& particles_table() {
+  static const OptionTable<CompactConfig> t = [] {
+    OptionTable<CompactConfig> p("particles", "the bed");
+    p.string("material", &CompactConfig::particle_material, "the particles' [[material]]")
+        .required();
+    return p;
+  }();
+  return t;
+}
+
+const OptionTable<CompactConfig>& walls_table() {
+  static const OptionTable<CompactConfig> t = [] {
+    OptionTable<CompactConfig> w("walls", "the bottom plate and the punch");
+    w.string("material", &CompactConfig::wall_material, "the walls' [[material]]").required();
+    return w;
+  }();
+  return t;
+}
+
+const OptionTable<CompactConfig>& punch_table() {
+  static const OptionTable<CompactConfig> t = [] {
+    OptionTable<CompactConfig> p("punch", "the punch program");
+    const auto program = [](auto& c) -> auto& {
+      return c.setup.program;
+    };
+    const auto servo = [](const CompactConfig& c) {
+      return c.setup.program.mode == PunchProgram::Mode::servo;
+    };
+    const auto displacement = [servo](const CompactConfig& c) { return !servo(c); };
+    p.choice(
+         "mode", [program](auto& c) -> auto& { return program(c).mode; },
+         std::vector<std::pair<std::string, PunchProgram::Mode>>{
+             {"displacement", PunchProgram::Mode::displacement},
+             {"servo", PunchProgram::Mode::servo}},
+         "move to a gap or strain, or hold a stress")
+        .quantity(
+            "hold_time", [program](auto& c) -> auto& { return program(c).hold_time; }, dim::time,
+            Range::non_negative(), "hold at the target")
+        .quantity(
+            "unload_speed", [program](auto& c) -> auto& { return program(c).unload_speed; },
+            dim::velocity, Range::non_negative(), "upwards after the hold (0: end after it)")
+        .quantity(
+            "target_stress", [program](auto& c) -> auto& { return program(c).target_stress; },
+            dim::pressure, Range::positive(), "servo: punch stress to reach")
+        .required()
+        .when(servo, "with punch.mode = \"displacement\"")
+        .quantity(
+            "max_speed", [program](auto& c) -> auto& { return program(c).max_speed; },
+            dim::velocity, Range::positive(), "servo: fastest punch speed")
+        .required()
+        .when(servo, "with punch.mode = \"displacement\"")
+        .quantity(
+            "speed", [program](auto& c) -> auto& { return program(c).speed; }, dim::velocity,
+            Range::positive(), "displacement: downwards punch speed")
+        .required()
+        .when(displacement, "with punch.mode = \"servo\"")
+        .quantity(
+            "target_gap", [program](auto& c) -> auto& { return program(c).target_gap; },
+            dim::length, Range::positive(), "displacement: gap to reach (or target_strain)")
+        .when(displacement, "with punch.mode = \"servo\"")
+        .number("target_strain", &CompactConfig::target_strain, Range{0.0, 1.0, false, false},
+                "displacement: strain from H0 to reach (or target_gap)")
+        .when(displacement, "with punch.mode = \"servo\"")
+        .choice(
+            "strain_reference", [](auto& c) -> auto& { return c.setup.strain_from_fill; },
+            std::vector<std::pair<std::string, bool>>{{"start", false}, {"fill", true}},
+            "H0: the gap when loading starts, or the loose fill height (generate.height)")
+        .number(
+            "max_solid_fraction", [](auto& c) -> auto& { return c.setup.max_solid_fraction; },
+            Range{0.0, 1.0, false, false}, "loading stops when the solid fraction passes it");
+    return p;
+  }();
+  return t;
+}
+
+const auto generated = [](auto& c) -> auto& {
+  return *c.generate;
+};
+
+const OptionTable<CompactConfig>& generate_table() {
+  static const OptionTable<CompactConfig> t = [] {
+    CompactConfig defaults;  // the rows' defaults are those of a [generate] table present
+    defaults.generate.emplace();
+    OptionTable<CompactConfig> g(
+        "generate", "a random bed, settled under gravity (when no --packing)", defaults);
+    g.integer(
+         "count", [](auto& c) -> auto& { return generated(c).count; }, Range::at_least(1),
+         "spheres")
+        .required()
+        .quantity(
+            "diameter_min", [](auto& c) -> auto& { return generated(c).diameter_min; }, dim::length,
+            Range::positive(), "smallest diameter")
+        .required()
+        .quantity(
+            "diameter_max", [](auto& c) -> auto& { return generated(c).diameter_max; }, dim::length,
+            Range::positive(), "largest diameter")
+        .default_from([](const CompactConfig& c) { return c.generate->diameter_min; },
+                      "diameter_min")
+        .integer(
+            "seed", [](auto& c) -> auto& { return generated(c).seed; }, Range::non_negative(),
+            "random seed")
+        .quantity("height", &CompactConfig::fill_height, dim::length, Range::positive(),
+                  "top of the insertion region above box.bottom")
+        .default_from([](const CompactConfig& c) { return c.punch - c.bottom; }, "box height")
+        .quantity("settle_time", &CompactConfig::settle_time, dim::time, Range::non_negative(),
+                  "settling under gravity (9.81 m/s^2 down if run.gravity is zero)")
+        .number("settle_friction", &CompactConfig::settle_friction, Range::non_negative(),
+                "sliding and rolling friction of every interaction while settling")
+        .default_text("the interactions' own");
+    return g;
+  }();
+  return t;
+}
+
+const OptionTable<SizeQuantiles>& size_table_options() {
+  static const OptionTable<SizeQuantiles> t = [] {
+    OptionTable<SizeQuantiles> q("generate");
+    q.numbers("size_quantiles", &SizeQuantiles::diameters, dim::length, Range::positive(),
+              "diameters of a size distribution truncated to [diameter_min, diameter_max]")
+        .required()
+        .default_text("none (uniform diameters)")
+        .numbers("size_quantile_levels", &SizeQuantiles::levels, dim::dimensionless,
+                 Range{0.0, 1.0, false, false}, "cumulative fraction at each of size_quantiles")
+        .required()
+        .default_text("with size_quantiles")
+        .choice("size_weighting", &SizeQuantiles::volume_weighted,
+                std::vector<std::pair<std::string, bool>>{{"volume", true}, {"number", false}},
+                "the levels' weighting");
+    return q;
+  }();
+  return t;
+}
+
+const OptionTable<ClumpsConfig>& clumps_table() {
+  static const OptionTable<ClumpsConfig> t = [] {
+    OptionTable<ClumpsConfig> k(
+        "clumps",
+        "rigid CMS clumps inserted at random in the [generate] region (else the box), of the "
+        "particles' material: templates or spheres, one of the two");
+    k.integer("count", &ClumpsConfig::count, Range::at_least(1), "clumps")
+        .required()
+        .integer("seed", &ClumpsConfig::seed, Range::non_negative(), "random seed")
+        .integer("integration_cells", &ClumpsConfig::integration_cells, Range::closed(8, 1024),
+                 "voxels along a clump's longest side (mass, inertia)")
+        .string("templates", &ClumpsConfig::templates, "a templates.h5 (its /cms groups)")
+        .string("template", &ClumpsConfig::template_name, "one /cms/<name> of templates")
+        .default_text("all, in turn")
+        .when([](const ClumpsConfig& c) { return !c.templates.empty(); },
+              "without clumps.templates")
+        .numbers("spheres", &ClumpsConfig::spheres, dim::length, Range::any(),
+                 "one template inline: x, y, z, r per sub-sphere (body frame)");
+    return k;
+  }();
+  return t;
 }
 
 }  // namespace
@@ -106,35 +631,28 @@ PunchProgram read_punch(const ConfigTable& t, std::optional<double>& target_stra
 CompactConfig read_compact_config(const ConfigTable& root) {
   CompactConfig c;
   c.materials = read_materials(root);
-  c.run = read_run(root);
-  const ConfigTable box = root.table("box");
-  c.box_x = box.quantity("x", dim::length, std::nullopt, Range::positive());
-  c.box_y = box.quantity("y", dim::length, std::nullopt, Range::positive());
-  c.bottom = box.quantity("bottom", dim::length, 0.0);
-  c.punch = box.quantity("punch", dim::length);
+  if (root.has("run")) compact_run_table().read(root.table("run"), c);
+  box_table().read(root.table("box"), c);
   if (!(c.punch > c.bottom))
     throw InputError(root.source_name() + ": box.punch must be above box.bottom");
-  c.particle_material = root.table("particles").string("material");
-  c.wall_material = root.table("walls").string("material");
+  particles_table().read(root.table("particles"), c);
+  walls_table().read(root.table("walls"), c);
   const ConfigTable punch = root.table("punch");
-  c.program = read_punch(punch, c.target_strain);
-  c.strain_from_fill = punch.choice("strain_reference", {"start", "fill"}, "start") == "fill";
-  c.max_solid_fraction = punch.number("max_solid_fraction", 0.95, Range{0.0, 1.0, false, false});
-  if (c.strain_from_fill && !root.has("generate"))
+  if (punch.has("target_gap") && punch.has("target_strain"))
+    throw InputError(root.source_name() +
+                     ": give punch.target_gap or punch.target_strain, not both");
+  punch_table().read(punch, c);
+  if (c.setup.strain_from_fill && !root.has("generate"))
     throw InputError(root.source_name() +
                      ": punch.strain_reference = \"fill\" needs a [generate] table (the loose "
                      "fill height is generate.height)");
   if (root.has("generate")) {
     const ConfigTable g = root.table("generate");
-    InsertionRequest r;
-    r.count = g.integer("count", std::nullopt, Range::at_least(1));
-    r.diameter_min = g.quantity("diameter_min", dim::length, std::nullopt, Range::positive());
-    r.diameter_max = g.quantity("diameter_max", dim::length, r.diameter_min, Range::positive());
+    c.generate.emplace();
+    generate_table().read(g, c);
+    InsertionRequest& r = *c.generate;
     if (g.has("size_quantiles")) {
-      SizeQuantiles q;
-      q.diameters = g.quantities("size_quantiles", dim::length, Range::positive());
-      q.levels = g.numbers("size_quantile_levels", Range{0.0, 1.0, false, false});
-      q.volume_weighted = g.choice("size_weighting", {"volume", "number"}, "volume") == "volume";
+      const SizeQuantiles q = size_table_options().read(g);
       try {
         q.check();
         size_table(q, r.diameter_min, r.diameter_max);
@@ -143,187 +661,55 @@ CompactConfig read_compact_config(const ConfigTable& root) {
       }
       r.sizes = q;
     }
-    r.seed = static_cast<std::uint64_t>(g.integer("seed", 1, Range::non_negative()));
-    r.z_low = c.bottom;
-    const double height = g.quantity("height", dim::length, c.punch - c.bottom, Range::positive());
-    if (height > c.punch - c.bottom)
+    if (*c.fill_height > c.punch - c.bottom)
       throw InputError(root.source_name() + ": generate.height is above box.punch");
-    r.z_high = c.bottom + height;
-    c.settle_time = g.quantity("settle_time", dim::time, 0.2, Range::non_negative());
-    if (g.has("settle_friction"))
-      c.settle_friction = g.number("settle_friction", std::nullopt, Range::non_negative());
-    c.generate = r;
+    r.z_low = c.bottom;
+    r.z_high = c.bottom + *c.fill_height;
   }
   if (root.has("clumps")) {
     const ConfigTable t = root.table("clumps");
-    ClumpsConfig k;
-    k.count = t.integer("count", std::nullopt, Range::at_least(1));
-    k.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
-    k.integration_cells =
-        static_cast<int>(t.integer("integration_cells", 128, Range::closed(8, 1024)));
     if (t.has("templates") == t.has("spheres"))
       throw InputError(root.source_name() +
                        ": [clumps] needs templates (a templates file) or spheres (x, y, z, r per "
                        "sub-sphere), one of the two");
-    if (t.has("templates")) {
-      k.templates = t.string("templates");
-      k.template_name = t.string("template", "");
-    } else {
-      k.spheres = t.numbers("spheres");
-      if (k.spheres.empty() || k.spheres.size() % 4 != 0)
-        throw InputError(root.source_name() +
-                         ": clumps.spheres must hold x, y, z, r (metres) per sub-sphere");
-    }
+    ClumpsConfig k = clumps_table().read(t);
+    if (!t.has("templates") && (k.spheres.empty() || k.spheres.size() % 4 != 0))
+      throw InputError(root.source_name() +
+                       ": clumps.spheres must hold x, y, z, r (metres) per sub-sphere");
     c.clumps = k;
   }
   return c;
 }
 
-PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> normal_law) {
-  PlateConfig c;
-  c.materials = read_materials(root);
-  if (normal_law)
-    for (Interaction& in : c.materials.interactions)
-      in.normal_law = *normal_law;
-  c.run = read_run(root);
-  const MaterialTable table = c.materials.table();
-  const ConfigTable sphere = root.table("sphere");
-  c.setup.radius = sphere.quantity("radius", dim::length, std::nullopt, Range::positive());
-  c.setup.sphere_material = table.index_of(sphere.string("material"));
-  const ConfigTable plate = root.table("plate");
-  c.setup.plate_material = table.index_of(plate.string("material"));
-  c.setup.speed = plate.quantity("speed", dim::velocity, std::nullopt, Range::positive());
-  c.setup.max_deformation = plate.number("max_deformation", 0.01, Range{0.0, 0.5, false, false});
-  c.setup.records = static_cast<int>(plate.integer("records", 50, Range::closed(1, 100000)));
-  c.setup.ramp = plate.number("ramp", 0.0, Range{0.0, c.setup.max_deformation, true, false});
-  c.setup.symmetric = plate.boolean("symmetric", false);
-  if (plate.has("final_speed"))
-    c.setup.final_speed =
-        plate.quantity("final_speed", dim::velocity, std::nullopt, Range::positive());
-  c.setup.max_overlap_fraction = c.run.max_overlap_fraction;
-  c.setup.local_damping = c.run.local_damping;
-  if (root.has("bms")) {
-    const ConfigTable t = root.table("bms");
-    BmsConfig b;
-    b.count = static_cast<int>(t.integer("count", 545, Range::closed(1, 1000000)));
-    b.lattice = t.choice("lattice",
-                         std::vector<std::string>(std::begin(geometry::lattice_names),
-                                                  std::end(geometry::lattice_names)),
-                         "fcc");
-    b.placement = t.choice("placement", {"inside", "centre"}, "inside");
-    b.seed = static_cast<std::uint64_t>(t.integer("seed", 1, Range::non_negative()));
-    b.fills = static_cast<int>(t.integer("fills", 1, Range::closed(1, 1000)));
-    // m_b <= 1 is refused by create_bonds with the reason; read it unchecked here.
-    b.bond_multiplier = t.number("bond_multiplier", 1.15);
-    b.material = t.has("material") ? t.string("material") : sphere.string("material");
-    table.index_of(b.material);
-    const ConfigTable k = root.table("bond");
-    BondParameters& p = b.bond;
-    // Signs are checked by BondParameters::check() so that every cause reads the same way.
-    if (k.has("modulus")) {
-      if (k.has("normal_stiffness") || k.has("shear_stiffness"))
-        throw InputError(root.source_name() +
-                         ": bond: give modulus (with shear_ratio) or normal_stiffness and "
-                         "shear_stiffness, not both");
-      p.modulus = k.quantity("modulus", dim::pressure);
-      p.shear_ratio = k.number("shear_ratio", 1.0);
-    } else {
-      p.normal_stiffness = k.quantity("normal_stiffness", dim::stiffness_per_area);
-      p.shear_stiffness = k.quantity("shear_stiffness", dim::stiffness_per_area);
-    }
-    p.radius_multiplier = k.number("radius_multiplier", 1.0);
-    p.tensile_strength =
-        k.quantity("tensile_strength", dim::pressure, std::numeric_limits<double>::infinity());
-    p.shear_strength =
-        k.quantity("shear_strength", dim::pressure, std::numeric_limits<double>::infinity());
-    p.damping_ratio = k.number("damping_ratio", 0.0);
-    p.contact_when_bonded = k.boolean("contact_when_bonded", true);
-    try {
-      p.check();
-    } catch (const InputError& e) {
-      throw InputError(root.source_name() + ": [bond] " + e.what());
-    }
-    c.bms = b;
+std::string compact_config_toml(const CompactConfig& c) {
+  std::string out = materials_toml(c.materials);
+  for (const auto* t :
+       {&compact_run_table(), &box_table(), &particles_table(), &walls_table(), &punch_table()})
+    out += t->write(c) + "\n";
+  if (c.generate) {
+    out += generate_table().write(c);
+    if (c.generate->sizes) out += size_table_options().lines(*c.generate->sizes);
+    out += "\n";
   }
-  if (root.has("cms")) {
-    const ConfigTable t = root.table("cms");
-    CmsConfig m;
-    m.count = static_cast<int>(t.integer("count", 150, Range::closed(1, 1000000)));
-    m.resolution = static_cast<int>(t.integer("resolution", 64, Range::closed(8, 1024)));
-    m.min_radius_fraction = t.number("min_radius_fraction", 0.02, Range{0.0, 1.0, true, false});
-    m.match_volume = t.boolean("match_volume", true);
-    m.integration_cells =
-        static_cast<int>(t.integer("integration_cells", 128, Range::closed(8, 1024)));
-    m.material = t.has("material") ? t.string("material") : sphere.string("material");
-    table.index_of(m.material);
-    c.cms = m;
-  }
-  return c;
+  if (c.clumps) out += clumps_table().write(*c.clumps);
+  return out;
 }
 
-std::string plate_config_toml(const PlateConfig& c) {
-  std::string out;
-  const auto number = [](double v) { return fmt::format("{:.17g}", v); };
-  for (const Material& m : c.materials.materials)
-    out += fmt::format(
-        "[[material]]\nname = \"{}\"\nyoungs_modulus = {}\npoisson_ratio = {}\ndensity = "
-        "{}\n\n",
-        m.name, number(m.youngs_modulus), number(m.poisson_ratio), number(m.density));
-  for (const Interaction& in : c.materials.interactions)
-    out += fmt::format(
-        "[[interaction]]\nfirst = \"{}\"\nsecond = \"{}\"\nrestitution = {}\n"
-        "sliding_friction = {}\nrolling_friction = {}\n{}\n",
-        in.first, in.second, number(in.restitution), number(in.sliding_friction),
-        number(in.rolling_friction),
-        in.effective_modulus
-            ? fmt::format("effective_modulus = {}\n", number(*in.effective_modulus))
-            : std::string());
-  const RunConfig& r = c.run;
-  out += "[run]\n";
-  if (r.time_step) out += fmt::format("time_step = {}\n", number(*r.time_step));
-  out += fmt::format("time_step_fraction = {}\nmax_overlap_fraction = {}\nlocal_damping = {}\n\n",
-                     number(r.time_step_fraction), number(r.max_overlap_fraction),
-                     number(r.local_damping));
-  const auto& names = c.materials.materials;
-  out += fmt::format("[sphere]\nradius = {}\nmaterial = \"{}\"\n\n", number(c.setup.radius),
-                     names[static_cast<std::size_t>(c.setup.sphere_material)].name);
-  out += fmt::format(
-      "[plate]\nmaterial = \"{}\"\nspeed = {}\nramp = {}\nsymmetric = {}\nmax_deformation = {}\n"
-      "records = {}\n",
-      names[static_cast<std::size_t>(c.setup.plate_material)].name, number(c.setup.speed),
-      number(c.setup.ramp), c.setup.symmetric ? "true" : "false", number(c.setup.max_deformation),
-      c.setup.records);
-  if (c.setup.final_speed > 0.0)
-    out += fmt::format("final_speed = {}\n", number(c.setup.final_speed));
-  if (c.cms) {
-    const CmsConfig& m = *c.cms;
-    out += fmt::format(
-        "\n[cms]\ncount = {}\nresolution = {}\nmin_radius_fraction = {}\nmatch_volume = {}\n"
-        "integration_cells = {}\nmaterial = \"{}\"\n",
-        m.count, m.resolution, number(m.min_radius_fraction), m.match_volume ? "true" : "false",
-        m.integration_cells, m.material);
-  }
-  if (!c.bms) return out;
-  const BmsConfig& b = *c.bms;
-  out += fmt::format(
-      "\n[bms]\ncount = {}\nlattice = \"{}\"\nplacement = \"{}\"\nseed = {}\nfills = {}\n"
-      "bond_multiplier = {}\nmaterial = \"{}\"\n\n[bond]\n",
-      b.count, b.lattice, b.placement, b.seed, b.fills, number(b.bond_multiplier), b.material);
-  const BondParameters& p = b.bond;
-  if (p.modulus > 0.0)
-    out +=
-        fmt::format("modulus = {}\nshear_ratio = {}\n", number(p.modulus), number(p.shear_ratio));
-  else
-    out += fmt::format("normal_stiffness = {}\nshear_stiffness = {}\n", number(p.normal_stiffness),
-                       number(p.shear_stiffness));
-  out += fmt::format("radius_multiplier = {}\n", number(p.radius_multiplier));
-  if (std::isfinite(p.tensile_strength))
-    out += fmt::format("tensile_strength = {}\n", number(p.tensile_strength));
-  if (std::isfinite(p.shear_strength))
-    out += fmt::format("shear_strength = {}\n", number(p.shear_strength));
-  out += fmt::format("damping_ratio = {}\ncontact_when_bonded = {}\n", number(p.damping_ratio),
-                     p.contact_when_bonded ? "true" : "false");
-  return out;
+StageOptions compact_config_options() {
+  StageOptions o{"compact",
+                 "A bed of spheres (and clumps) in a periodic die pressed by a punch (a quantity "
+                 "is a number in the SI unit or a string with a unit).",
+                 {}};
+  add_material_sections(o);
+  for (const auto* t :
+       {&compact_run_table(), &box_table(), &particles_table(), &walls_table(), &punch_table()})
+    o.sections.push_back(t->docs());
+  OptionSection generate = generate_table().docs();
+  for (const OptionDoc& row : size_table_options().docs().rows)
+    generate.rows.push_back(row);
+  o.sections.push_back(generate);
+  o.sections.push_back(clumps_table().docs());
+  return o;
 }
 
 }  // namespace shapepress::scenarios

@@ -1,53 +1,8 @@
 #pragma once
-// Config TOML → the engine's plain structs, for `plate` and `compact`. Keys (all quantities
-// accept units, "100 MPa", "0.1 mm"):
-//   [[material]]     name, youngs_modulus, poisson_ratio, density
-//   [[interaction]]  first, second (material names), restitution, sliding_friction,
-//                    rolling_friction = 0, normal_law = "hertz" | "multicontact";
-//                    multicontact only (paper Eq. 6): plasticity_ratio = 1 (λp), loading_stiffness
-//                    (k1, N/m^1.5; default 4/3 E* √R*), adhesion_stiffness = 0 (kc, N/m^1.5),
-//                    pull_off_force = 0 (F0 ≤ 0, N), multicontact_prefactor = 0 (β)
-//   [run]            time_step (fixed) | time_step_fraction = 0.2 (of the Rayleigh time),
-//                    steps = 0 (0: until the punch program ends), record_every = 100,
-//                    snapshot_every = 0, skin = 0.1 × smallest diameter, gravity = [0,0,0] m/s²,
-//                    max_overlap_fraction = 0.5, local_damping = 0 (Cundall's α, [0, 1):
-//                    for quasi-static loading; engine.hpp)
-// compact only:
-//   [box]            x, y (periodic lengths), bottom = 0, punch (initial punch height)
-//   [particles]      material; [walls] material
-//   [punch]          mode = "displacement" | "servo", speed, target_gap | target_strain,
-//                    hold_time = 0, unload_speed = 0, target_stress, max_speed,
-//                    strain_reference = "start" | "fill" (H0: the gap when loading starts, or
-//                    the loose fill height = [generate] height), max_solid_fraction = 0.95
-//   [generate]       (when no --packing) count, diameter_min, diameter_max, seed = 1,
-//                    size_quantiles + size_quantile_levels (+ size_weighting = "volume" |
-//                    "number"): a size distribution truncated to [diameter_min, diameter_max],
-//                    height = box height (of the insertion region), settle_time = 0.2 s (settling
-//                    under gravity, 9.81 m/s² down if [run] gravity is zero; then the punch is
-//                    lowered onto the bed), settle_friction (μs = μr of every interaction
-//                    while settling only)
-//   [clumps]         count, seed = 1, integration_cells = 128, and either templates (a
-//                    templates.h5; template = one /cms/<name>, default all in turn) or spheres
-//                    = [x, y, z, r, …] (one template inline, metres): rigid CMS clumps inserted
-//                    at random where they overlap nothing, in the [generate] region (else the
-//                    box), of the particles' material
-// plate only:
-//   [sphere]         radius, material; [plate] material, speed, ramp = 0 (deformation over which
-//                    the top plate speeds up from rest), final_speed = speed (reached at
-//                    max_deformation, linearly in deformation after the ramp), symmetric = false,
-//                    max_deformation = 0.01, records = 50
-//   [bms]            (plate --particle bms) count = 545,
-//                    lattice = "fcc" | "hcp" | "random" | "shell" | "carved", placement = "inside"
-//                    | "centre", seed = 1, fills = 1 (the mean curve of fills of seeds seed, seed +
-//                    1, …), bond_multiplier = 1.15 (m_b, Eq. 10), material = the sphere's (the
-//                    sub-spheres' contact material)
-//   [bond]           normal_stiffness, shear_stiffness (k̄n, k̄s, N/m^3) | modulus (Ē, Pa) with
-//                    shear_ratio = 1 (k̄s/k̄n); radius_multiplier = 1 (λ̄),
-//                    tensile_strength, shear_strength (Pa, default unbreakable),
-//                    damping_ratio = 0, contact_when_bonded = true
-//   [cms]            (plate --particle cms) count = 150 (plate --spheres), resolution = 64,
-//                    min_radius_fraction = 0.02, match_volume = true, integration_cells = 128,
-//                    material = the sphere's
+// Config TOML → the scenarios' structs, for `plate` (and `calibrate`) and `compact`. Every
+// section is an OptionTable (common/options.hpp): the same tables read the config, write the
+// effective config back (effective.toml beside a run's outputs, calibrate's calibrated.toml) and
+// document the keys (`shapepress STAGE --help-config`, docs/config-reference.md).
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -56,10 +11,13 @@
 #include "scenarios/namespaces.hpp"
 
 #include "common/config.hpp"
+#include "common/options.hpp"
 #include "packing/packing.hpp"
+#include "scenarios/compact.hpp"
 #include "scenarios/plate.hpp"
 #include "scenarios/punch.hpp"
 #include "simulate/bonds.hpp"
+#include "simulate/engine.hpp"
 #include "simulate/materials.hpp"
 
 namespace shapepress::scenarios {
@@ -71,18 +29,15 @@ struct MaterialConfig {
 };
 MaterialConfig read_materials(const ConfigTable& root);
 
-struct RunConfig {
-  std::optional<double> time_step;
+// [run]: the time step rule and the engine's settings as read. The engine's time step and, when
+// the config gives none, its skin are chosen when the particles are known (engine_settings()).
+struct RunSettings {
+  std::optional<double> time_step;  // fixed; else time_step_fraction of the critical step
   double time_step_fraction = 0.2;
-  std::int64_t steps = 0;
-  std::int64_t record_every = 100;
-  std::int64_t snapshot_every = 0;
-  std::optional<double> skin;
-  std::array<double, 3> gravity = {0.0, 0.0, 0.0};
-  double max_overlap_fraction = 0.5;
-  double local_damping = 0.0;  // α, EngineSettings::local_damping
+  std::optional<double> skin;  // Verlet skin; absent: the stage's default from the radii
+  EngineSettings engine;       // gravity, max_overlap_fraction, local_damping
+  EngineSettings engine_settings(double time_step, double default_skin) const;
 };
-RunConfig read_run(const ConfigTable& root);
 
 // Rigid clumps (CMS particles) added to a compaction bed ([clumps]): from a templates file's
 // /cms groups or one template given inline, inserted where they overlap nothing.
@@ -97,14 +52,17 @@ struct ClumpsConfig {
 
 struct CompactConfig {
   MaterialConfig materials;
-  RunConfig run;
+  RunSettings run;
   double box_x = 0.0, box_y = 0.0, bottom = 0.0, punch = 0.0;
   std::string particle_material, wall_material;
-  PunchProgram program;
+  // The compaction as the config gives it ([punch], [run] steps, record_every, snapshot_every);
+  // prepare_compaction completes it with what the bed decides (H0, solid volume, ceiling).
+  CompactionSetup setup;
   std::optional<double> target_strain;
-  bool strain_from_fill = false;             // H0 = [generate] height instead of the starting gap
-  double max_solid_fraction = 0.95;          // loading stops when the solid fraction passes it
   std::optional<InsertionRequest> generate;  // filled in from [generate] when present
+  // [generate] height: the insertion region's top above box.bottom (generate->z_high); read
+  // back from the effective config, the box height when the config gives none.
+  std::optional<double> fill_height;
   double settle_time = 0.2;
   // Sliding and rolling friction of every interaction while settling (a denser fill, as DEM
   // fills are usually made to reach a target density); absent: the interactions' own.
@@ -112,6 +70,10 @@ struct CompactConfig {
   std::optional<ClumpsConfig> clumps;  // filled in from [clumps] when present
 };
 CompactConfig read_compact_config(const ConfigTable& root);
+// The config as TOML that read_compact_config reads back to the same values.
+std::string compact_config_toml(const CompactConfig& config);
+// The keys of a compact config, for --help-config and docs/config-reference.md.
+StageOptions compact_config_options();
 
 // A bonded multi-sphere particle filling the plate rig's sphere (plate --particle bms).
 struct BmsConfig {
@@ -143,16 +105,20 @@ struct CmsConfig {
 
 struct PlateConfig {
   MaterialConfig materials;
-  RunConfig run;
-  PlateSetup setup;              // time_step left 0: chosen from run
+  RunSettings run;
+  PlateSetup setup;  // material indices resolved from the names below
+  std::string sphere_material, plate_material;
   std::optional<BmsConfig> bms;  // when the config has [bms]
   std::optional<CmsConfig> cms;  // when the config has [cms]
 };
 // `normal_law` (plate --model) replaces the normal law of every interaction.
 PlateConfig read_plate_config(const ConfigTable& root,
                               std::optional<NormalLaw> normal_law = std::nullopt);
-// The config as TOML that read_plate_config reads back to the same values (calibrate writes
-// the fitted parameters this way, so a calibrated run is one config file).
+// The config as TOML that read_plate_config reads back to the same values (the effective config
+// of a plate run; calibrate writes the fitted parameters this way, so a calibrated run is one
+// config file).
 std::string plate_config_toml(const PlateConfig& config);
+// The keys of a plate (and calibrate) config.
+StageOptions plate_config_options(std::string stage = "plate");
 
 }  // namespace shapepress::scenarios

@@ -32,17 +32,25 @@ double hertz_plate_force(double effective_modulus, double radius, double approac
          std::sqrt(approach);
 }
 
-std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup) {
+double smallest_radius(const SphereState& spheres) {
+  double r_min = spheres.radius.empty() ? 0.0 : spheres.radius[0];
+  for (double r : spheres.radius)
+    r_min = std::min(r_min, r);
+  return r_min;
+}
+
+std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
+                                const EngineSettings& engine) {
   if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
   PlateParticle particle;
   particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
                               materials.material(setup.sphere_material).density,
                               setup.sphere_material);
-  return run_plate(materials, setup, std::move(particle));
+  return run_plate(materials, setup, engine, std::move(particle));
 }
 
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
-                                PlateParticle particle,
+                                const EngineSettings& engine_settings, PlateParticle particle,
                                 const std::function<void(const PlateRow&, const Engine&)>& row) {
   if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
   if (!(setup.speed > 0.0)) throw InputError("plate: speed must be > 0");
@@ -58,11 +66,9 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   // is the approach over the diameter 2R of the sphere the particle stands for (paper §3.1,
   // δ/2R), so every particle's curve lies on the axis of the Hertz and Tatara curves.
   double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
-  double r_min = s.radius[0];
   for (std::size_t i = 0; i < s.size(); ++i) {
     low = std::min(low, s.position.z[i] - s.radius[i]);
     high = std::max(high, s.position.z[i] + s.radius[i]);
-    r_min = std::min(r_min, s.radius[i]);
   }
   const double gap0 = high - low;
   // The sin² ramp covers approach speed t_ramp / 2 (the mean of sin² is 1/2).
@@ -82,10 +88,8 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   std::vector<PlaneWall> walls = {
       PlaneWall{low, 1, (1.0 - top_share) * plate_speed(0.0, 0.0), setup.plate_material},
       PlaneWall{high, -1, -top_share * plate_speed(0.0, 0.0), setup.plate_material}};
-  EngineSettings settings{setup.time_step, {0.0, 0.0, 0.0}, 0.1 * r_min};
+  EngineSettings settings = engine_settings;
   settings.check_every = 1000;
-  settings.max_overlap_fraction = setup.max_overlap_fraction;
-  settings.local_damping = setup.local_damping;
   Engine engine(std::move(s), Box{}, materials, std::move(walls), settings,
                 std::move(particle.bonds), std::move(particle.clumps));
   const double e_star =
@@ -102,7 +106,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   double approach = 0.0;  // of the walls' positions (the first touch: gap0)
   while (next <= setup.records) {
     // The speed at the step's midpoint: the wall moves by it over the step.
-    const double speed = plate_speed(engine.time() + 0.5 * setup.time_step, approach);
+    const double speed = plate_speed(engine.time() + 0.5 * settings.time_step, approach);
     engine.walls()[0].velocity = (1.0 - top_share) * speed;
     engine.walls()[1].velocity = -top_share * speed;
     engine.step();

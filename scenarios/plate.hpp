@@ -12,6 +12,7 @@
 
 #include "simulate/bonds.hpp"
 #include "simulate/clumps.hpp"
+#include "simulate/engine.hpp"
 #include "simulate/materials.hpp"
 #include "simulate/state.hpp"
 
@@ -35,11 +36,8 @@ struct PlateSetup {
   // approach goes as v², so a speed that rises with Δ keeps KE / work as small as a slow start
   // needs, at a fraction of the steps. 0: `speed` throughout.
   double final_speed = 0.0;
-  double max_deformation = 0.01;      // total approach / 2R at the end
-  int records = 50;                   // rows, evenly spaced in approach
-  double time_step = 0.0;             // s
-  double max_overlap_fraction = 0.5;  // divergence check (EngineSettings)
-  double local_damping = 0.0;         // α (EngineSettings): quasi-static loading
+  double max_deformation = 0.01;  // total approach / 2R at the end
+  int records = 50;               // rows, evenly spaced in approach
 };
 
 struct PlateRow {
@@ -71,11 +69,18 @@ struct PlateParticle {
 // Hertz between a sphere and two identical plates: each contact carries Δ/2 (models.md).
 double hertz_plate_force(double effective_modulus, double radius, double approach);
 
-// A single sphere of setup.radius and setup.sphere_material.
-std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup);
+// The particle's smallest sub-sphere radius: the rig's Verlet skin is 0.1 of it unless a config
+// gives one.
+double smallest_radius(const SphereState& spheres);
+
+// A single sphere of setup.radius and setup.sphere_material. `engine` is the engine's settings
+// as they are (time step, skin, overlap check, local damping), but for its divergence check every
+// 1000 steps (the rig's loading is slow).
+std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
+                                const EngineSettings& engine);
 // Any particle. `row` (optional) sees every row as it is recorded, with the engine.
 std::vector<PlateRow> run_plate(
-    const MaterialTable& materials, const PlateSetup& setup, PlateParticle particle,
-    const std::function<void(const PlateRow&, const Engine&)>& row = {});
+    const MaterialTable& materials, const PlateSetup& setup, const EngineSettings& engine,
+    PlateParticle particle, const std::function<void(const PlateRow&, const Engine&)>& row = {});
 
 }  // namespace shapepress::scenarios

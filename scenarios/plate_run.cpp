@@ -13,6 +13,7 @@
 #include "scenarios/bms_particle.hpp"
 #include "scenarios/cms_particle.hpp"
 #include "simulate/engine.hpp"
+#include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
 
 namespace shapepress::scenarios {
@@ -23,7 +24,8 @@ namespace {
 // has passed Δ/2 into the clump (it stays centred between them) and touches the most
 // sub-spheres, deepest: the stiffest state of the run.
 void tighten_for_plates(TimeStepChoice& dt, const PlateParticle& particle,
-                        const MaterialTable& table, const PlateSetup& setup, const RunConfig& run) {
+                        const MaterialTable& table, const PlateSetup& setup,
+                        const RunSettings& run) {
   const SphereState& s = particle.spheres;
   double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
   for (std::size_t i = 0; i < s.size(); ++i) {
@@ -56,7 +58,7 @@ void tighten_for_plates(TimeStepChoice& dt, const PlateParticle& particle,
 }  // namespace
 
 TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTable& table,
-                               const PlateSetup& setup, const RunConfig& run) {
+                               const PlateSetup& setup, const RunSettings& run) {
   // The collision check takes the plates' speed when they first touch (`speed`, or rest with a
   // ramp), not final_speed: what the plates meet later they press at a speed that rises slowly,
   // they do not strike it (the one Hertz sphere, at 0.2 of its Rayleigh time, would be refused:
@@ -170,7 +172,8 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
   if (kind == PlateParticleKind::bms && config.bms && config.bms->fills > 1)
     return run_fills(config, log, cache);
   const MaterialTable table = config.materials.table();
-  PlateSetup setup = config.setup;
+  const PlateSetup& setup = config.setup;
+  double overlap_fraction = config.run.engine.max_overlap_fraction;
   PlateParticle particle;
   PlateRunOutcome outcome;
   if (kind == PlateParticleKind::cms) {
@@ -191,13 +194,11 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
     // A rigid clump cannot flatten: at the end each plate has passed Δ/2 into the clump, deeper
     // into its small outer sub-spheres than their radius. That is the method's failure the study
     // shows (paper §3.3), not a divergence: widen the overlap check to cover it.
-    double r_min = particle.spheres.radius[0];
-    for (double r : particle.spheres.radius)
-      r_min = std::min(r_min, r);
+    const double r_min = smallest_radius(particle.spheres);
     const double deepest = 0.5 * setup.max_deformation * 2.0 * setup.radius;
     const double fraction = 1.0 + 2.0 * deepest / r_min;
-    if (fraction > setup.max_overlap_fraction) {
-      setup.max_overlap_fraction = fraction;
+    if (fraction > overlap_fraction) {
+      overlap_fraction = fraction;
       if (log)
         log(
             fmt::format("plate: overlap check widened to {:.3g} sub-sphere radii (the plates "
@@ -222,7 +223,9 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
   outcome.spheres = particle.spheres.size();
   outcome.bonds = particle.bonds.size();
   const TimeStepChoice dt = plate_time_step(particle, table, setup, config.run);
-  setup.time_step = dt.time_step;
+  EngineSettings engine =
+      config.run.engine_settings(dt.time_step, 0.1 * smallest_radius(particle.spheres));
+  engine.max_overlap_fraction = overlap_fraction;
   outcome.time_step = dt.time_step;
   if (log) {
     log("plate: " + outcome.description);
@@ -237,10 +240,20 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
   }
   int recorded = 0;
   outcome.rows =
-      run_plate(table, setup, std::move(particle), [&](const PlateRow&, const Engine& engine) {
-        if (++recorded == setup.records) outcome.final_snapshot = std::make_shared<Engine>(engine);
+      run_plate(table, setup, engine, std::move(particle), [&](const PlateRow&, const Engine& e) {
+        if (++recorded == setup.records) outcome.final_snapshot = std::make_shared<Engine>(e);
       });
   return outcome;
+}
+
+void write_plate_snapshot(const std::filesystem::path& folder, const PlateRunOutcome& outcome,
+                          const Provenance& provenance) {
+  if (!outcome.final_snapshot) return;
+  const Engine& e = *outcome.final_snapshot;
+  write_snapshot(folder / "final.h5", e, ScenarioState{}, provenance);
+  write_xdmf(folder / "final.xdmf",
+             {{"final.h5", e.time(), e.state().size(), e.walls().size(),
+               e.computes_particle_stress(), e.bonds().size(), e.clumps().size()}});
 }
 
 void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,

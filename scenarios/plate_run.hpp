@@ -9,6 +9,7 @@
 #include <vector>
 #include "scenarios/namespaces.hpp"
 
+#include "common/provenance.hpp"
 #include "scenarios/config_io.hpp"
 #include "scenarios/plate.hpp"
 #include "simulate/timestep.hpp"
@@ -39,7 +40,7 @@ const char* particle_name(PlateParticleKind kind);  // "sphere", "bms", "cms"
 // The step of a plate run: select_time_step (Rayleigh time, bonds, clumps) and, for a clump,
 // its contact period bound at the end of the compression (each plate Δ/2 into it).
 TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTable& table,
-                               const PlateSetup& setup, const RunConfig& run);
+                               const PlateSetup& setup, const RunSettings& run);
 
 // `log` (optional) receives one-line notes (time step, particle). BMS with [bms] fills = K > 1:
 // runs the K fills (seeds seed … seed + K − 1) side by side on the OpenMP threads, one thread
@@ -58,6 +59,11 @@ inline PlateRunOutcome run_plate_config(const PlateConfig& config, bool bonded,
                                         const std::function<void(const std::string&)>& log = {}) {
   return run_plate_config(config, bonded ? PlateParticleKind::bms : PlateParticleKind::sphere, log);
 }
+
+// final.h5 + final.xdmf in `folder`: the engine at the last row, for ParaView (sub-spheres as
+// points, bonds as lines, clump axes, plates as quads). Nothing when the run kept no engine.
+void write_plate_snapshot(const std::filesystem::path& folder, const PlateRunOutcome& outcome,
+                          const Provenance& provenance);
 
 // force.csv (atomically): time_s, deformation, approach_m, top_force_N, bottom_force_N,
 // hertz_force_N, contacts, intact_bonds, kinetic_energy_J, work_J, cpu_s, wall_s, and for an

@@ -1,12 +1,15 @@
 // The shapepress binary as a user meets it: --help, --version, every stage's --help, and the
-// exit code 2 with a "did you mean" for a mistyped stage or option.
+// exit code 2 with a "did you mean" for a mistyped stage or option; the config keys of each stage
+// and docs/config-reference.md generated from them.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <string>
 
+#include "common/options.hpp"
 #include "pipelines/stages.hpp"
 #include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress {
 namespace {
@@ -61,6 +64,33 @@ TEST(Cli, UnknownOptionExitsTwoWithSuggestion) {
   CommandResult option = run_shapepress(name + " --quite");
   EXPECT_EQ(option.exit_code, 2) << option.output;
   EXPECT_THAT(option.output, HasSubstr("Did you mean '--quiet'"));
+}
+
+TEST(Cli, EveryStageWithAConfigPrintsItsKeys) {
+  int stages = 0;
+  for (const Stage& stage : registered_stages()) {
+    if (!stage.config_options) continue;
+    ++stages;
+    // --config is required, yet --help-config alone answers.
+    CommandResult keys = run_shapepress(std::string(stage.name) + " --help-config");
+    EXPECT_EQ(keys.exit_code, 0) << stage.name << ": " << keys.output;
+    for (const OptionSection& section : stage.config_options().sections)
+      for (const OptionDoc& row : section.rows)
+        EXPECT_THAT(keys.output, HasSubstr(row.key)) << stage.name;
+  }
+  EXPECT_GE(stages, 3);
+}
+
+// docs/config-reference.md is generated from the option tables: it must be what they give now.
+TEST(Cli, ConfigReferenceIsWhatTheTablesGenerate) {
+  const std::string expected = config_reference_markdown();
+  EXPECT_EQ(shapepress::testing::read_text(shapepress::testing::repository_root() / "docs" /
+                                           "config-reference.md"),
+            expected)
+      << "docs/config-reference.md is out of date: run scripts/update-config-reference.sh";
+  CommandResult printed = run_shapepress("help-config --markdown");
+  EXPECT_EQ(printed.exit_code, 0);
+  EXPECT_EQ(printed.output, expected);
 }
 
 TEST(Cli, BadGlobalValuesExitTwo) {

@@ -127,6 +127,14 @@ TEST(CalibrateCli, FitsTheBondModulusAndWritesAConfigThatRuns) {
   r = run_shapepress("--quiet plate --config " + shell_quoted(dir / "cal" / "calibrated.toml") +
                      " --particle bms --out " + shell_quoted(dir / "run"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
+  // calibrated.toml is complete: read and written again it is the same text, key for key.
+  const std::string calibrated = shapepress::testing::read_text(dir / "cal" / "calibrated.toml");
+  const std::string effective = shapepress::testing::read_text(dir / "run" / "effective.toml");
+  EXPECT_EQ(effective.substr(effective.find("[[material]]")),
+            calibrated.substr(calibrated.find("[[material]]")));
+  for (const char* key : {"time_step_fraction = ", "max_overlap_fraction = ", "local_damping = ",
+                          "max_deformation = ", "records = ", "bond_multiplier = ", "modulus = "})
+    EXPECT_THAT(calibrated, HasSubstr(key));
   r = run_shapepress("--quiet calibrate --config " + shell_quoted(shipped) + " --reference " +
                      shell_quoted(reference) + " --fit stiffness --out " +
                      shell_quoted(dir / "bad"));

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "common/csv.hpp"
 #include "tests/support/command.hpp"
@@ -95,6 +96,57 @@ TEST(Plate, ShippedRubberSphereConfigRuns) {
               0.005);
 }
 
+TEST(Plate, RunKeyTheRigDoesNotUseIsExitTwoNamingIt) {
+  const auto dir = fresh_directory("simulate_plate_unused");
+  for (const std::string& key :
+       std::vector<std::string>{"gravity = [0.0, 0.0, -9.81]", "steps = 1000"}) {
+    write_text(dir / "plate.toml", materials + "\n[run]\n" + key + R"(
+[sphere]
+radius = "0.5 mm"
+material = "powder"
+
+[plate]
+material = "powder"
+speed = "0.005 m/s"
+)");
+    const auto result = run_shapepress("plate --config " + (dir / "plate.toml").string() +
+                                       " --out " + (dir / "out").string());
+    EXPECT_EQ(result.exit_code, 2) << result.output;
+    EXPECT_THAT(result.output, HasSubstr("'run." + key.substr(0, key.find(' ')) + "' is not used"));
+  }
+}
+
+TEST(Plate, SkinTakesEffectAndTheEffectiveConfigRunsTheSameCurve) {
+  const auto dir = fresh_directory("simulate_plate_effective");
+  write_text(dir / "plate.toml", materials + R"(
+[run]
+skin = "0.02 mm"
+
+[sphere]
+radius = "0.5 mm"
+material = "powder"
+
+[plate]
+material = "powder"
+speed = "0.005 m/s"
+records = 10
+)");
+  auto result = run_shapepress("plate --config " + (dir / "plate.toml").string() + " --out " +
+                               (dir / "a").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string effective = read_text(dir / "a" / "effective.toml");
+  EXPECT_THAT(effective, HasSubstr("skin = 2e-05\n"));
+  EXPECT_THAT(effective, HasSubstr("max_deformation = 0.01\n"));  // defaults written too
+  result = run_shapepress("plate --config " + (dir / "a" / "effective.toml").string() + " --out " +
+                          (dir / "b").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(read_csv(dir / "b" / "force.csv").column("top_force_N"),
+            read_csv(dir / "a" / "force.csv").column("top_force_N"));
+  const std::string again = read_text(dir / "b" / "effective.toml");
+  EXPECT_EQ(again.substr(again.find("[[material]]")),
+            effective.substr(effective.find("[[material]]")));
+}
+
 TEST(Compact, LoadHoldUnloadWithSnapshotsAndRestart) {
   const auto dir = fresh_directory("simulate_compact");
   write_text(dir / "compact.toml", compact_config());
@@ -146,6 +198,14 @@ TEST(Compact, ReadsAPlainTextPacking) {
   EXPECT_NEAR(
       std::stod(volume[1]) / (2.0 * 4.0 / 3.0 * std::numbers::pi * 0.5e-3 * 0.5e-3 * 0.5e-3), 1.0,
       1e-9);
+  // The effective config (with --steps as run.steps) runs the same rows.
+  const std::string effective = read_text(dir / "run" / "effective.toml");
+  EXPECT_THAT(effective, HasSubstr("steps = 200\n"));
+  const auto again = run_shapepress(
+      "--quiet compact --config " + (dir / "run" / "effective.toml").string() + " --packing " +
+      (dir / "packing.txt").string() + " --out " + (dir / "again").string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(read_csv(dir / "again" / "punch.csv").rows, read_csv(dir / "run" / "punch.csv").rows);
 }
 
 TEST(Compact, UnknownKeyIsExitTwoNamingIt) {

@@ -137,6 +137,38 @@ TEST(ShapeTargets, TomlUnknownKeysAreErrors) {
   std::filesystem::remove(path);
 }
 
+TEST(ShapeTargets, EffectiveTomlReadsBackToTheSameTargets) {
+  const auto path = std::filesystem::temp_directory_path() / "shapepress_targets_effective.toml";
+  for (const std::string& text :
+       {std::string("[fourier]\nD2 = 0.07\nD3 = 0.03\nD8 = 0.01\ndecay_exponent = 2.5\n[asr]\n"
+                    "quantiles = [0.5, 0.7, 0.9]\nquantile_levels = [0.1, 0.5, 0.9]\n"
+                    "[size]\nx10_m = 5e-5\nx50_m = 1e-4\nx90_m = 2e-4\n"),
+        bytes_of(data + "paper_box_targets.toml")}) {
+    std::ofstream(path) << text;
+    const ShapeTargets a = read_shape_targets(path);
+    std::ofstream(path) << shape_targets_toml(a);
+    const ShapeTargets b = read_shape_targets(path);
+    EXPECT_EQ(b.D2, a.D2);
+    EXPECT_EQ(b.D3, a.D3);
+    EXPECT_EQ(b.D8, a.D8);
+    EXPECT_EQ(b.decay_exponent, a.decay_exponent);
+    EXPECT_EQ(b.asr_quantiles, a.asr_quantiles);
+    EXPECT_EQ(b.asr_levels, a.asr_levels);
+    EXPECT_EQ(b.asr_mean, a.asr_mean);
+    EXPECT_EQ(b.elongation, a.elongation);
+    EXPECT_EQ(b.flatness, a.flatness);
+    EXPECT_EQ(b.x10_m, a.x10_m);
+    EXPECT_EQ(b.x50_m, a.x50_m);
+    EXPECT_EQ(b.x90_m, a.x90_m);
+  }
+  // Levels are the quantiles' levels: given alone they would be ignored, so they are refused.
+  std::ofstream(path) << "[fourier]\nD3 = 0.03\nD8 = 0.01\n[asr]\nmean = 0.8\n"
+                         "quantile_levels = [0.1, 0.9]\n[size]\nx10_m = 5e-5\nx50_m = 1e-4\n"
+                         "x90_m = 2e-4\n";
+  EXPECT_THROW(read_shape_targets(path), InputError);
+  std::filesystem::remove(path);
+}
+
 TEST(ShapeTargets, KsDistanceOfTheTargetItselfIsSmall) {
   ShapeTargets t;
   t.asr_levels = {0.0, 1.0};

@@ -80,6 +80,7 @@ MaterialTable rubber_and_plates() {
 struct ClumpOnPlates {
   PlateParticle particle;
   PlateSetup setup;
+  EngineSettings engine;
 };
 ClumpOnPlates clump_on_plates(const MaterialTable& table, const ClumpTemplate& t, double radius) {
   ClumpOnPlates rig;
@@ -92,7 +93,9 @@ ClumpOnPlates clump_on_plates(const MaterialTable& table, const ClumpTemplate& t
   rig.setup.speed = 0.4;
   rig.setup.max_deformation = 0.4;
   rig.setup.records = 40;
-  rig.setup.time_step = plate_time_step(rig.particle, table, rig.setup, RunConfig{}).time_step;
+  rig.engine = RunSettings{}.engine_settings(
+      plate_time_step(rig.particle, table, rig.setup, RunSettings{}).time_step,
+      0.1 * smallest_radius(rig.particle.spheres));
   return rig;
 }
 
@@ -149,20 +152,20 @@ TEST(Clump, SubSphereDistancesStayConstantThroughAFortyPercentPlateCompression) 
   // The paper's rubber sphere (Table 1) as a hand-made clump of 41 overlapping sub-spheres.
   const MaterialTable table = rubber_and_plates();
   const double radius = 10e-3;
-  auto [particle, setup] = clump_on_plates(table, ball_clump(radius, 40), radius);
+  auto [particle, setup, settings] = clump_on_plates(table, ball_clump(radius, 40), radius);
   const SphereState start = particle.spheres;
   // 0.2 Rayleigh times alone is unstable here: 80 contacts act on one body.
-  EXPECT_LT(setup.time_step, testing::default_time_step(table, 0.4 * radius));
+  EXPECT_LT(settings.time_step, testing::default_time_step(table, 0.4 * radius));
   // The plates pass 4 mm into the 4 mm outer sub-spheres: the rigid clump's failure, not a
   // divergence (plate_run.cpp widens the check the same way).
-  setup.max_overlap_fraction = 3.0;
+  settings.max_overlap_fraction = 3.0;
   double worst = 0.0;
   std::size_t rows = 0;
   const auto check = [&](const PlateRow&, const Engine& engine) {
     ++rows;
     worst = std::max(worst, worst_distance_change(start, engine.state()));
   };
-  const std::vector<PlateRow> curve = run_plate(table, setup, particle, check);
+  const std::vector<PlateRow> curve = run_plate(table, setup, settings, particle, check);
   std::printf(
       "40 %% compression of a rigid clump: worst relative change of a sub-sphere "
       "distance %.3g; force at 20/30/40 %%: %.4g / %.4g / %.4g N, %lld contacts at the "
@@ -201,14 +204,15 @@ TEST(Clump, ManySubSphereClumpStaysRigidThroughFortyPercentAndItsContactsJump) {
   const MaterialTable table = rubber_and_plates();
   const double radius = 10e-3;
   const int count = testing::full_validation() ? 3000 : 300;
-  auto [particle, setup] = clump_on_plates(table, inscribed_fill(radius, count, 11), radius);
+  auto [particle, setup, settings] =
+      clump_on_plates(table, inscribed_fill(radius, count, 11), radius);
   const SphereState start = particle.spheres;
-  setup.max_overlap_fraction = 1e3;  // the plates pass through the small outer balls
+  settings.max_overlap_fraction = 1e3;  // the plates pass through the small outer balls
   double worst = 0.0;
   const auto check = [&](const PlateRow&, const Engine& engine) {
     worst = std::max(worst, worst_distance_change(start, engine.state()));
   };
-  const std::vector<PlateRow> curve = run_plate(table, setup, particle, check);
+  const std::vector<PlateRow> curve = run_plate(table, setup, settings, particle, check);
   int drops = 0;  // rows where the contact count fell while the plates went on pressing
   for (std::size_t r = 1; r < curve.size(); ++r)
     drops += curve[r].contacts < curve[r - 1].contacts;
@@ -216,9 +220,9 @@ TEST(Clump, ManySubSphereClumpStaysRigidThroughFortyPercentAndItsContactsJump) {
       "%d-sphere clump, dt %.3g s: worst distance change %.3g; force at 20/30/40 %%: "
       "%.4g / %.4g / %.4g N; contacts %lld at 20 %%, %lld at 40 %%, %d drops; %.3g s "
       "CPU\n",
-      count, setup.time_step, worst, curve[19].top_force, curve[29].top_force, curve[39].top_force,
-      static_cast<long long>(curve[19].contacts), static_cast<long long>(curve[39].contacts), drops,
-      curve.back().cpu_seconds);
+      count, settings.time_step, worst, curve[19].top_force, curve[29].top_force,
+      curve[39].top_force, static_cast<long long>(curve[19].contacts),
+      static_cast<long long>(curve[39].contacts), drops, curve.back().cpu_seconds);
   EXPECT_LT(worst, 1e-9);
   EXPECT_GT(curve.back().deformation, 0.399);
   for (const PlateRow& row : curve)
@@ -237,13 +241,14 @@ TEST(Clump, OneSphereClumpBetweenPlatesIsTheHertzSphere) {
   setup.speed = 0.01;
   setup.max_deformation = 0.05;
   setup.records = 10;
-  setup.time_step = testing::default_time_step(table, setup.radius);
+  const EngineSettings engine{
+      testing::default_time_step(table, setup.radius), {0.0, 0.0, 0.0}, 0.1 * setup.radius};
   PlateParticle particle;
   const std::vector<Vector3> centre = {{0.0, 0.0, setup.radius}};
   add_clump(particle.spheres, particle.clumps, centre, std::vector<double>{setup.radius}, 2000.0, 0,
             "one");
-  const std::vector<PlateRow> clump = run_plate(table, setup, particle);
-  const std::vector<PlateRow> sphere = run_plate(table, setup);
+  const std::vector<PlateRow> clump = run_plate(table, setup, engine, particle);
+  const std::vector<PlateRow> sphere = run_plate(table, setup, engine);
   ASSERT_EQ(clump.size(), sphere.size());
   for (std::size_t r = 2; r < clump.size(); ++r) {
     EXPECT_NEAR(clump[r].top_force / clump[r].hertz_force, 1.0, 0.01) << r;

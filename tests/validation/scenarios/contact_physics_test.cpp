@@ -44,10 +44,10 @@ TEST(Hertz, SphereBetweenPlatesWithinHalfAPercentUpToOnePercentDeformation) {
     const double t_r =
         rayleigh_time(c.radius, c.sphere.density, c.sphere.youngs_modulus, c.sphere.poisson_ratio);
     setup.speed = 0.02 * c.radius / (400.0 * t_r);
-    setup.time_step = 0.2 * t_r;
+    const EngineSettings engine{0.2 * t_r, {0.0, 0.0, 0.0}, 0.1 * c.radius};
     setup.max_deformation = 0.01;
     setup.records = 20;
-    const std::vector<PlateRow> rows = run_plate(table, setup);
+    const std::vector<PlateRow> rows = run_plate(table, setup, engine);
     ASSERT_EQ(rows.size(), 20u);
     for (const PlateRow& row : rows) {
       if (row.deformation < 0.002) continue;  // below 0.2 % the force is tiny against damping
@@ -72,12 +72,12 @@ TEST(Hertz, RampedSymmetricPlatesPressTheSameCurveInTheExpectedTime) {
   const double t_r =
       rayleigh_time(setup.radius, rubber.density, rubber.youngs_modulus, rubber.poisson_ratio);
   setup.speed = 0.02 * setup.radius / (400.0 * t_r);
-  setup.time_step = 0.2 * t_r;
+  const EngineSettings engine{0.2 * t_r, {0.0, 0.0, 0.0}, 0.1 * setup.radius};
   setup.max_deformation = 0.01;
   setup.ramp = 0.004;
   setup.symmetric = true;
   setup.records = 20;
-  const std::vector<PlateRow> rows = run_plate(table, setup);
+  const std::vector<PlateRow> rows = run_plate(table, setup, engine);
   ASSERT_EQ(rows.size(), 20u);
   for (const PlateRow& row : rows) {
     if (row.deformation < 0.002) continue;
@@ -85,9 +85,9 @@ TEST(Hertz, RampedSymmetricPlatesPressTheSameCurveInTheExpectedTime) {
     EXPECT_NEAR(row.bottom_force / row.hertz_force, 1.0, 0.005) << "at " << row.deformation;
   }
   const double expected = (setup.max_deformation + setup.ramp) * 2.0 * setup.radius / setup.speed;
-  EXPECT_NEAR(rows.back().time, expected, 2.0 * setup.time_step);
+  EXPECT_NEAR(rows.back().time, expected, 2.0 * engine.time_step);
   setup.ramp = setup.max_deformation;  // the ramp must end before the run does
-  EXPECT_THROW(run_plate(table, setup), InputError);
+  EXPECT_THROW(run_plate(table, setup, engine), InputError);
 }
 
 // Measured restitution of a head-on impact: relative normal speed after / before.

@@ -68,7 +68,6 @@ inline CompactionScene punch_at_two_metres_per_second(std::unique_ptr<Engine> en
   scene.engine = std::move(engine);
   scene.setup.program.speed = 2.0;
   scene.setup.die_area = length * length;
-  scene.setup.reference_gap = height;
   scene.setup.record_every = 0;
   scene.punch.reference_gap = height;
   return scene;
