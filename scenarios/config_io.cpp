@@ -7,10 +7,12 @@
 
 #include "common/error.hpp"
 #include "geometry/sphere_fill.hpp"
+#include "simulate/contact_law_config.hpp"
 
 namespace shapepress::scenarios {
 
-MaterialConfig read_materials(const ConfigTable& root) {
+MaterialConfig read_materials(const ConfigTable& root,
+                              const std::optional<std::string>& normal_law) {
   MaterialConfig out;
   for (const ConfigTable& t : root.tables("material")) {
     Material m;
@@ -30,26 +32,7 @@ MaterialConfig read_materials(const ConfigTable& root) {
     if (t.has("effective_modulus"))
       in.effective_modulus =
           t.quantity("effective_modulus", dim::pressure, std::nullopt, Range::positive());
-    in.normal_law = t.choice("normal_law", {"hertz", "multicontact"}, "hertz") == "multicontact"
-                        ? NormalLaw::multicontact
-                        : NormalLaw::hertz;
-    // Paper Eq. 6 (models.md); given with normal_law = "hertz" they are an error (materials.cpp).
-    const char* keys[] = {"plasticity_ratio", "loading_stiffness", "adhesion_stiffness",
-                          "pull_off_force", "multicontact_prefactor"};
-    bool any = false;
-    for (const char* key : keys)
-      any = any || t.has(key);
-    if (any || in.normal_law == NormalLaw::multicontact) {
-      MulticontactParameters m;
-      m.plasticity_ratio = t.number("plasticity_ratio", 1.0, Range::open_closed(0.0, 1.0));
-      if (t.has("loading_stiffness"))  // N/m^1.5: no unit suffix (not an integer dimension)
-        m.loading_stiffness = t.number("loading_stiffness", std::nullopt, Range::positive());
-      m.adhesion_stiffness = t.number("adhesion_stiffness", 0.0, Range::non_negative());
-      m.pull_off_force =
-          t.quantity("pull_off_force", dim::force, 0.0, Range{-HUGE_VAL, 0.0, true, true});
-      m.prefactor = t.number("multicontact_prefactor", 0.0, Range::non_negative());
-      in.multicontact = m;
-    }
+    in.normal_law = read_normal_law(t, "interaction " + in.first + "–" + in.second, normal_law);
     out.interactions.push_back(in);
   }
   return out;
@@ -179,12 +162,10 @@ CompactConfig read_compact_config(const ConfigTable& root) {
   return c;
 }
 
-PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> normal_law) {
+PlateConfig read_plate_config(const ConfigTable& root,
+                              const std::optional<std::string>& normal_law) {
   PlateConfig c;
-  c.materials = read_materials(root);
-  if (normal_law)
-    for (Interaction& in : c.materials.interactions)
-      in.normal_law = *normal_law;
+  c.materials = read_materials(root, normal_law);
   c.run = read_run(root);
   const MaterialTable table = c.materials.table();
   const ConfigTable sphere = root.table("sphere");
@@ -272,12 +253,13 @@ std::string plate_config_toml(const PlateConfig& c) {
   for (const Interaction& in : c.materials.interactions)
     out += fmt::format(
         "[[interaction]]\nfirst = \"{}\"\nsecond = \"{}\"\nrestitution = {}\n"
-        "sliding_friction = {}\nrolling_friction = {}\n{}\n",
+        "sliding_friction = {}\nrolling_friction = {}\n{}{}\n",
         in.first, in.second, number(in.restitution), number(in.sliding_friction),
         number(in.rolling_friction),
         in.effective_modulus
             ? fmt::format("effective_modulus = {}\n", number(*in.effective_modulus))
-            : std::string());
+            : std::string(),
+        normal_law_toml(in.normal_law));
   const RunConfig& r = c.run;
   out += "[run]\n";
   if (r.time_step) out += fmt::format("time_step = {}\n", number(*r.time_step));

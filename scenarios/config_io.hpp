@@ -3,10 +3,9 @@
 // accept units, "100 MPa", "0.1 mm"):
 //   [[material]]     name, youngs_modulus, poisson_ratio, density
 //   [[interaction]]  first, second (material names), restitution, sliding_friction,
-//                    rolling_friction = 0, normal_law = "hertz" | "multicontact";
-//                    multicontact only (paper Eq. 6): plasticity_ratio = 1 (λp), loading_stiffness
-//                    (k1, N/m^1.5; default 4/3 E* √R*), adhesion_stiffness = 0 (kc, N/m^1.5),
-//                    pull_off_force = 0 (F0 ≤ 0, N), multicontact_prefactor = 0 (β)
+//                    rolling_friction = 0, effective_modulus, normal_law = "hertz" | … and the
+//                    law's keys: read by the law (simulate/contact_law_config.hpp;
+//                    normal_law_options() lists them with units, ranges and defaults)
 //   [run]            time_step (fixed) | time_step_fraction = 0.2 (of the Rayleigh time),
 //                    steps = 0 (0: until the punch program ends), record_every = 100,
 //                    snapshot_every = 0, skin = 0.1 × smallest diameter, gravity = [0,0,0] m/s²,
@@ -69,7 +68,9 @@ struct MaterialConfig {
   std::vector<Interaction> interactions;
   MaterialTable table() const { return MaterialTable(materials, interactions); }
 };
-MaterialConfig read_materials(const ConfigTable& root);
+// `normal_law` (plate --model), when given, replaces the normal law of every interaction.
+MaterialConfig read_materials(const ConfigTable& root,
+                              const std::optional<std::string>& normal_law = std::nullopt);
 
 struct RunConfig {
   std::optional<double> time_step;
@@ -150,7 +151,7 @@ struct PlateConfig {
 };
 // `normal_law` (plate --model) replaces the normal law of every interaction.
 PlateConfig read_plate_config(const ConfigTable& root,
-                              std::optional<NormalLaw> normal_law = std::nullopt);
+                              const std::optional<std::string>& normal_law = std::nullopt);
 // The config as TOML that read_plate_config reads back to the same values (calibrate writes
 // the fitted parameters this way, so a calibrated run is one config file).
 std::string plate_config_toml(const PlateConfig& config);

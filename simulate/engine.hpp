@@ -8,9 +8,11 @@
 // bit-identical for any thread count.
 //
 // Where the next models plug in (issues for bonds, clumps and the multi-contact law):
-// - Normal law per material pair: PairConstants::normal_law selects a branch of
-//   contact_force(); the multi-contact elastic–plastic law keeps its plastic overlap in
-//   ContactHistory, which the list merge, the snapshots and the restart carry field by field.
+// - Normal law per material pair: a law of the registry normal_laws.hpp, PairConstants::law. The
+//   pair and wall loops are compiled once per law and run the one every pair uses
+//   (MaterialTable::single_law), or pick per contact in a scene that mixes laws. A law's history
+//   (the multi-contact law's plastic overlap) lives in ContactHistory::normal, which the list
+//   merge, the snapshots and the restart carry field by field.
 // - Love–Weber particle stress σi = (1/Vi) Σc lic ⊗ fc (paper Eq. 6's P_ij), per sphere with
 //   Vi its solid volume: when a pair uses the multi-contact law (or settings.particle_stress),
 //   the pair loop also stores each touching pair's Fn and δ/2, and the gather, which visits each
@@ -193,9 +195,10 @@ class Engine {
   void index_cross_chunk_pairs();   // cross_second_end_ for the current list
   void find_wall_candidates();      // wall_candidates_ at a list build
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
-  template <bool stress_on>
+  // Law: one of NormalLaws, or AnyNormalLaw (contact_law.hpp) for a scene mixing laws.
+  template <bool stress_on, class Law>
   void pair_forces_with();
-  template <bool stress_on, bool damped>
+  template <bool stress_on, bool damped, class Law>
   void gather_forces_with(double kick);
   void require_material_pairs() const;
   void enable_particle_stress();
