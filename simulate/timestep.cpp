@@ -40,7 +40,7 @@ namespace {
 // E*s = E* × the pair law's stiffness ratio (its stiffest branch over Hertz's tangent
 // 2 E* √(R* δ); normal_laws.hpp) and E* the pair's, stated (Interaction::effective_modulus) or
 // from the materials. Hertz pairs have ratio 1, so a Hertz scene's step is the Rayleigh time of
-// its materials (or of a stated E*) as before. The ratio is taken at the smallest R* the sphere
+// its materials (or of a stated E*), to the bit. The ratio is taken at the smallest R* the sphere
 // can meet: `smallest_radius` for a sphere partner, its own radius for a wall.
 double stiffest_contact_modulus(const MaterialTable& materials, int m, double radius,
                                 double smallest_radius, const std::vector<int>& wall_materials) {
