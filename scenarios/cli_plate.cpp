@@ -12,6 +12,7 @@
 #include "scenarios/cli.hpp"
 #include "scenarios/config_io.hpp"
 #include "scenarios/plate_run.hpp"
+#include "simulate/contact_law_config.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -30,9 +31,8 @@ struct PlateCli {
 
 int run(const PlateCli& cli, const RunContext& context) {
   const ConfigTable root = ConfigTable::load_file(cli.config);
-  std::optional<NormalLaw> model;  // --model overrides normal_law of every interaction
-  if (!cli.model.empty())
-    model = cli.model == "multicontact" ? NormalLaw::multicontact : NormalLaw::hertz;
+  std::optional<std::string> model;  // --model overrides normal_law of every interaction
+  if (!cli.model.empty()) model = cli.model;
   PlateConfig config = read_plate_config(root, model);
   root.check_unknown_keys();
   const PlateParticleKind kind = cli.particle == "bms"   ? PlateParticleKind::bms
@@ -97,9 +97,9 @@ StageRunner setup_plate_cli(CLI::App& app) {
       ->required();
   app.add_option("--out", cli->out, "output folder (force.csv, effective.toml)")->required();
   app.add_option("--model", cli->model,
-                 "normal law of every interaction, overriding the config's normal_law "
-                 "(multicontact: paper Eq. 6 with the interaction's parameters)")
-      ->check(CLI::IsMember({"hertz", "multicontact"}));
+                 "normal law of every interaction, overriding the config's normal_law, with "
+                 "the interaction's parameters of that law (multicontact: paper Eq. 6)")
+      ->check(CLI::IsMember(normal_law_names()));
   app.add_option("--particle", cli->particle,
                  "sphere (one Hertz sphere), bms (bonded sub-spheres filling it, [bms] + [bond]) "
                  "or cms (one rigid clump of overlapping sub-spheres filling it, [cms])")

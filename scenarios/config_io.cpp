@@ -7,6 +7,7 @@
 
 #include "common/error.hpp"
 #include "geometry/sphere_fill.hpp"
+#include "simulate/contact_law_config.hpp"
 
 namespace shapepress::scenarios {
 
@@ -32,9 +33,9 @@ const OptionTable<Material>& material_table() {
   return t;
 }
 
-// The contact-law keys are read by read_materials below (their tables move to the laws).
+// The plain keys of an [[interaction]]; `normal_law` and each law's keys come from the laws.
 std::vector<OptionDoc> interaction_docs() {
-  return {
+  std::vector<OptionDoc> rows = {
       {"first", "", "text", "required", "material name of one side"},
       {"second", "", "text", "required", "material name of the other side"},
       {"restitution", "", "in (0, 1]", "required", "coefficient of restitution e"},
@@ -42,13 +43,10 @@ std::vector<OptionDoc> interaction_docs() {
       {"rolling_friction", "", ">= 0", "0", "rolling friction coefficient"},
       {"effective_modulus", "Pa", "> 0", "from the materials",
        "E* of the pair, replacing the one the materials' E and nu give"},
-      {"normal_law", "", "hertz | multicontact", "\"hertz\"", "normal contact law"},
-      {"plasticity_ratio", "", "in (0, 1]", "1", "multicontact: lambda_p = k1/k2"},
-      {"loading_stiffness", "N/m^1.5", "> 0", "4/3 E* sqrt(R*)", "multicontact: k1"},
-      {"adhesion_stiffness", "N/m^1.5", ">= 0", "0", "multicontact: kc"},
-      {"pull_off_force", "N", "<= 0", "0", "multicontact: F0"},
-      {"multicontact_prefactor", "", ">= 0", "0", "multicontact: beta"},
   };
+  for (OptionDoc& row : normal_law_options())
+    rows.push_back(std::move(row));
+  return rows;
 }
 
 std::string materials_toml(const MaterialConfig& c) {
@@ -63,18 +61,7 @@ std::string materials_toml(const MaterialConfig& c) {
         toml_number(in.sliding_friction), toml_number(in.rolling_friction));
     if (in.effective_modulus)
       out += fmt::format("effective_modulus = {}\n", toml_number(*in.effective_modulus));
-    // The law's parameters go with its name: with hertz they would be refused on reading back.
-    if (in.normal_law == NormalLaw::multicontact) out += "normal_law = \"multicontact\"\n";
-    if (in.normal_law == NormalLaw::multicontact && in.multicontact) {
-      const MulticontactParameters& p = *in.multicontact;
-      out += fmt::format("plasticity_ratio = {}\n", toml_number(p.plasticity_ratio));
-      if (p.loading_stiffness)
-        out += fmt::format("loading_stiffness = {}\n", toml_number(*p.loading_stiffness));
-      out +=
-          fmt::format("adhesion_stiffness = {}\npull_off_force = {}\nmulticontact_prefactor = {}\n",
-                      toml_number(p.adhesion_stiffness), toml_number(p.pull_off_force),
-                      toml_number(p.prefactor));
-    }
+    out += normal_law_toml(in.normal_law);
     out += "\n";
   }
   return out;
@@ -89,7 +76,8 @@ void add_material_sections(StageOptions& options) {
 
 }  // namespace
 
-MaterialConfig read_materials(const ConfigTable& root) {
+MaterialConfig read_materials(const ConfigTable& root,
+                              const std::optional<std::string>& normal_law) {
   MaterialConfig out;
   for (const ConfigTable& t : root.tables("material"))
     out.materials.push_back(material_table().read(t));
@@ -103,26 +91,7 @@ MaterialConfig read_materials(const ConfigTable& root) {
     if (t.has("effective_modulus"))
       in.effective_modulus =
           t.quantity("effective_modulus", dim::pressure, std::nullopt, Range::positive());
-    in.normal_law = t.choice("normal_law", {"hertz", "multicontact"}, "hertz") == "multicontact"
-                        ? NormalLaw::multicontact
-                        : NormalLaw::hertz;
-    // Paper Eq. 6 (models.md); given with normal_law = "hertz" they are an error (materials.cpp).
-    const char* keys[] = {"plasticity_ratio", "loading_stiffness", "adhesion_stiffness",
-                          "pull_off_force", "multicontact_prefactor"};
-    bool any = false;
-    for (const char* key : keys)
-      any = any || t.has(key);
-    if (any || in.normal_law == NormalLaw::multicontact) {
-      MulticontactParameters m;
-      m.plasticity_ratio = t.number("plasticity_ratio", 1.0, Range::open_closed(0.0, 1.0));
-      if (t.has("loading_stiffness"))  // N/m^1.5: no unit suffix (not an integer dimension)
-        m.loading_stiffness = t.number("loading_stiffness", std::nullopt, Range::positive());
-      m.adhesion_stiffness = t.number("adhesion_stiffness", 0.0, Range::non_negative());
-      m.pull_off_force =
-          t.quantity("pull_off_force", dim::force, 0.0, Range{-HUGE_VAL, 0.0, true, true});
-      m.prefactor = t.number("multicontact_prefactor", 0.0, Range::non_negative());
-      in.multicontact = m;
-    }
+    in.normal_law = read_normal_law(t, "interaction " + in.first + "–" + in.second, normal_law);
     out.interactions.push_back(in);
   }
   return out;
@@ -366,12 +335,10 @@ std::string bond_toml(const BondParameters& p) {
 
 }  // namespace
 
-PlateConfig read_plate_config(const ConfigTable& root, std::optional<NormalLaw> normal_law) {
+PlateConfig read_plate_config(const ConfigTable& root,
+                              const std::optional<std::string>& normal_law) {
   PlateConfig c;
-  c.materials = read_materials(root);
-  if (normal_law)
-    for (Interaction& in : c.materials.interactions)
-      in.normal_law = *normal_law;
+  c.materials = read_materials(root, normal_law);
   if (root.has("run")) plate_run_table().read(root.table("run"), c);
   const MaterialTable table = c.materials.table();
   sphere_table().read(root.table("sphere"), c);

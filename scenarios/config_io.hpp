@@ -27,7 +27,9 @@ struct MaterialConfig {
   std::vector<Interaction> interactions;
   MaterialTable table() const { return MaterialTable(materials, interactions); }
 };
-MaterialConfig read_materials(const ConfigTable& root);
+// `normal_law` (plate --model), when given, replaces the normal law of every interaction.
+MaterialConfig read_materials(const ConfigTable& root,
+                              const std::optional<std::string>& normal_law = std::nullopt);
 
 // [run]: the time step rule and the engine's settings as read. The engine's time step and, when
 // the config gives none, its skin are chosen when the particles are known (engine_settings()).
@@ -113,7 +115,7 @@ struct PlateConfig {
 };
 // `normal_law` (plate --model) replaces the normal law of every interaction.
 PlateConfig read_plate_config(const ConfigTable& root,
-                              std::optional<NormalLaw> normal_law = std::nullopt);
+                              const std::optional<std::string>& normal_law = std::nullopt);
 // The config as TOML that read_plate_config reads back to the same values (the effective config
 // of a plate run; calibrate writes the fitted parameters this way, so a calibrated run is one
 // config file).

@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "scenarios/bms_particle.hpp"
 #include "scenarios/cms_particle.hpp"
+#include "simulate/contact_law_config.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
@@ -288,16 +289,7 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
   const MaterialTable table = config.materials.table();
   const PairConstants& contact =
       table.pair(config.setup.sphere_material, config.setup.plate_material);
-  csv.comment(contact.normal_law == NormalLaw::multicontact
-                  ? fmt::format("normal law: multicontact (Eq. 6), lambda_p = {:.6g}, k1 = {}, "
-                                "kc = {:.6g}, F0 = {:.6g} N, beta nu pi = {:.6g}",
-                                1.0 / contact.unloading_factor,
-                                contact.loading_stiffness > 0.0
-                                    ? fmt::format("{:.6g} N/m^1.5", contact.loading_stiffness)
-                                    : std::string("4/3 E* sqrt(R*)"),
-                                contact.adhesion_stiffness, contact.pull_off_force,
-                                contact.multicontact_factor)
-                  : std::string("normal law: hertz"));
+  csv.comment("normal law: " + describe_normal_law(contact));
   if (ensemble)
     csv.comment(fmt::format(
         "fills = {}: every column is the fills' mean (cpu_s their sum, wall_s their sum over "

@@ -2,9 +2,10 @@
 // The contact law as composable sub-models (after LAMMPS gran_sub_mod_*):
 //   normal (Hertz) ∘ damping (restitution, LIGGGHTS `gran model hertz`) ∘ tangential (Mindlin
 //   spring with history, Coulomb-truncated) ∘ rolling (constant directional torque, CDT).
-// Each is a small inline function so the pair loop in forces.cpp inlines the whole law. The
-// multi-contact elastic–plastic law (paper Eq. 6) is a second normal sub-model
-// (multicontact_law.hpp) composed with the same damping, tangential and rolling sub-models.
+// Each is a small inline function so the pair loop in forces.cpp inlines the whole law. The normal
+// sub-models are the value types of the registry normal_laws.hpp (Hertz, the multi-contact
+// elastic–plastic law of paper Eq. 6, …), each composed with the same damping, tangential and
+// rolling sub-models.
 // Equations: models.md "Hertz–Mindlin with restitution damping" and "Multi-contact ...".
 //
 // Sign conventions: the normal n points from sphere i to sphere j (for a wall, j is the wall);
@@ -15,44 +16,39 @@
 // without `limitForce`, the damped normal force is not clipped at zero, so it can be attractive
 // at the end of a rebound. This is what makes the measured restitution equal the input e exactly
 // (a clipped force gives a larger e); contacts end when the overlap vanishes.
+#include <array>
 #include <cmath>
+#include <type_traits>
 
+#include "simulate/law_types.hpp"
 #include "simulate/materials.hpp"
-#include "simulate/multicontact_law.hpp"
+#include "simulate/normal_laws.hpp"
 
 namespace shapepress::simulate {
 
 // What a contact remembers between steps: the tangential spring (accumulated tangential
-// displacement, world frame) and the multi-contact law's plastic overlap as the plastic force
-// k1 δp^{3/2} = (1 - λp) k1 δmax^{3/2} (N; it encodes δp and δmax; 0 for Hertz). The list merge
+// displacement, world frame) and the normal laws' history fields one after another
+// (normal_history_offset<Law>; the multi-contact law's plastic force). The list merge
 // (carry_history), checkpoints and snapshots carry every field.
 struct ContactHistory {
   double tangential[3] = {0.0, 0.0, 0.0};
-  double plastic_force = 0.0;
+  std::array<double, normal_history_size> normal{};
 };
 
-struct ContactKinematics {
-  double normal[3];             // unit, i → j
-  double overlap;               // δ > 0
-  double relative_velocity[3];  // contact point of j minus contact point of i
-  double relative_rotation[3];  // ωi - ωj, for rolling friction
-  double effective_radius;      // R* = ri rj / (ri + rj); wall: ri
-  double effective_mass;        // m* = mi mj / (mi + mj); wall: mi
-  double inverse_inertia_sum;   // 1/I* = 1/Ii + 1/Ij; wall: 1/Ii (chatter guard)
-  double pair_pressure;         // P_ij = ½ (p_i + p_j), previous step (multi-contact law only)
-};
+template <class Law>
+[[gnu::always_inline]] inline double* law_history(ContactHistory& h) {
+  return h.normal.data() + normal_history_offset<Law>;
+}
+template <class Law>
+inline const double* law_history(const ContactHistory& h) {
+  return h.normal.data() + normal_history_offset<Law>;
+}
 
 struct ContactForce {
   double force[3];           // on j; i gets -force
   double rolling_torque[3];  // on i; j gets -rolling_torque
   double normal_force;       // signed, > 0 repulsive (for stress and energy bookkeeping)
 };
-
-// Normal elastic sub-model: Hertz, Fn = 4/3 E* √R* δ^{3/2} = kn δ with kn = 4/3 E* √(R* δ).
-// Returns kn; `sqrt_r_overlap` = √(R* δ) so no pow is needed.
-inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overlap) {
-  return 4.0 / 3.0 * p.effective_modulus * sqrt_r_overlap;
-}
 
 // Damping sub-model (LIGGGHTS): γ = -2√(5/6) β √(S m*), S = 2E*√(R*δ) (normal) or 8G*√(R*δ)
 // (tangential). The Hertz + √δ-scaled damping gives a restitution independent of impact speed.
@@ -63,8 +59,8 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
 // displacement ξ. ξ is first rotated into the current tangent plane keeping its length, then
 // incremented by vt dt. If the spring force exceeds μs |Fn| it is truncated to the Coulomb limit
 // and ξ is shrunk to match (no damping while sliding), as in LIGGGHTS `tangential history`.
-// `friction_load` is Fn for Hertz; for the adhesive law it is Fn measured from the adhesive
-// floor, Fn - (F0 - kc δ^{3/2}), so an adhesive contact still holds friction (as EEPA does).
+// `friction_load` is the normal law's NormalForce::friction_load: Fn for Hertz, Fn measured from
+// the adhesive floor for the multi-contact law.
 [[gnu::always_inline]] inline void mindlin_tangential(const PairConstants& p, const double n[3],
                                                       const double vt[3], double kt, double gamma_t,
                                                       double friction_load, double dt,
@@ -119,7 +115,29 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
     torque[k] = -scale * wr[k];
 }
 
-// The whole law for one touching contact. Updates `history`.
+// The law of a pair whose normal law is known only at run time: PairConstants::law picks it per
+// contact. The pair loop takes it only for a scene that mixes laws (forces.cpp).
+struct AnyNormalLaw {};
+
+template <class Law>
+[[gnu::always_inline]] inline NormalForce normal_force_of(const PairConstants& p,
+                                                          const ContactKinematics& c,
+                                                          double sqrt_r_overlap,
+                                                          double damping_root, double vn,
+                                                          ContactHistory& history) {
+  if constexpr (std::is_same_v<Law, AnyNormalLaw>) {
+    return with_normal_law(p.law, [&]<class L>() {
+      return normal_force_of<L>(p, c, sqrt_r_overlap, damping_root, vn, history);
+    });
+  } else {
+    return Law::force(p, p.constants_of<Law>(), c, sqrt_r_overlap, damping_root, vn,
+                      law_history<Law>(history));
+  }
+}
+
+// The whole law for one touching contact, with the normal law `Law` (or the pair's own with
+// AnyNormalLaw). Updates `history`.
+template <class Law = AnyNormalLaw>
 [[gnu::always_inline]] inline ContactForce contact_force(const ContactKinematics& c,
                                                          const PairConstants& p,
                                                          ContactHistory& history, double dt) {
@@ -133,29 +151,12 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
   // Both damping coefficients share √(√(R*δ) m*) (restitution_damping with S = 2E*√(R*δ) and
   // kt = 8G*√(R*δ)); the pair constants hold the rest, so one sqrt serves both.
   const double damping_root = std::sqrt(sqrt_r_overlap * c.effective_mass);
-  double normal_force = 0.0;
-  double friction_load = 0.0;
-  switch (p.normal_law) {
-    case NormalLaw::hertz: {
-      const double kn = hertz_normal_stiffness(p, sqrt_r_overlap);
-      const double gamma_n = p.normal_damping_scale * damping_root;
-      normal_force = kn * c.overlap - gamma_n * vn;
-      friction_load = normal_force;
-      break;
-    }
-    case NormalLaw::multicontact: {
-      const MulticontactNormal m =
-          multicontact_normal(p, c.overlap, c.effective_radius, c.effective_mass, sqrt_r_overlap,
-                              damping_root, vn, c.pair_pressure, history.plastic_force);
-      normal_force = m.force;
-      friction_load = m.force - m.adhesive_floor;
-      break;
-    }
-  }
+  const NormalForce normal = normal_force_of<Law>(p, c, sqrt_r_overlap, damping_root, vn, history);
+  const double normal_force = normal.force;
   const double kt = 8.0 * p.effective_shear_modulus * sqrt_r_overlap;
   const double gamma_t = p.tangential_damping_scale * damping_root;
   double tangential[3];
-  mindlin_tangential(p, n, vt, kt, gamma_t, friction_load, dt, history, tangential);
+  mindlin_tangential(p, n, vt, kt, gamma_t, normal.friction_load, dt, history, tangential);
   for (int k = 0; k < 3; ++k)
     out.force[k] = normal_force * n[k] + tangential[k];
   cdt_rolling(p, c, normal_force, dt, out.rolling_torque);
@@ -163,19 +164,50 @@ inline double hertz_normal_stiffness(const PairConstants& p, double sqrt_r_overl
   return out;
 }
 
-// Elastic energy stored in a Hertz contact, 8/15 E* √R* δ^{5/2} (for the energy checks).
-inline double hertz_elastic_energy(const PairConstants& p, double effective_radius,
-                                   double overlap) {
-  return 8.0 / 15.0 * p.effective_modulus * std::sqrt(effective_radius * overlap) * overlap *
-         overlap;
-}
-
 // Elastic normal energy of a contact under its pair's law (energy checks).
 inline double normal_elastic_energy(const PairConstants& p, double effective_radius, double overlap,
                                     const ContactHistory& history) {
-  return p.normal_law == NormalLaw::multicontact
-             ? multicontact_elastic_energy(p, effective_radius, overlap, history.plastic_force)
-             : hertz_elastic_energy(p, effective_radius, overlap);
+  return with_normal_law(p.law, [&]<class L>() {
+    return L::elastic_energy(p, p.constants_of<L>(), effective_radius, overlap,
+                             law_history<L>(history));
+  });
+}
+
+// Whether a pair's law reads the particles' pressure P_ij (the engine then keeps it).
+inline bool normal_law_needs_pair_pressure(const PairConstants& p) {
+  return with_normal_law(p.law, [&]<class L>() { return L::needs_pair_pressure; });
+}
+
+// The largest tangent stiffness of the pair's law over Hertz's at R* (timestep.cpp).
+inline double normal_stiffness_ratio(const PairConstants& p, double effective_radius) {
+  return with_normal_law(p.law, [&]<class L>() {
+    return L::stiffness_ratio(p, p.constants_of<L>(), effective_radius);
+  });
+}
+
+// Named access to single laws, for tests and reports.
+inline double hertz_elastic_energy(const PairConstants& p, double effective_radius,
+                                   double overlap) {
+  return HertzLaw::elastic_energy(p, {}, effective_radius, overlap, nullptr);
+}
+inline double& plastic_force(ContactHistory& h) {
+  return law_history<MulticontactLaw>(h)[0];
+}
+inline double plastic_force(const ContactHistory& h) {
+  return law_history<MulticontactLaw>(h)[0];
+}
+[[gnu::always_inline]] inline MulticontactNormal multicontact_normal(
+    const PairConstants& p, double overlap, double effective_radius, double effective_mass,
+    double sqrt_r_overlap, double damping_root, double vn, double pair_pressure,
+    double& plastic_force) {
+  return MulticontactLaw::normal(p, p.constants_of<MulticontactLaw>(), overlap, effective_radius,
+                                 effective_mass, sqrt_r_overlap, damping_root, vn, pair_pressure,
+                                 plastic_force);
+}
+inline double multicontact_elastic_energy(const PairConstants& p, double effective_radius,
+                                          double overlap, double plastic_force) {
+  return MulticontactLaw::elastic_energy(p, p.constants_of<MulticontactLaw>(), effective_radius,
+                                         overlap, &plastic_force);
 }
 
 }  // namespace shapepress::simulate

@@ -1,5 +1,6 @@
 // What the engine reports about itself: energies, contact counts, divergence checks, and the
 // checkpoint a restart continues from.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -219,8 +220,9 @@ EngineCheckpoint Engine::checkpoint() const {
   c.build_wall_position = build_wall_position_;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     const double* xi = history_[p].tangential;
+    const auto& normal = history_[p].normal;
     if (pair_touching_[p] || xi[0] != 0.0 || xi[1] != 0.0 || xi[2] != 0.0 ||
-        history_[p].plastic_force != 0.0) {
+        std::any_of(normal.begin(), normal.end(), [](double v) { return v != 0.0; })) {
       c.first.push_back(pairs_.first[p]);
       c.second.push_back(pairs_.second[p]);
       c.history.push_back(history_[p]);

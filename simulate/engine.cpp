@@ -178,8 +178,8 @@ void Engine::enable_particle_stress() {
   bool needed = settings_.particle_stress;
   for (int a = 0; a < materials_.count(); ++a)
     for (int b = 0; b < materials_.count(); ++b)
-      needed = needed || (materials_.has_pair(a, b) &&
-                          materials_.pair(a, b).normal_law == NormalLaw::multicontact);
+      needed = needed ||
+               (materials_.has_pair(a, b) && normal_law_needs_pair_pressure(materials_.pair(a, b)));
   particle_stress_on_ = needed;
   if (!needed) return;
   pressure_.assign(state_.size(), 0.0);

@@ -174,9 +174,10 @@ class Engine {
   void index_cross_chunk_pairs();   // cross_second_end_ for the current list
   void find_wall_candidates();      // wall_candidates_ at a list build
   void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
-  template <bool stress_on>
+  // Law: one of NormalLaws, or AnyNormalLaw (contact_law.hpp) for a scene mixing laws.
+  template <bool stress_on, class Law>
   void pair_forces_with();
-  template <bool stress_on, bool damped>
+  template <bool stress_on, bool damped, class Law>
   void gather_forces_with(double kick);
   void require_material_pairs() const;
   void enable_particle_stress();

@@ -2,13 +2,16 @@
 // contact once into pair_results_, then one pass over the spheres gathering their contacts in
 // list order plus their wall contacts and gravity. Both passes are written out long on purpose:
 // splitting them into helpers that pass arrays around costs measurable speed. The Love–Weber
-// pressure (engine.hpp) is a template switch: the Hertz path compiles without its branches.
+// pressure (engine.hpp) and the normal law are template switches: the Hertz path compiles without
+// the other laws' branches.
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 #include "simulate/engine.hpp"
 
@@ -47,24 +50,43 @@ void Engine::pack_spheres() {
   }
 }
 
+namespace {
+
+// f.template operator()<Law>() with the scene's one normal law, or AnyNormalLaw when its pairs
+// mix laws: the law is chosen here, once per force evaluation, not per contact.
+template <class F>
+void with_scene_law(const MaterialTable& materials, F&& f) {
+  const std::optional<std::size_t> single = materials.single_law();
+  if (!single) return f.template operator()<AnyNormalLaw>();
+  with_normal_law(*single, std::forward<F>(f));
+}
+
+}  // namespace
+
 void Engine::pair_forces() {
-  if (particle_stress_on_)
-    pair_forces_with<true>();
-  else
-    pair_forces_with<false>();
+  with_scene_law(materials_, [&]<class Law>() {
+    if (particle_stress_on_)
+      pair_forces_with<true, Law>();
+    else
+      pair_forces_with<false, Law>();
+  });
 }
 
 void Engine::gather_forces(double kick) {
   // Local damping is a template argument: a test per sphere made the undamped gather 7 % longer
   // (callgrind, bench scene).
   const bool damped = settings_.local_damping > 0.0;
-  if (particle_stress_on_)
-    damped ? gather_forces_with<true, true>(kick) : gather_forces_with<true, false>(kick);
-  else
-    damped ? gather_forces_with<false, true>(kick) : gather_forces_with<false, false>(kick);
+  with_scene_law(materials_, [&]<class Law>() {
+    if (particle_stress_on_)
+      damped ? gather_forces_with<true, true, Law>(kick)
+             : gather_forces_with<true, false, Law>(kick);
+    else
+      damped ? gather_forces_with<false, true, Law>(kick)
+             : gather_forces_with<false, false, Law>(kick);
+  });
 }
 
-template <bool stress_on>
+template <bool stress_on, class Law>
 void Engine::pair_forces_with() {
   const SphereState& s = state_;
   const std::int64_t count = static_cast<std::int64_t>(pairs_.size());
@@ -181,7 +203,7 @@ void Engine::pair_forces_with() {
         c.pair_pressure = 0.0;  // P_ij of Eq. 6 from the last gather
         if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
         const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
-        const ContactForce f = contact_force(c, pc, history_[p], dt);
+        const ContactForce f = contact_force<Law>(c, pc, history_[p], dt);
         if constexpr (stress_on) {  // for this step's gather of p = Σ rc Fn / (3V)
           virial[2 * p] = f.normal_force;
           virial[2 * p + 1] = 0.5 * c.overlap;
@@ -224,7 +246,7 @@ void Engine::pair_forces_with() {
   sphere_contacts_ = touching;
 }
 
-template <bool stress_on, bool damped>
+template <bool stress_on, bool damped, class Law>
 void Engine::gather_forces_with(double kick) {
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
@@ -390,7 +412,7 @@ void Engine::gather_forces_with(double kick) {
             c.pair_pressure = 0.0;
             if constexpr (stress_on) c.pair_pressure = 0.5 * pressure[i];
             const PairConstants& pc = materials_.pair(material[i], w.material);
-            const ContactForce cf = contact_force(c, pc, wall_history_[k][i], dt);
+            const ContactForce cf = contact_force<Law>(c, pc, wall_history_[k][i], dt);
             const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];
             const double cy = nn[2] * cf.force[0] - nn[0] * cf.force[2];
             const double cz = nn[0] * cf.force[1] - nn[1] * cf.force[0];

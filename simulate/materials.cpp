@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <type_traits>
+#include <variant>
 
 #include "common/error.hpp"
 
@@ -28,25 +30,6 @@ void check_material(const Material& m) {
   if (!(m.density >= 0.0)) throw InputError("material '" + m.name + "': density must be >= 0");
 }
 
-void check_multicontact(const Interaction& in) {
-  const std::string pair = "interaction " + in.first + "–" + in.second;
-  if (!in.multicontact) return;
-  if (in.normal_law != NormalLaw::multicontact)
-    throw InputError(pair +
-                     ": multi-contact parameters (plasticity_ratio, loading_stiffness, "
-                     "adhesion_stiffness, pull_off_force, multicontact_prefactor) need "
-                     "normal_law = \"multicontact\"");
-  const MulticontactParameters& m = *in.multicontact;
-  if (!(m.plasticity_ratio > 0.0 && m.plasticity_ratio <= 1.0))
-    throw InputError(pair + ": plasticity_ratio must be in (0, 1]");
-  if (m.loading_stiffness && !(*m.loading_stiffness > 0.0))
-    throw InputError(pair + ": loading_stiffness must be > 0");
-  if (!(m.adhesion_stiffness >= 0.0)) throw InputError(pair + ": adhesion_stiffness must be >= 0");
-  if (!(m.pull_off_force <= 0.0))
-    throw InputError(pair + ": pull_off_force must be <= 0 (attractive)");
-  if (!(m.prefactor >= 0.0)) throw InputError(pair + ": multicontact_prefactor must be >= 0");
-}
-
 PairConstants pair_constants(const Material& a, const Material& b, const Interaction& in) {
   // Eq. 2 of Giannis 2023 in its standard (non-inverted) form, models.md.
   const double shear_a = a.youngs_modulus / (2.0 * (1.0 + a.poisson_ratio));
@@ -65,21 +48,13 @@ PairConstants pair_constants(const Material& a, const Material& b, const Interac
   p.tangential_damping_scale = p.damping_factor * std::sqrt(8.0 * p.effective_shear_modulus);
   p.sliding_friction = in.sliding_friction;
   p.rolling_friction = in.rolling_friction;
-  p.normal_law = in.normal_law;
-  if (in.normal_law == NormalLaw::multicontact) {
-    const MulticontactParameters m = in.multicontact.value_or(MulticontactParameters{});
-    p.loading_stiffness = m.loading_stiffness.value_or(0.0);
-    p.unloading_factor = 1.0 / m.plasticity_ratio;
-    p.plastic_fraction = 1.0 - m.plasticity_ratio;
-    p.adhesion_stiffness = m.adhesion_stiffness;
-    p.pull_off_force = m.pull_off_force;
-    // ν of Eq. 6 for a pair (our choice; the paper has one material): the two Poisson ratios
-    // weighted by compliance 1/E, so it is the particle's own ν between equal materials and
-    // against a far stiffer tool. A_ij = π a², a² = R* δ (Hertz contact radius, models.md).
-    const double ca = 1.0 / a.youngs_modulus, cb = 1.0 / b.youngs_modulus;
-    const double nu = (a.poisson_ratio * ca + b.poisson_ratio * cb) / (ca + cb);
-    p.multicontact_factor = m.prefactor * nu * std::numbers::pi;
-  }
+  p.law = in.normal_law.index();
+  std::visit(
+      [&](const auto& law) {
+        using Law = std::decay_t<decltype(law)>;
+        std::get<normal_law_index<Law>>(p.constants) = law.constants(a, b);
+      },
+      in.normal_law);
   return p;
 }
 
@@ -105,7 +80,8 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
         !(*in.effective_modulus > 0.0 && std::isfinite(*in.effective_modulus)))
       throw InputError("interaction " + in.first + "–" + in.second +
                        ": effective_modulus must be > 0");
-    check_multicontact(in);
+    std::visit([&](const auto& law) { law.check("interaction " + in.first + "–" + in.second); },
+               in.normal_law);
     const int i = index_of(in.first);
     const int j = index_of(in.second);
     const PairConstants p = pair_constants(materials_[i], materials_[j], in);
@@ -113,6 +89,13 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
     pairs_[j * n + i] = p;
     defined_[i * n + j] = defined_[j * n + i] = 1;
   }
+  bool mixed = false;
+  for (int k = 0; k < n * n; ++k)
+    if (defined_[k]) {
+      if (!single_law_) single_law_ = pairs_[k].law;
+      mixed = mixed || *single_law_ != pairs_[k].law;
+    }
+  if (mixed) single_law_.reset();
 }
 
 int MaterialTable::index_of(const std::string& name) const {

@@ -3,34 +3,16 @@
 // materials, particle–particle and particle–wall, has its own restitution and friction).
 // Everything the force kernel needs that does not depend on the contact's geometry is computed
 // here once, so the hot loop holds no pow and no logarithm (docs/architecture.md).
+#include <cstddef>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "simulate/law_types.hpp"
+#include "simulate/normal_laws.hpp"
+
 namespace shapepress::simulate {
-
-struct Material {
-  std::string name;
-  double youngs_modulus = 0.0;  // E, Pa
-  double poisson_ratio = 0.0;   // ν
-  double density = 0.0;         // ρ, kg/m³ (unused for walls)
-};
-
-// The normal sub-model of a material pair: Hertz, or the multi-contact adhesive elastic–plastic
-// law of Giannis et al. 2023 Eq. 6 (multicontact_law.hpp), which keeps its largest overlap in
-// ContactHistory and reads the particles' Love–Weber pressure.
-enum class NormalLaw { hertz, multicontact };
-
-// What a user states for the multi-contact law (models.md "Multi-contact adhesive elastic–plastic
-// law"). The defaults make it Hertz–Mindlin: λp = 1, kc = 0, F0 = 0, β = 0.
-struct MulticontactParameters {
-  std::optional<double> loading_stiffness =
-      std::nullopt;                 // k1, N/m^1.5; absent: 4/3 E* √R* per contact
-  double plasticity_ratio = 1.0;    // λp = k1/k2 in (0, 1]; 1: elastic
-  double adhesion_stiffness = 0.0;  // kc ≥ 0, N/m^1.5
-  double pull_off_force = 0.0;      // F0 ≤ 0, N (constant attraction while touching)
-  double prefactor = 0.0;           // β ≥ 0 of the term β ν A_ij P_ij
-};
 
 // What a user states about a pair of materials.
 struct Interaction {
@@ -39,9 +21,9 @@ struct Interaction {
   double restitution = 0.5;       // e in (0, 1]
   double sliding_friction = 0.5;  // μs
   double rolling_friction = 0.0;  // μr (CDT, Ai et al. 2011 model A)
-  NormalLaw normal_law = NormalLaw::hertz;
-  // Given only with normal_law = multicontact (an InputError otherwise: no silently unused key).
-  std::optional<MulticontactParameters> multicontact = std::nullopt;
+  // The normal sub-model with its parameters (normal_laws.hpp): Hertz, or the multi-contact
+  // adhesive elastic–plastic law of Giannis et al. 2023 Eq. 6, …
+  NormalLawChoice normal_law = HertzLaw{};
   // E* of the pair, replacing the one the two materials' E and ν give (G* scaled alike, so the
   // pair keeps its materials' ratio G*/E*). A bonded sub-sphere's contact material stands for
   // the body's interior, not its surface: against a plate, the stiffness of a contact is a
@@ -50,25 +32,16 @@ struct Interaction {
   std::optional<double> effective_modulus = std::nullopt;
 };
 
-// Precomputed for a pair of material indices (models.md "Hertz–Mindlin with restitution").
-struct PairConstants {
-  double effective_modulus = 0.0;        // E*: 1/E* = (1-νi²)/Ei + (1-νj²)/Ej
-  double effective_shear_modulus = 0.0;  // G*: 1/G* = (2-νi)/Gi + (2-νj)/Gj
-  double damping_factor = 0.0;           // -2 √(5/6) β ≥ 0, β = ln e / √(ln² e + π²)
-  // γn = normal_damping_scale √(√(R*δ) m*), γt = tangential_damping_scale √(√(R*δ) m*): the
-  // damping of contact_law.hpp with the constant roots taken here, so a contact needs one sqrt.
-  double normal_damping_scale = 0.0;      // damping_factor √(2 E*)
-  double tangential_damping_scale = 0.0;  // damping_factor √(8 G*)
-  double sliding_friction = 0.0;
-  double rolling_friction = 0.0;
-  NormalLaw normal_law = NormalLaw::hertz;
-  // Multi-contact law (Eq. 6), unused by Hertz:
-  double loading_stiffness = 0.0;    // k1, N/m^1.5; 0: 4/3 E* √R* per contact (Hertz)
-  double unloading_factor = 1.0;     // k2/k1 = 1/λp
-  double plastic_fraction = 0.0;     // 1 - λp: δp^{3/2} = (1 - k1/k2) δmax^{3/2}
-  double adhesion_stiffness = 0.0;   // kc
-  double pull_off_force = 0.0;       // F0 ≤ 0
-  double multicontact_factor = 0.0;  // β ν π: β ν A_ij P_ij with A_ij = π R* δ
+// Precomputed for a pair of material indices: the constants every law reads (ElasticPair) and
+// those of the pair's normal law.
+struct PairConstants : ElasticPair {
+  std::size_t law = 0;  // index of the normal law in NormalLaws (NormalLawChoice::index())
+  NormalLawConstants constants{};
+
+  template <class Law>
+  const typename Law::Constants& constants_of() const {
+    return std::get<normal_law_index<Law>>(constants);
+  }
 };
 
 // β-damping factor of LIGGGHTS `gran model hertz`: -2√(5/6) ln e / √(ln² e + π²).
@@ -91,12 +64,16 @@ class MaterialTable {
   bool has_pair(int i, int j) const { return defined_[i * count() + j] != 0; }
   // InputError naming the two materials when their interaction was not given.
   void require_pair(int i, int j) const;
+  // The index of the one normal law every defined pair uses, or none when the pairs mix laws:
+  // the pair loop is then compiled for that law alone (forces.cpp).
+  std::optional<std::size_t> single_law() const { return single_law_; }
 
  private:
   std::vector<Material> materials_;
   int count_ = 0;  // materials_.size(), kept so the pair lookup in the contact loop is one multiply
   std::vector<PairConstants> pairs_;
   std::vector<char> defined_;
+  std::optional<std::size_t> single_law_;
 };
 
 }  // namespace shapepress::simulate

@@ -14,66 +14,138 @@
 // keeping the product spares the hot loop a division and, with k1 from E* and kc = 0, any square
 // root beyond Hertz's (docs/measurements.md, "Benchmarks").
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
 
-#include "simulate/materials.hpp"
+#include "common/config.hpp"
+#include "common/option_doc.hpp"
+#include "simulate/law_types.hpp"
 
 namespace shapepress::simulate {
+
+// What a user states for the multi-contact law (models.md "Multi-contact adhesive elastic–plastic
+// law"). The defaults make it Hertz–Mindlin: λp = 1, kc = 0, F0 = 0, β = 0.
+struct MulticontactParameters {
+  std::optional<double> loading_stiffness =
+      std::nullopt;                 // k1, N/m^1.5; absent: 4/3 E* √R* per contact
+  double plasticity_ratio = 1.0;    // λp = k1/k2 in (0, 1]; 1: elastic
+  double adhesion_stiffness = 0.0;  // kc ≥ 0, N/m^1.5
+  double pull_off_force = 0.0;      // F0 ≤ 0, N (constant attraction while touching)
+  double prefactor = 0.0;           // β ≥ 0 of the term β ν A_ij P_ij
+};
 
 struct MulticontactNormal {
   double force;           // F0 + f_hys + β ν A P - γ vn, > 0 repulsive
   double adhesive_floor;  // F0 - kc x: the most attractive hysteretic force at this overlap
 };
 
-// `plastic_force` is the contact's k1 δp^{3/2}, updated here. `pair_pressure` is P_ij =
-// ½ (p_i + p_j) from the previous step's Love–Weber stresses (a wall has p = 0); tension
-// (P < 0) is taken as 0: the term models confinement, it does not pull. `sqrt_r_overlap` =
-// √(R* δ) and `damping_root` = √(√(R* δ) m*), already computed by the caller.
-[[gnu::always_inline]] inline MulticontactNormal multicontact_normal(
-    const PairConstants& p, double overlap, double effective_radius, double effective_mass,
-    double sqrt_r_overlap, double damping_root, double vn, double pair_pressure,
-    double& plastic_force) {
-  // k1 given (the paper's calibrated Avicel case) or Hertz's 4/3 E* √R*: then the loading force
-  // and its damping stiffness are written like the Hertz branch, and λp = 1, kc = F0 = β = 0
-  // gives Hertz's bits.
-  const bool given = p.loading_stiffness > 0.0;
-  const double sqrt_overlap = given || p.adhesion_stiffness > 0.0 ? std::sqrt(overlap) : 0.0;
-  const double x = overlap * sqrt_overlap;  // δ^{3/2} (only where used)
-  const double loading =
-      given ? p.loading_stiffness * x : 4.0 / 3.0 * p.effective_modulus * sqrt_r_overlap * overlap;
-  const double candidate = p.plastic_fraction * loading;
-  if (candidate > plastic_force) plastic_force = candidate;  // virgin loading
-  const double unloading = p.unloading_factor * (loading - plastic_force);
-  const double adhesive = -p.adhesion_stiffness * x;
-  const double hysteretic = std::max(std::min(loading, unloading), adhesive);
-  // Multi-contact term, A_ij = π a² with a² = R* δ; the factor holds β ν π.
-  const double confinement =
-      p.multicontact_factor * effective_radius * overlap * std::max(pair_pressure, 0.0);
-  // Damping on the loading stiffness S = dF/dδ = 3/2 k1 √δ (= 2 E* √(R* δ) for Hertz's k1), so
-  // the restitution of a first impact is the input e; unloading branches are not re-damped.
-  // With Hertz's k1 this is contact_law.hpp's γn = damping_factor √(2 E* √(R*δ) m*).
-  const double gamma_n =
-      given
-          ? p.damping_factor * std::sqrt(1.5 * p.loading_stiffness * sqrt_overlap * effective_mass)
-          : p.normal_damping_scale * damping_root;
-  return {p.pull_off_force + hysteretic + confinement - gamma_n * vn, p.pull_off_force + adhesive};
-}
+struct MulticontactLaw {
+  MulticontactParameters parameters;
 
-// Elastic energy a multi-contact contact gives back when unloaded along k2 to zero force:
-// ∫_{δp}^{δ} k2 (s^{3/2} - xp) ds (adhesion and the β term left out). For the divergence check;
-// with λp = 1 it is Hertz's 8/15 E* √R* δ^{5/2}.
-inline double multicontact_elastic_energy(const PairConstants& p, double effective_radius,
-                                          double overlap, double plastic_force) {
-  const double k1 = p.loading_stiffness > 0.0
-                        ? p.loading_stiffness
-                        : 4.0 / 3.0 * p.effective_modulus * std::sqrt(effective_radius);
-  const double plastic_32 = plastic_force / k1;               // δp^{3/2}
-  const double plastic = std::cbrt(plastic_32 * plastic_32);  // δp
-  if (!(overlap > plastic)) return 0.0;
-  const double k2 = p.unloading_factor * k1;
-  return k2 *
-         (0.4 * (overlap * overlap * std::sqrt(overlap) - plastic * plastic * std::sqrt(plastic)) -
-          plastic_32 * (overlap - plastic));
-}
+  static constexpr std::string_view name = "multicontact";
+  // The β ν A_ij P_ij term reads the particles' Love–Weber pressure.
+  static constexpr bool needs_pair_pressure = true;
+  static constexpr std::array<HistoryField, 1> history_fields{
+      {{"plastic_force", "N", "k1 δp^{3/2} = (1 - λp) k1 δmax^{3/2}: the plastic overlap"}}};
+
+  struct Constants {
+    double loading_stiffness = 0.0;    // k1, N/m^1.5; 0: 4/3 E* √R* per contact (Hertz)
+    double unloading_factor = 1.0;     // k2/k1 = 1/λp
+    double plastic_fraction = 0.0;     // 1 - λp: δp^{3/2} = (1 - k1/k2) δmax^{3/2}
+    double adhesion_stiffness = 0.0;   // kc
+    double pull_off_force = 0.0;       // F0 ≤ 0
+    double multicontact_factor = 0.0;  // β ν π: β ν A_ij P_ij with A_ij = π R* δ
+  };
+
+  static std::vector<OptionDoc> options();
+  static MulticontactLaw read(const ConfigTable& interaction);
+  void write_toml(std::string& out) const;
+  void check(const std::string& where) const;
+  Constants constants(const Material& a, const Material& b) const;
+  static std::string describe(const ElasticPair& p, const Constants& k);
+
+  // Largest tangent stiffness over the Hertz tangent 2 E* √(R* δ) of the pair (timestep.cpp):
+  // the loading branch k1 δ^{3/2} has 3/2 k1 √δ, s1 = k1 / (4/3 E* √R*) times Hertz's (1 with k1
+  // from E*); the unloading branch k2 (δ^{3/2} - δp^{3/2}) has k2/k1 = 1/λp times that (Eq. 6,
+  // Giannis 2023); the adhesive branch -kc δ^{3/2} softens and adds nothing. The term
+  // β ν π R* δ P (Eq. 6) has stiffness β ν π R* P at the step's P; with the Love–Weber pressure
+  // P = Σ rc Fn / (4π r³) of a sphere holding 12 contacts (a dense bed's most) on the loading
+  // branch at δ ≤ r/2 with R* ≤ r, P ≤ 4 s1 E* √R* δ^{3/2} / (π r²) and the term's stiffness is
+  // at most β ν s1 times Hertz's.
+  static double stiffness_ratio(const ElasticPair& p, const Constants& k, double effective_radius) {
+    const double loading =
+        k.loading_stiffness > 0.0
+            ? k.loading_stiffness / (4.0 / 3.0 * p.effective_modulus * std::sqrt(effective_radius))
+            : 1.0;
+    return loading * k.unloading_factor + loading * k.multicontact_factor / std::numbers::pi;
+  }
+
+  // `plastic_force` is the contact's k1 δp^{3/2}, updated here. `pair_pressure` is P_ij =
+  // ½ (p_i + p_j) from the previous step's Love–Weber stresses (a wall has p = 0); tension
+  // (P < 0) is taken as 0: the term models confinement, it does not pull. `sqrt_r_overlap` =
+  // √(R* δ) and `damping_root` = √(√(R* δ) m*), already computed by the caller.
+  [[gnu::always_inline]] static MulticontactNormal normal(
+      const ElasticPair& p, const Constants& k, double overlap, double effective_radius,
+      double effective_mass, double sqrt_r_overlap, double damping_root, double vn,
+      double pair_pressure, double& plastic_force) {
+    // k1 given (the paper's calibrated Avicel case) or Hertz's 4/3 E* √R*: then the loading force
+    // and its damping stiffness are written like the Hertz branch, and λp = 1, kc = F0 = β = 0
+    // gives Hertz's bits.
+    const bool given = k.loading_stiffness > 0.0;
+    const double sqrt_overlap = given || k.adhesion_stiffness > 0.0 ? std::sqrt(overlap) : 0.0;
+    const double x = overlap * sqrt_overlap;  // δ^{3/2} (only where used)
+    const double loading = given ? k.loading_stiffness * x
+                                 : 4.0 / 3.0 * p.effective_modulus * sqrt_r_overlap * overlap;
+    const double candidate = k.plastic_fraction * loading;
+    if (candidate > plastic_force) plastic_force = candidate;  // virgin loading
+    const double unloading = k.unloading_factor * (loading - plastic_force);
+    const double adhesive = -k.adhesion_stiffness * x;
+    const double hysteretic = std::max(std::min(loading, unloading), adhesive);
+    // Multi-contact term, A_ij = π a² with a² = R* δ; the factor holds β ν π.
+    const double confinement =
+        k.multicontact_factor * effective_radius * overlap * std::max(pair_pressure, 0.0);
+    // Damping on the loading stiffness S = dF/dδ = 3/2 k1 √δ (= 2 E* √(R* δ) for Hertz's k1), so
+    // the restitution of a first impact is the input e; unloading branches are not re-damped.
+    // With Hertz's k1 this is contact_law.hpp's γn = damping_factor √(2 E* √(R*δ) m*).
+    const double gamma_n = given ? p.damping_factor * std::sqrt(1.5 * k.loading_stiffness *
+                                                                sqrt_overlap * effective_mass)
+                                 : p.normal_damping_scale * damping_root;
+    return {k.pull_off_force + hysteretic + confinement - gamma_n * vn,
+            k.pull_off_force + adhesive};
+  }
+
+  // The friction limit is measured from the adhesive floor, Fn - (F0 - kc δ^{3/2}), so an
+  // adhesive contact still holds friction (as EEPA does).
+  [[gnu::always_inline]] static NormalForce force(const ElasticPair& p, const Constants& k,
+                                                  const ContactKinematics& c, double sqrt_r_overlap,
+                                                  double damping_root, double vn, double* history) {
+    const MulticontactNormal m =
+        normal(p, k, c.overlap, c.effective_radius, c.effective_mass, sqrt_r_overlap, damping_root,
+               vn, c.pair_pressure, history[0]);
+    return {m.force, m.force - m.adhesive_floor};
+  }
+
+  // Elastic energy a contact gives back when unloaded along k2 to zero force:
+  // ∫_{δp}^{δ} k2 (s^{3/2} - xp) ds (adhesion and the β term left out). For the divergence check;
+  // with λp = 1 it is Hertz's 8/15 E* √R* δ^{5/2}.
+  static double elastic_energy(const ElasticPair& p, const Constants& k, double effective_radius,
+                               double overlap, const double* history) {
+    const double k1 = k.loading_stiffness > 0.0
+                          ? k.loading_stiffness
+                          : 4.0 / 3.0 * p.effective_modulus * std::sqrt(effective_radius);
+    const double plastic_32 = history[0] / k1;                  // δp^{3/2}
+    const double plastic = std::cbrt(plastic_32 * plastic_32);  // δp
+    if (!(overlap > plastic)) return 0.0;
+    const double k2 = k.unloading_factor * k1;
+    return k2 * (0.4 * (overlap * overlap * std::sqrt(overlap) -
+                        plastic * plastic * std::sqrt(plastic)) -
+                 plastic_32 * (overlap - plastic));
+  }
+};
 
 }  // namespace shapepress::simulate

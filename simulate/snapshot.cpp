@@ -53,24 +53,38 @@ std::vector<ContactHistory> history_from(const std::vector<double>& values) {
   return out;
 }
 
-// The multi-contact law's plastic force k1 δp^{3/2}, one per contact (0 for Hertz contacts).
-std::vector<double> plastic_values(const std::vector<ContactHistory>& history) {
+// One normal-law history field (normal_laws.hpp) of every contact: `slot` in
+// ContactHistory::normal, 0 for contacts whose law does not keep it.
+std::vector<double> normal_history_values(const std::vector<ContactHistory>& history,
+                                          std::size_t slot) {
   std::vector<double> out;
   out.reserve(history.size());
   for (const ContactHistory& h : history)
-    out.push_back(h.plastic_force);
+    out.push_back(h.normal[slot]);
   return out;
 }
 
-// Snapshots written before the multi-contact law have no plastic history: it is zero.
-void read_plastic(const H5Reader& file, const std::string& name,
-                  std::vector<ContactHistory>& history, const std::filesystem::path& path) {
-  if (!file.has(name)) return;
-  const std::vector<double> values = file.doubles(name);
-  if (values.size() != history.size())
-    throw InputError("'" + path.string() + "': " + name + " does not match the contacts");
-  for (std::size_t k = 0; k < values.size(); ++k)
-    history[k].plastic_force = values[k];
+// Calls f(slot, field) for every history field of every registered normal law.
+template <class F>
+void for_each_history_field(F&& f) {
+  for_each_normal_law([&]<class Law>() {
+    for (std::size_t k = 0; k < Law::history_fields.size(); ++k)
+      f(normal_history_offset<Law> + k, Law::history_fields[k]);
+  });
+}
+
+// A snapshot written before a law existed has none of its history: it is zero.
+void read_normal_history(const H5Reader& file, const std::string& prefix,
+                         std::vector<ContactHistory>& history, const std::filesystem::path& path) {
+  for_each_history_field([&](std::size_t slot, const HistoryField& field) {
+    const std::string name = prefix + field.name;
+    if (!file.has(name)) return;
+    const std::vector<double> values = file.doubles(name);
+    if (values.size() != history.size())
+      throw InputError("'" + path.string() + "': " + name + " does not match the contacts");
+    for (std::size_t k = 0; k < values.size(); ++k)
+      history[k].normal[slot] = values[k];
+  });
 }
 
 void write_vec3(H5Writer& file, const std::string& name, const Vec3Array& v,
@@ -83,6 +97,13 @@ void write_with_unit(H5Writer& file, const std::string& name, std::span<const do
                      std::string_view si_unit) {
   file.write(name, values);
   file.unit(name, si_unit);
+}
+
+void write_normal_history(H5Writer& file, const std::string& prefix,
+                          const std::vector<ContactHistory>& history) {
+  for_each_history_field([&](std::size_t slot, const HistoryField& field) {
+    write_with_unit(file, prefix + field.name, normal_history_values(history, slot), field.unit);
+  });
 }
 
 // The bonds and their history (/bonds): everything BondSet holds but the per-step results and
@@ -302,8 +323,8 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   for (const auto& w : c.wall_history)
     wall_history.insert(wall_history.end(), w.begin(), w.end());
   file.write("/engine/wall_tangential", history_values(wall_history), {wall_history.size(), 3});
-  write_with_unit(file, "/engine/contact_plastic_force", plastic_values(c.history), "N");
-  write_with_unit(file, "/engine/wall_plastic_force", plastic_values(wall_history), "N");
+  write_normal_history(file, "/engine/contact_", c.history);
+  write_normal_history(file, "/engine/wall_", wall_history);
   write_bonds(file, c.bonds);
   write_clumps(file, c.clumps);
 
@@ -376,7 +397,7 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
   c.first = file.int32s("/engine/contact_first");
   c.second = file.int32s("/engine/contact_second");
   c.history = history_from(file.doubles("/engine/contact_tangential"));
-  read_plastic(file, "/engine/contact_plastic_force", c.history, path);
+  read_normal_history(file, "/engine/contact_", c.history, path);
   if (file.has("/particles/pressure")) {  // the p the multi-contact law reads next step
     c.particle_pressure = file.doubles("/particles/pressure");
     if (c.particle_pressure.size() != n)
@@ -388,7 +409,7 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
   const auto material = file.int32s("/walls/material");
   c.wall_force = file.doubles("/walls/force");
   auto wall_history = history_from(file.doubles("/engine/wall_tangential"));
-  read_plastic(file, "/engine/wall_plastic_force", wall_history, path);
+  read_normal_history(file, "/engine/wall_", wall_history, path);
   if (wall_history.size() != position.size() * n || c.history.size() != c.first.size())
     throw InputError("'" + path.string() + "': contact history does not match the spheres");
   for (std::size_t k = 0; k < position.size(); ++k) {

@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "simulate/contact_law.hpp"
+
 namespace shapepress::simulate {
 
 double rayleigh_time(double radius, double density, double youngs_modulus, double poisson_ratio) {
@@ -31,22 +33,30 @@ namespace shapepress::simulate {
 
 namespace {
 
-// The Young's modulus a sphere of material `m` stands against in its stiffest contact: its own,
-// or, where an interaction states a larger E* than the materials give
-// (Interaction::effective_modulus), the modulus of a sphere that would have that E* against its
-// partner: (1 − ν²) E* against a wall (a rigid plane), 2 (1 − ν²) E* against an equal sphere.
-double stiffest_contact_modulus(const MaterialTable& materials, int m,
-                                const std::vector<int>& wall_materials) {
+// The Young's modulus a sphere of material `m` and radius `radius` stands against in its
+// stiffest contact: its own, or, where a pair is stiffer than the Hertz contact its materials
+// give, the modulus of a sphere whose Hertz contact would be as stiff against its partner:
+// (1 − ν²) E*s against a wall (a rigid plane), 2 (1 − ν²) E*s against an equal sphere, with
+// E*s = E* × the pair law's stiffness ratio (its stiffest branch over Hertz's tangent
+// 2 E* √(R* δ); normal_laws.hpp) and E* the pair's, stated (Interaction::effective_modulus) or
+// from the materials. Hertz pairs have ratio 1, so a Hertz scene's step is the Rayleigh time of
+// its materials (or of a stated E*), to the bit. The ratio is taken at the smallest R* the sphere
+// can meet: `smallest_radius` for a sphere partner, its own radius for a wall.
+double stiffest_contact_modulus(const MaterialTable& materials, int m, double radius,
+                                double smallest_radius, const std::vector<int>& wall_materials) {
   const Material& own = materials.material(m);
   double modulus = own.youngs_modulus;
   const double plane_strain = 1.0 - own.poisson_ratio * own.poisson_ratio;
   for (int k = 0; k < materials.count(); ++k) {
     if (!materials.has_pair(m, k)) continue;
-    const double from_materials = materials_effective_modulus(own, materials.material(k));
-    const double stated = materials.pair(m, k).effective_modulus;
-    if (stated <= from_materials * (1.0 + 1e-12)) continue;
     const bool wall =
         std::find(wall_materials.begin(), wall_materials.end(), k) != wall_materials.end();
+    const PairConstants& pair = materials.pair(m, k);
+    const double effective_radius =
+        wall ? radius : radius * smallest_radius / (radius + smallest_radius);
+    const double from_materials = materials_effective_modulus(own, materials.material(k));
+    const double stated = pair.effective_modulus * normal_stiffness_ratio(pair, effective_radius);
+    if (stated <= from_materials * (1.0 + 1e-12)) continue;
     modulus = std::max(modulus, (wall ? 1.0 : 2.0) * plane_strain * stated);
   }
   return modulus;
@@ -61,14 +71,12 @@ TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable&
   if (state.size() == 0) throw InputError("no spheres to simulate");
   std::size_t smallest = 0;
   choice.rayleigh_time = std::numeric_limits<double>::infinity();
-  std::vector<double> modulus(static_cast<std::size_t>(materials.count()));
-  for (int k = 0; k < materials.count(); ++k)
-    modulus[static_cast<std::size_t>(k)] = stiffest_contact_modulus(materials, k, wall_materials);
+  const double smallest_radius = *std::min_element(state.radius.begin(), state.radius.end());
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Material& m = materials.material(state.material[i]);
-    const double t =
-        rayleigh_time(state.radius[i], m.density,
-                      modulus[static_cast<std::size_t>(state.material[i])], m.poisson_ratio);
+    const double modulus = stiffest_contact_modulus(materials, state.material[i], state.radius[i],
+                                                    smallest_radius, wall_materials);
+    const double t = rayleigh_time(state.radius[i], m.density, modulus, m.poisson_ratio);
     if (t < choice.rayleigh_time) choice.rayleigh_time = t, smallest = i;
   }
   if (!(fraction > 0.0 && fraction <= 1.0))
@@ -132,6 +140,15 @@ TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fix
     return choice;
   }
   choice.time_step = std::min(choice.time_step, fraction * choice.bond_period);
+  // Velocity Verlet is stable below 2/ω_max = T_b/π: a fraction above 1/π of the bond period
+  // is refused where the bonds set the step (a shorter Rayleigh step keeps it stable).
+  if (choice.time_step > choice.bond_period / std::numbers::pi)
+    throw InputError(fmt::format(
+        "time_step_fraction {:.3g} is above {:.3g} (1/π), the stability limit of the stiffest "
+        "bonds (period bound {:.3g} s, step {:.3g} s above T_b/π = {:.3g} s): lower "
+        "time_step_fraction",
+        fraction, 1.0 / std::numbers::pi, choice.bond_period, choice.time_step,
+        choice.bond_period / std::numbers::pi));
   return choice;
 }
 
@@ -187,8 +204,11 @@ double clump_contact_period(const ClumpSet& clumps, const SphereState& state,
       for (int partner : partners)
         if (materials.has_pair(state.material[i], partner)) {
           const PairConstants& pc = materials.pair(state.material[i], partner);
-          stiffest =
-              std::max(stiffest, 2.0 * pc.effective_modulus + 16.0 * pc.effective_shear_modulus);
+          // kn = 2E*√(rδ) × the law's stiffness ratio (1 for Hertz), at R* = r/2 (an equal
+          // partner; the ratio grows as R* shrinks only for a stated multi-contact k1).
+          stiffest = std::max(stiffest, 2.0 * pc.effective_modulus *
+                                                normal_stiffness_ratio(pc, 0.5 * state.radius[i]) +
+                                            16.0 * pc.effective_shear_modulus);
           damper =
               std::max(damper, pc.damping_factor *
                                    (std::sqrt(2.0 * pc.effective_modulus * root * m) +

@@ -9,8 +9,10 @@
 #include "simulate/state.hpp"
 
 // The time step: a fraction of the Rayleigh time of the smallest sphere (the usual DEM rule,
-// e.g. LIGGGHTS' check/timestep/gran), checked against the Hertz collision time at the fastest
-// expected impact speed, which must span many steps.
+// e.g. LIGGGHTS' check/timestep/gran), taken with the modulus of the stiffest contact law in use
+// (each normal law's stiffness_ratio, normal_laws.hpp: 1 for Hertz, k2/k1 = 1/λp and more for the
+// multi-contact law of Giannis 2023 Eq. 6), checked against the Hertz collision time at the
+// fastest expected impact speed, which must span many steps.
 namespace shapepress::simulate {
 
 // t_R = π r √(ρ/G) / (0.1631 ν + 0.8766), G = E / (2(1+ν)).
@@ -58,7 +60,8 @@ double clump_contact_period(const ClumpSet& clumps, const SphereState& state,
 // contact each) where the scene does not say more (compact).
 inline constexpr double assumed_clump_overlap = 0.1;
 
-// `fixed` if given, else fraction × the Rayleigh time of the smallest sphere. InputError when
+// `fixed` if given, else fraction × the Rayleigh time of the smallest sphere, against the stiffest
+// contact it can have (its materials' E, a stated E*, or a law stiffer than Hertz). InputError when
 // the step resolves a Hertz collision at `speed` (the fastest expected relative speed) with
 // fewer than minimum_steps_per_collision steps.
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
@@ -66,8 +69,9 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 double fraction, double speed);
 
 // With bonds: fraction × min(Rayleigh time, the bonded network's shortest period bound
-// T_b = 2π/ω_max). A fixed step above T_b/π (velocity Verlet's stability limit 2/ω_max) is an
-// InputError.
+// T_b = 2π/ω_max). A step above T_b/π (velocity Verlet's stability limit 2/ω_max) is an
+// InputError: a fixed one naming time_step, one the bonds set with a fraction above 1/π naming
+// time_step_fraction.
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds);

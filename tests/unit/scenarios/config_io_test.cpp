@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <variant>
 
 #include "common/error.hpp"
 
@@ -158,9 +159,9 @@ TEST(PlateConfig, EveryKeyRoundTripsThroughTheEffectiveConfig) {
   ASSERT_EQ(b.materials.interactions.size(), 2u);
   const Interaction& in = b.materials.interactions[1];
   EXPECT_EQ(*in.effective_modulus, 2e7);
-  EXPECT_EQ(in.normal_law, NormalLaw::multicontact);
-  EXPECT_EQ(in.multicontact->plasticity_ratio, 0.5);
-  EXPECT_EQ(in.multicontact->pull_off_force, -1e-3);
+  ASSERT_TRUE(std::holds_alternative<MulticontactLaw>(in.normal_law));
+  EXPECT_EQ(std::get<MulticontactLaw>(in.normal_law).parameters.plasticity_ratio, 0.5);
+  EXPECT_EQ(std::get<MulticontactLaw>(in.normal_law).parameters.pull_off_force, -1e-3);
   EXPECT_EQ(b.materials.interactions[0].rolling_friction, 0.01);
   EXPECT_EQ(b.materials.materials[1].density, 7800.0);
 }

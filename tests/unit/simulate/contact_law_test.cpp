@@ -12,7 +12,7 @@ namespace {
 
 PairConstants pair(double mu_s = 0.5, double mu_r = 0.0, double e = 0.5) {
   Material m{"m", 1e8, 0.3, 1541.0};
-  Interaction in{"m", "m", e, mu_s, mu_r, NormalLaw::hertz};
+  Interaction in{"m", "m", e, mu_s, mu_r, HertzLaw{}};
   MaterialTable table({m}, {in});
   return table.pair(0, 0);
 }

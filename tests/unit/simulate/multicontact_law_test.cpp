@@ -6,18 +6,19 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/config.hpp"
 #include "common/error.hpp"
 #include "simulate/contact_law.hpp"
+#include "simulate/contact_law_config.hpp"
 
 namespace shapepress::simulate {
 namespace {
 
 constexpr double young = 1e8, poisson = 0.3;
 
-PairConstants pair(NormalLaw law, std::optional<MulticontactParameters> m = std::nullopt,
-                   double e = 0.5, double mu_s = 0.5, double mu_r = 0.1) {
+PairConstants pair(NormalLawChoice law, double e = 0.5, double mu_s = 0.5, double mu_r = 0.1) {
   Material mat{"m", young, poisson, 1541.0};
-  Interaction in{"m", "m", e, mu_s, mu_r, law, m};
+  Interaction in{"m", "m", e, mu_s, mu_r, law};
   return MaterialTable({mat}, {in}).pair(0, 0);
 }
 
@@ -43,8 +44,8 @@ double relative(double a, double b) {
 TEST(MulticontactLaw, ReducesToHertzMindlinToRoundOff) {
   // λp = 1, kc = 0, F0 = 0, β = 0 (the defaults), with damping, friction, rolling, a slide past
   // the Coulomb limit and a confining pressure that β = 0 must ignore.
-  const PairConstants hertz = pair(NormalLaw::hertz);
-  const PairConstants mc = pair(NormalLaw::multicontact, MulticontactParameters{});
+  const PairConstants hertz = pair(HertzLaw{});
+  const PairConstants mc = pair(MulticontactLaw{});
   ContactHistory h_hertz, h_mc;
   const double dt = 1e-7;
   for (int k = 0; k < 400; ++k) {
@@ -61,7 +62,7 @@ TEST(MulticontactLaw, ReducesToHertzMindlinToRoundOff) {
       ASSERT_LE(relative(h_hertz.tangential[i], h_mc.tangential[i]), 4e-16);
     }
   }
-  EXPECT_EQ(h_mc.plastic_force, 0.0);  // λp = 1 leaves no plastic overlap
+  EXPECT_EQ(plastic_force(h_mc), 0.0);  // λp = 1 leaves no plastic overlap
   EXPECT_NEAR(multicontact_elastic_energy(mc, 2.5e-4, 1e-6, 0.0) /
                   hertz_elastic_energy(hertz, 2.5e-4, 1e-6),
               1.0, 1e-14);
@@ -86,13 +87,13 @@ TEST(MulticontactLaw, LoadUnloadReloadPullOffCycleFollowsEachBranch) {
   m.plasticity_ratio = b.lambda;
   m.adhesion_stiffness = b.kc;
   m.pull_off_force = b.f0;
-  const PairConstants p = pair(NormalLaw::multicontact, m, 1.0);  // e = 1: no damping
+  const PairConstants p = pair(MulticontactLaw{m}, 1.0);  // e = 1: no damping
   const double radius = 2.5e-4, mass = 4e-7;
   ContactHistory h;
   const auto force = [&](double d) {
     const double root = std::sqrt(std::sqrt(radius * d) * mass);
     return multicontact_normal(p, d, radius, mass, std::sqrt(radius * d), root, 0.0, 0.0,
-                               h.plastic_force)
+                               plastic_force(h))
         .force;
   };
   const double d1 = 4e-6, d2 = 6e-6;
@@ -101,7 +102,7 @@ TEST(MulticontactLaw, LoadUnloadReloadPullOffCycleFollowsEachBranch) {
     const double d = d1 * k / 40;
     ASSERT_LE(relative(force(d), b.loading(d)), 1e-10) << "loading at " << d;
   }
-  EXPECT_LE(relative(h.plastic_force, b.k1 * b.plastic(d1)), 1e-10);  // δp from δmax
+  EXPECT_LE(relative(plastic_force(h), b.k1 * b.plastic(d1)), 1e-10);  // δp from δmax
   // Unloading from δ1 follows k2 down to where it meets the adhesive branch; reloading follows
   // it back up to δ1 (no new plastic overlap).
   const double x_meet = b.k2() * b.plastic(d1) / (b.k2() + b.kc);  // k2 (x - xp) = -kc x
@@ -116,7 +117,7 @@ TEST(MulticontactLaw, LoadUnloadReloadPullOffCycleFollowsEachBranch) {
     const double expected = d > d_meet ? b.unloading(d, d1) : b.adhesive(d);
     ASSERT_LE(relative(force(d), expected), 1e-10) << "reloading at " << d;
   }
-  EXPECT_LE(relative(h.plastic_force, b.k1 * b.plastic(d1)), 1e-10);
+  EXPECT_LE(relative(plastic_force(h), b.k1 * b.plastic(d1)), 1e-10);
   // The branches meet at δmax: unloading and loading give the same force there.
   EXPECT_LE(relative(b.unloading(d1, d1), b.loading(d1)), 1e-12);
   // Beyond δ1 the contact is back on virgin loading, and δp grows with the new δmax.
@@ -124,7 +125,7 @@ TEST(MulticontactLaw, LoadUnloadReloadPullOffCycleFollowsEachBranch) {
     const double d = d1 + (d2 - d1) * k / 20;
     ASSERT_LE(relative(force(d), b.loading(d)), 1e-10) << "loading again at " << d;
   }
-  EXPECT_LE(relative(h.plastic_force, b.k1 * b.plastic(d2)), 1e-10);
+  EXPECT_LE(relative(plastic_force(h), b.k1 * b.plastic(d2)), 1e-10);
   // Pull-off: unloading from δ2 into the adhesive branch; the most attractive force is where
   // the branches meet, F0 - kc k2 xp / (k2 + kc).
   const double x2 = b.k2() * b.plastic(d2) / (b.k2() + b.kc);
@@ -147,8 +148,8 @@ TEST(MulticontactLaw, LoadUnloadReloadPullOffCycleFollowsEachBranch) {
 TEST(MulticontactLaw, MultiContactTermAddsBetaNuAreaPressure) {
   MulticontactParameters m;
   m.prefactor = 1.71;
-  const PairConstants with = pair(NormalLaw::multicontact, m, 1.0);
-  const PairConstants without = pair(NormalLaw::multicontact, MulticontactParameters{}, 1.0);
+  const PairConstants with = pair(MulticontactLaw{m}, 1.0);
+  const PairConstants without = pair(MulticontactLaw{}, 1.0);
   const double r = 2.5e-4, d = 3e-6, pressure = 4e6;
   double xp = 0.0, xq = 0.0;
   const double f1 =
@@ -169,7 +170,7 @@ TEST(MulticontactLaw, FrictionLimitIsMeasuredFromTheAdhesiveFloor) {
   m.plasticity_ratio = 0.5;
   m.adhesion_stiffness = 1e7;
   m.pull_off_force = -2e-3;
-  const PairConstants p = pair(NormalLaw::multicontact, m, 1.0, 0.4, 0.0);
+  const PairConstants p = pair(MulticontactLaw{m}, 1.0, 0.4, 0.0);
   ContactHistory h;
   // Load to 4 µm, then back to 1 µm where the unloading force is attractive, and slide fast.
   contact_force(moving_contact(4e-6, 0.0, 0.0, 0.0), p, h, 1e-7);
@@ -185,11 +186,14 @@ TEST(MulticontactLaw, FrictionLimitIsMeasuredFromTheAdhesiveFloor) {
 TEST(MulticontactLaw, ParametersAreCheckedAndNeedTheLaw) {
   MulticontactParameters bad;
   bad.plasticity_ratio = 0.0;
-  EXPECT_THROW(pair(NormalLaw::multicontact, bad), InputError);
+  EXPECT_THROW(pair(MulticontactLaw{bad}), InputError);
   bad = {};
   bad.pull_off_force = 1e-3;  // repulsive F0 is not a pull-off force
-  EXPECT_THROW(pair(NormalLaw::multicontact, bad), InputError);
-  EXPECT_THROW(pair(NormalLaw::hertz, MulticontactParameters{}), InputError);
+  EXPECT_THROW(pair(MulticontactLaw{bad}), InputError);
+  // Multi-contact parameters under a Hertz pair: refused where they are read.
+  const ConfigTable hertz_with_keys =
+      ConfigTable::parse("normal_law = \"hertz\"\nplasticity_ratio = 0.5\n", "interaction");
+  EXPECT_THROW(read_normal_law(hertz_with_keys, "interaction m–m"), InputError);
 }
 
 }  // namespace

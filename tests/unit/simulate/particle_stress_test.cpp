@@ -19,7 +19,7 @@ MaterialTable table(double beta) {
   MulticontactParameters m;
   m.prefactor = beta;
   return MaterialTable({{"m", young, poisson, 1541.0}},
-                       {{"m", "m", 1.0, 0.5, 0.0, NormalLaw::multicontact, m}});
+                       {{"m", "m", 1.0, 0.5, 0.0, MulticontactLaw{m}}});
 }
 
 double hertz(double r_eff, double d) {

@@ -1,0 +1,85 @@
+// The time step's bounds from the contact laws and the bonds (timestep.hpp): a law stiffer than
+// Hertz (the multi-contact unloading branch k2 = k1/λp, a stated k1) shortens the step, Hertz
+// keeps it, and a fraction above the bonds' stability limit is refused by name.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "common/error.hpp"
+#include "simulate/bonds.hpp"
+#include "simulate/timestep.hpp"
+
+namespace shapepress::simulate {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr double radius = 1e-4, density = 1500.0;
+const Material material{"m", 1e8, 0.3, density};
+
+SphereState bed() {
+  SphereState s;
+  for (int k = 0; k < 4; ++k)
+    s.add_sphere(3.0 * radius * k, 0.0, 0.0, radius, density, 0);
+  return s;
+}
+
+double step_with(const NormalLawChoice& law) {
+  const MaterialTable table({material}, {{"m", "m", 0.5, 0.5, 0.0, law}});
+  return select_time_step(bed(), table, {}, std::nullopt, 0.2, 0.01).time_step;
+}
+
+TEST(TimeStep, MulticontactUnloadingStiffnessShortensTheStep) {
+  const double hertz = step_with(HertzLaw{});
+  MulticontactParameters p;
+  p.plasticity_ratio = 0.2;  // k2 = 5 k1 (Eq. 6, Giannis 2023)
+  const double plastic = step_with(MulticontactLaw{p});
+  EXPECT_LT(plastic, hertz);
+  // The Rayleigh time goes as 1/√E: a 5 times stiffer contact, a √5 times shorter step.
+  EXPECT_NEAR(plastic / hertz, 1.0 / std::sqrt(5.0), 1e-12);
+  // The defaults are Hertz: the step does not change by a bit.
+  EXPECT_EQ(step_with(MulticontactLaw{}), hertz);
+}
+
+TEST(TimeStep, StatedLoadingStiffnessAndPrefactorCount) {
+  const double hertz = step_with(HertzLaw{});
+  // k1 three times Hertz's 4/3 E* √R* at R* = r/2 (two equal spheres).
+  const double e_star = materials_effective_modulus(material, material);
+  MulticontactParameters p;
+  p.loading_stiffness = 3.0 * 4.0 / 3.0 * e_star * std::sqrt(0.5 * radius);
+  EXPECT_NEAR(step_with(MulticontactLaw{p}) / hertz, 1.0 / std::sqrt(3.0), 1e-12);
+  // β ν adds β ν s1 to the ratio (multicontact_law.hpp): β = 2, ν = 0.3, s1 = 1 → 1.6.
+  MulticontactParameters q;
+  q.prefactor = 2.0;
+  EXPECT_NEAR(step_with(MulticontactLaw{q}) / hertz, 1.0 / std::sqrt(1.6), 1e-12);
+}
+
+TEST(TimeStep, FractionAboveTheBondLimitIsRefusedByName) {
+  constexpr double r = 1e-3;
+  SphereState s;
+  s.add_sphere(0.0, 0.0, 0.0, r, 2000.0, 0);
+  s.add_sphere(2 * r, 0.0, 0.0, r, 2000.0, 0);
+  s.body = {0, 0};
+  BondParameters stiff;
+  stiff.normal_stiffness = 1e10;
+  stiff.shear_stiffness = 0.5e10;
+  const BondSet bonds = create_bonds(s, 1.15, stiff);
+  const MaterialTable table({{"m", 1e7, 0.3, 2000.0}}, {{"m", "m", 0.7, 0.5}});
+  const double period = bond_oscillation_period(bonds, s);
+  // Below 1/π of the bond period: accepted, and the bonds set the step.
+  const TimeStepChoice ok = select_time_step(s, table, {}, std::nullopt, 0.3, 0.1, bonds);
+  EXPECT_NEAR(ok.time_step, 0.3 * period, 1e-15 * period);
+  try {
+    select_time_step(s, table, {}, std::nullopt, 0.5, 0.1, bonds);
+    ADD_FAILURE() << "a fraction of 0.5 of the bond period was accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("time_step_fraction"));
+    EXPECT_THAT(e.what(), HasSubstr("0.318"));
+  }
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
