@@ -12,6 +12,7 @@
 #include "scenarios/cli.hpp"
 #include "scenarios/config_io.hpp"
 #include "scenarios/plate_run.hpp"
+#include "scenarios/run_facts.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
@@ -32,7 +33,9 @@ struct PlateCli {
 };
 
 int run(const PlateCli& cli, const RunContext& context) {
+  RunMetadata meta("plate", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
+  meta.input("config", cli.config);
   std::optional<NormalLaw> model;  // --model overrides normal_law of every interaction
   if (!cli.model.empty())
     model = cli.model == "multicontact" ? NormalLaw::multicontact : NormalLaw::hertz;
@@ -68,6 +71,7 @@ int run(const PlateCli& cli, const RunContext& context) {
   const PlateRunOutcome outcome =
       run_plate_config(config, kind, [](const std::string& line) { spdlog::info("{}", line); });
   write_force_csv(out / "force.csv", outcome, config, kind);
+  meta.output("force.csv");
   if (cli.snapshot && outcome.final_snapshot) {
     // The last state, for ParaView (sub-spheres as points, bonds as lines, plates as quads).
     const Provenance provenance{context.command_line, root.text(),
@@ -78,7 +82,10 @@ int run(const PlateCli& cli, const RunContext& context) {
                  outcome.final_snapshot->walls().size(),
                  outcome.final_snapshot->computes_particle_stress(),
                  outcome.final_snapshot->bonds().size(), outcome.final_snapshot->clumps().size()}});
+    meta.output("final.h5").output("final.xdmf");
   }
+  add_plate_facts(meta, config, kind, outcome);
+  meta.write(out / run_metadata_name);
   const PlateRow& last = outcome.rows.back();
   spdlog::info("plate: {} rows in {}; {} of {} bonds intact; {:.3g} s wall, {:.3g} s CPU",
                outcome.rows.size(), (out / "force.csv").string(), last.intact_bonds, outcome.bonds,
