@@ -9,6 +9,7 @@
 #include "analysis/cli.hpp"
 #include "analysis/report.hpp"
 #include "common/error.hpp"
+#include "common/run_metadata.hpp"
 
 namespace shapepress::analysis {
 namespace {
@@ -56,6 +57,20 @@ int run(const ReportCli& cli, const RunContext& context) {
   }
   options.command_line = context.command_line;
   const ReportResult result = write_report(options);
+  // The report's own record: which runs (their CSV and run.json, hashed) it was drawn from.
+  RunMetadata meta("report", context.command_line);
+  for (const std::filesystem::path& folder : options.runs)
+    for (const char* name : {"punch.csv", "force.csv", "run.json"})
+      if (std::filesystem::exists(folder / name)) meta.input("run", folder / name);
+  for (const auto& curve : options.plate_curves)
+    meta.input("plate_curve", curve.second);
+  meta.output(result.html.filename())
+      .output(result.metrics.filename())
+      .fact("compaction_runs", result.compaction_runs)
+      .fact("plate_runs", result.plate_runs)
+      .fact("charts", result.charts.size());
+  if (options.poisson_ratio) meta.fact("poisson_ratio", *options.poisson_ratio);
+  meta.write(std::filesystem::path(options.out) / run_metadata_name);
   if (result.plate_runs > 0 && !options.poisson_ratio)
     spdlog::info(
         "report: no --poisson-ratio, plate runs are compared with Hertz only (Tatara "

@@ -2,14 +2,34 @@
 
 #include <algorithm>
 #include <fstream>
-#include <regex>
+#include <string_view>
 
 #include <fmt/format.h>
 
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/run_metadata.hpp"
 
 namespace shapepress::analysis {
+namespace {
+
+// The run.json beside a run's CSV. Missing: an error naming the folder and the file (no guessing
+// from the comment lines: runs from before run.json are run again, the CSV alone is not enough).
+RunRecord run_record_of(const std::filesystem::path& csv, std::string_view carries) {
+  const std::filesystem::path folder = csv.parent_path().empty() ? "." : csv.parent_path();
+  const std::filesystem::path path = folder / run_metadata_name;
+  if (!std::filesystem::exists(path))
+    throw InputError(fmt::format(
+        "{}: no {} beside {} (the record its stage writes, carrying {}); runs made before "
+        "run.json existed must be run again",
+        folder.string(), run_metadata_name, csv.filename().string(), carries));
+  return RunRecord::read(path);
+}
+
+constexpr std::string_view punch_facts = "H0 and the die area";
+constexpr std::string_view plate_facts = "the particle kind, sub-sphere count and fills";
+
+}  // namespace
 
 RunFiles find_run(const std::filesystem::path& folder) {
   if (!std::filesystem::is_directory(folder))
@@ -27,6 +47,15 @@ RunFiles find_run(const std::filesystem::path& folder) {
         "{}: neither punch.csv (shapepress compact) nor force.csv (shapepress plate) in the folder",
         folder.string()));
   }
+  const bool compaction = run.kind == RunKind::compaction;
+  const RunRecord record = run_record_of(run.csv, compaction ? punch_facts : plate_facts);
+  run.metadata = record.path();
+  // A CSV from one stage beside the run.json of another is a folder mixed up by hand.
+  const std::string& stage = record.stage();
+  if (compaction ? stage != "compact" : (stage != "plate" && stage != "calibrate"))
+    throw InputError(fmt::format("{}: stage \"{}\", but the folder holds {} (written by {})",
+                                 run.metadata.string(), stage, run.csv.filename().string(),
+                                 compaction ? "compact" : "plate or calibrate"));
   run.comments = csv_comments(run.csv);
   return run;
 }
@@ -45,25 +74,6 @@ std::vector<std::string> csv_comments(const std::filesystem::path& path) {
   return comments;
 }
 
-namespace {
-
-// "strain from H0 = 0.0235 m; die area 0.000144 m^2" (simulate/cli_compact.cpp).
-void read_reference(const std::filesystem::path& path, PunchCurve& curve) {
-  const std::regex h0(R"(H0\s*=\s*([-+0-9.eE]+)\s*m\b)");
-  const std::regex area(R"(die area\s*=?\s*([-+0-9.eE]+)\s*m\^2)");
-  for (const std::string& line : csv_comments(path)) {
-    std::smatch match;
-    if (std::regex_search(line, match, h0)) curve.reference_gap = std::stod(match[1]);
-    if (std::regex_search(line, match, area)) curve.die_area = std::stod(match[1]);
-  }
-  if (!(curve.reference_gap > 0.0))
-    throw InputError(fmt::format(
-        "{}: no comment line '# ... strain from H0 = <value> m' giving the reference gap H0",
-        path.string()));
-}
-
-}  // namespace
-
 PunchCurve read_punch_curve(const std::filesystem::path& path) {
   const CsvTable table = read_csv(path);
   PunchCurve curve;
@@ -78,7 +88,12 @@ PunchCurve read_punch_curve(const std::filesystem::path& path) {
           fmt::format("{}: column 'phase' has {}, expected 0, 1, 2 or 3", path.string(), p));
     curve.phase.push_back(static_cast<int>(p));
   }
-  read_reference(path, curve);
+  const RunRecord record = run_record_of(path, punch_facts);
+  curve.reference_gap = record.number("reference_gap_m");
+  curve.die_area = record.number("die_area_m2");
+  if (!(curve.reference_gap > 0.0) || !(curve.die_area > 0.0))
+    throw InputError(fmt::format("{}: reference_gap_m (H0) {} and die_area_m2 {} must be > 0",
+                                 record.path().string(), curve.reference_gap, curve.die_area));
   try {
     curve.check();
   } catch (const InputError& e) {
@@ -104,15 +119,13 @@ PlateCurve read_plate_curve(const std::filesystem::path& path) {
   if (has("wall_s")) curve.wall_seconds = table.column("wall_s").back();
   if (has("contacts")) curve.contacts = table.column("contacts");
   if (has("top_force_sd_N")) curve.top_force_sd = table.column("top_force_sd_N");
-  const std::regex count(R"(sub_spheres\s*=\s*([0-9]+))");
-  const std::regex fills(R"(^fills\s*=\s*([0-9]+))");
-  const std::regex particle(R"(^particle\s*=\s*([A-Za-z_]+))");
-  for (const std::string& line : csv_comments(path)) {
-    std::smatch match;
-    if (std::regex_search(line, match, count)) curve.sub_spheres = std::stoi(match[1]);
-    if (std::regex_search(line, match, particle)) curve.particle = match[1];
-    if (std::regex_search(line, match, fills)) curve.fills = std::stoi(match[1]);
-  }
+  const RunRecord record = run_record_of(path, plate_facts);
+  curve.particle = record.text("particle_kind");
+  curve.sub_spheres = static_cast<int>(record.integer("sub_spheres"));
+  curve.fills = static_cast<int>(record.integer("fills"));
+  if (curve.sub_spheres < 1 || curve.fills < 1)
+    throw InputError(fmt::format("{}: sub_spheres {} and fills {} must be >= 1",
+                                 record.path().string(), curve.sub_spheres, curve.fills));
   if (curve.fills > 1 && curve.top_force_sd.empty())
     throw InputError(fmt::format("{}: a mean of {} fills without the top_force_sd_N column",
                                  path.string(), curve.fills));

@@ -2,9 +2,11 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <memory>
 
 #include "common/csv.hpp"
+#include "common/run_metadata.hpp"
 #include "geometry/cli.hpp"
 #include "geometry/cli_mesh_input.hpp"
 #include "geometry/descriptors.hpp"
@@ -20,7 +22,9 @@ struct DescribeCli {
   std::string out;
 };
 
-int run(const DescribeCli& cli) {
+int run(const DescribeCli& cli, const RunContext& context) {
+  // With --out, a run.json beside the CSV (describe --out is a file, not a folder).
+  RunMetadata meta("describe", context.command_line);
   const std::vector<std::string> columns = {"volume_m3",
                                             "area_m2",
                                             "L_m",
@@ -53,6 +57,7 @@ int run(const DescribeCli& cli) {
   for (const std::string& path : cli.meshes) {
     const ShapeDescriptors d =
         describe(load_checked_mesh(path, cli.mesh_unit), {cli.directions, cli.seed});
+    if (csv) meta.input("mesh", path);
     fmt::print(
         "{:<32} {:>10.4g} {:>10.4g} {:>10.4g} {:>6.3f} {:>6.3f} {:>6.3f} {:>6.3f} {:>6.3f} "
         "{:>8.3f}\n",
@@ -79,7 +84,15 @@ int run(const DescribeCli& cli) {
       csv->row_text(cells);
     }
   }
-  if (csv) csv->commit();
+  if (csv) {
+    csv->commit();
+    meta.output(std::filesystem::path(cli.out).filename())
+        .fact("meshes", cli.meshes.size())
+        .fact("mesh_unit", cli.mesh_unit)
+        .fact("directions", cli.directions)
+        .fact("seed", cli.seed)
+        .write(run_metadata_beside(cli.out));
+  }
   return 0;
 }
 
@@ -97,7 +110,7 @@ StageRunner setup_describe_cli(CLI::App& app) {
   app.add_option("--seed", cli->seed, "seed of the views and of the bounding-box search")
       ->capture_default_str();
   app.add_option("--out", cli->out, "also write the descriptors to this CSV");
-  return [cli](const RunContext&) { return run(*cli); };
+  return [cli](const RunContext& context) { return run(*cli, context); };
 }
 
 }  // namespace shapepress::geometry

@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "common/progress.hpp"
+#include "common/run_metadata.hpp"
 #include "common/units.hpp"
 #include "geometry/cli.hpp"
 #include "geometry/cli_mesh_input.hpp"
@@ -128,6 +129,36 @@ int run(const FillCli& cli, const RunContext& context) {
   }
   progress.finish();
   write_templates(cli.out, records, Provenance{context.command_line, "", cli.seed});
+  // --out is a file (two fills may share a folder): the run.json goes beside it.
+  RunMetadata meta("fill", context.command_line);
+  for (const std::string& mesh : cli.meshes)
+    meta.input("mesh", mesh);
+  nlohmann::json names = nlohmann::json::array(), counts = nlohmann::json::array(),
+                 bonds = nlohmann::json::array();
+  for (const TemplateRecord& record : records) {
+    names.push_back(record.name);
+    counts.push_back(record.quality.sphere_count);
+    bonds.push_back(record.quality.bond_count);
+  }
+  meta.output(std::filesystem::path(cli.out).filename())
+      .fact("particle_kind", cli.kind)
+      .fact("templates", records.size())
+      .fact("template_names", names)
+      .fact("sub_spheres", counts)
+      .fact("bonds", bonds)
+      .fact("requested_count", cli.count > 0 ? cli.count
+                               : bonded      ? 350
+                                             : 150)
+      .fact("resolution", cli.resolution)
+      .fact("mesh_unit", cli.mesh_unit)
+      .fact("seed", cli.seed);
+  if (bonded)
+    meta.fact("lattice", cli.lattice)
+        .fact("placement", cli.placement)
+        .fact("bond_multiplier", cli.bond_multiplier);
+  if (bonded && !cli.radius.empty())
+    meta.fact("sub_sphere_radius_m", parse_quantity(cli.radius, dim::length, "radius"));
+  meta.write(run_metadata_beside(cli.out));
   spdlog::info("fill: {} {} templates in {}", records.size(), cli.kind, cli.out);
   return 0;
 }

@@ -8,6 +8,7 @@
 #include "common/atomic_file.hpp"
 #include "common/csv.hpp"
 #include "common/progress.hpp"
+#include "common/run_metadata.hpp"
 #include "geometry/cli.hpp"
 #include "geometry/descriptors.hpp"
 #include "geometry/generate.hpp"
@@ -78,6 +79,20 @@ int run(const GenerateCli& cli, const RunContext& context) {
     csv.row_text(cells);
   }
   csv.commit();
+  RunMetadata meta("generate", context.command_line);
+  meta.input("targets", cli.targets).output("shapes.csv");
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    meta.output(fmt::format("particle_{:04d}.{}", i, cli.format));
+  meta.fact("particles", particles.size())
+      .fact("seed", cli.options.seed)
+      .fact("subdivisions", cli.options.subdivisions)
+      .fact("max_degree", cli.options.max_degree)
+      .fact("format", cli.format)
+      .fact("directions", cli.directions)
+      .fact("mean_asr", asr)
+      .fact("mean_elongation", elongation)
+      .fact("mean_flatness", flatness)
+      .write(out / run_metadata_name);
   spdlog::info("generate: {} particles in {}; {}", particles.size(), out.string(), summary);
   return 0;
 }

@@ -9,6 +9,7 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
+#include "common/run_metadata.hpp"
 #include "common/units.hpp"
 #include "imaging/cli.hpp"
 #include "imaging/outputs.hpp"
@@ -132,6 +133,25 @@ int run(const ShapeStatsCli& cli, const RunContext& context) {
     std::filesystem::create_directories(out / "plots");
     write_plots(out / "plots", summary);
   }
+  RunMetadata meta("shape-stats", context.command_line);
+  for (const ImageResult& image : batch.images)
+    meta.input("image", image.report.file);
+  meta.output("particles.csv").output("summary.json");
+  meta.fact("images", batch.images.size())
+      .fact("skipped_images", batch.skipped.size())
+      .fact("particles", summary.particle_count)
+      .fact("x50_volume_m", summary.size.volume.x50)
+      .fact("asr_s50", summary.asr.s50)
+      .fact("fourier_D2", summary.fourier.D2)
+      .fact("denoise", cli.denoise)
+      .fact("background", cli.background)
+      .fact("threshold", cli.threshold)
+      .fact("polarity", cli.polarity)
+      .fact("split_touching", !cli.no_split)
+      .fact("exclude_edges", !cli.keep_edges)
+      .fact("min_fourier_diameter_px", cli.min_fourier_diameter_px);
+  if (options.pixel_size_m) meta.fact("pixel_size_m", *options.pixel_size_m);
+  meta.write(out / run_metadata_name);
   spdlog::info("{} particles in {} images: x50 (Q3) {:.4g} um, ASR S50 {:.3f}, D2 {:.3f}",
                summary.particle_count, batch.images.size(), summary.size.volume.x50 * 1e6,
                summary.asr.s50, summary.fourier.D2);

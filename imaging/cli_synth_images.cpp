@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "common/error.hpp"
+#include "common/run_metadata.hpp"
 #include "common/units.hpp"
 #include "imaging/cli.hpp"
 #include "imaging/outputs.hpp"
@@ -32,7 +33,8 @@ std::string fei_metadata(const SynthOptions& o, double pixel_size_m, std::uint64
       seed, pixel_size_m, pixel_size_m, o.width, o.height - o.info_bar_rows);
 }
 
-int run(const SynthCli& cli) {
+int run(const SynthCli& cli, const RunContext& context) {
+  RunMetadata meta("synth-images", context.command_line);
   const double pixel_size_m = parse_quantity(cli.pixel_size, dim::length, "--pixel-size");
   if (!(pixel_size_m > 0)) throw InputError("--pixel-size: must be positive");
   if (cli.images < 1) throw InputError(fmt::format("--images: {} must be >= 1", cli.images));
@@ -52,8 +54,25 @@ int run(const SynthCli& cli) {
     else
       write_gray_image(out / (stem + "." + cli.format), scene.image);
     write_truth_csv(out / (stem + "_truth.csv"), scene, pixel_size_m);
+    meta.output(stem + "." + cli.format).output(stem + "_truth.csv");
     total += static_cast<int>(scene.particles.size());
   }
+  // No input files: the settings are the inputs, so they are the facts.
+  meta.fact("images", cli.images)
+      .fact("particles", total)
+      .fact("particles_per_image", options.particles)
+      .fact("shape", cli.shape)
+      .fact("pixel_size_m", pixel_size_m)
+      .fact("width_px", options.width)
+      .fact("height_px", options.height)
+      .fact("info_bar_rows", options.info_bar_rows)
+      .fact("median_diameter_px", options.median_diameter_px)
+      .fact("noise", options.noise)
+      .fact("blur_px", options.blur_px)
+      .fact("dark_particles", options.dark_particles)
+      .fact("seed", options.seed)
+      .fact("format", cli.format)
+      .write(out / run_metadata_name);
   spdlog::info("{} images with {} particles in {}", cli.images, total, out.string());
   return 0;
 }
@@ -101,7 +120,7 @@ StageRunner setup_synth_images_cli(CLI::App& app) {
       ->capture_default_str();
   app.add_flag("--dark-particles", o.dark_particles, "dark particles on a bright background");
   app.add_option("--seed", o.seed, "random seed")->capture_default_str();
-  return [cli](const RunContext&) { return run(*cli); };
+  return [cli](const RunContext& context) { return run(*cli, context); };
 }
 
 }  // namespace shapepress::imaging

@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "scenarios/calibrate.hpp"
 #include "scenarios/cli.hpp"
+#include "scenarios/run_facts.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -44,14 +45,17 @@ std::vector<std::string> split_names(const std::string& text) {
   return names;
 }
 
-int run(const CalibrateCli& cli) {
+int run(const CalibrateCli& cli, const RunContext& context) {
+  RunMetadata meta("calibrate", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
+  meta.input("config", cli.config);
   PlateConfig config = read_plate_config(root);
   root.check_unknown_keys();
   if (!config.bms) throw InputError(cli.config + ": calibrate needs a [bms] particle and [bond]");
   if (cli.count > 0) config.bms->count = cli.count;
   if (cli.fills > 0) config.bms->fills = cli.fills;
   const CsvTable reference = read_csv(cli.reference);
+  meta.input("reference", cli.reference);
   CalibrationOptions options;
   options.parameters = split_names(cli.fit);
   options.reference_deformation = reference.column(cli.x_column);
@@ -122,6 +126,25 @@ int run(const CalibrateCli& cli) {
   summary.row_text({"bond_shear_stiffness_N_per_m3", "", format_number(ks),
                     format_number(paper_shear_stiffness)});
   summary.commit();
+  // The folder is also a plate run (force.csv of the best fit): the plate facts, then the fit's.
+  add_plate_facts(meta, result.config, PlateParticleKind::bms, result.best);
+  nlohmann::json fitted = nlohmann::json::object(), start = nlohmann::json::object();
+  for (std::size_t k = 0; k < options.parameters.size(); ++k) {
+    fitted[options.parameters[k]] = result.values[k];
+    start[options.parameters[k]] = result.start[k];
+  }
+  meta.fact("fitted", fitted)
+      .fact("start", start)
+      .fact("rms_relative", result.rms_relative)
+      .fact("max_relative", result.max_relative)
+      .fact("window_deformation", nlohmann::json::array({cli.from, cli.to}))
+      .fact("converged", result.converged)
+      .fact("evaluations", result.evaluations.size())
+      .fact("bond_normal_stiffness_N_per_m3", kn)
+      .fact("bond_shear_stiffness_N_per_m3", ks);
+  for (const char* name : {"evaluations.csv", "calibrated.toml", "force.csv", "calibration.csv"})
+    meta.output(name);
+  meta.write(out / run_metadata_name);
   fmt::print("calibrated N = {}: RMS {:.4f}, max {:.4f} over [{}, {}] after {} runs\n",
              result.best.spheres, result.rms_relative, result.max_relative, cli.from, cli.to,
              result.evaluations.size());
@@ -175,7 +198,7 @@ StageRunner setup_calibrate_cli(CLI::App& app) {
   app.add_option("--out", cli->out,
                  "output folder (calibrated.toml, calibration.csv, evaluations.csv, force.csv)")
       ->required();
-  return [cli](const RunContext&) { return run(*cli); };
+  return [cli](const RunContext& context) { return run(*cli, context); };
 }
 
 }  // namespace shapepress::scenarios

@@ -13,6 +13,7 @@
 #include "common/provenance.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/compact_setup.hpp"
+#include "scenarios/run_facts.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -26,17 +27,26 @@ struct CompactCli {
 };
 
 int run(const CompactCli& cli, const RunContext& context) {
+  RunMetadata meta("compact", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
+  // Hashed once each reader has accepted the file, so a missing file keeps the reader's message.
+  meta.input("config", cli.config);
   CompactConfig config = read_compact_config(root);
   root.check_unknown_keys();
   if (cli.steps >= 0) config.setup.max_steps = cli.steps;
   PreparedCompaction prepared;
   if (!cli.restart.empty()) {
     prepared = resume_compaction(config, read_snapshot(cli.restart));
+    meta.input("restart", cli.restart);
   } else {
     std::optional<SphereList> spheres;
-    if (!cli.packing.empty()) spheres = read_spheres(cli.packing);
+    if (!cli.packing.empty()) {
+      spheres = read_spheres(cli.packing);
+      meta.input("packing", cli.packing);
+    }
     prepared = prepare_compaction(config, spheres);
+    if (config.clumps && !config.clumps->templates.empty())
+      meta.input("templates", config.clumps->templates);
   }
   Engine& engine = *prepared.engine;
   spdlog::info(
@@ -100,6 +110,11 @@ int run(const CompactCli& cli, const RunContext& context) {
   const CompactionSummary summary = run_compaction(engine, prepared.setup, prepared.punch, hooks);
   progress.finish();
   csv.commit();
+  meta.output("punch.csv");
+  if (!index.empty()) meta.output("snapshots.xdmf");
+  add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, prepared.time_step,
+                       engine, summary);
+  meta.write(out / run_metadata_name);
   const PunchRecord& last = summary.last;
   // One machine-readable line for scripts (tests/bench/hertz-compaction/run.sh).
   std::printf(

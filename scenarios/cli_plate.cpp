@@ -12,6 +12,7 @@
 #include "scenarios/cli.hpp"
 #include "scenarios/config_io.hpp"
 #include "scenarios/plate_run.hpp"
+#include "scenarios/run_facts.hpp"
 #include "simulate/contact_law_config.hpp"
 
 namespace shapepress::scenarios {
@@ -30,7 +31,9 @@ struct PlateCli {
 };
 
 int run(const PlateCli& cli, const RunContext& context) {
+  RunMetadata meta("plate", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
+  meta.input("config", cli.config);
   std::optional<std::string> model;  // --model overrides normal_law of every interaction
   if (!cli.model.empty()) model = cli.model;
   PlateConfig config = read_plate_config(root, model);
@@ -74,10 +77,15 @@ int run(const PlateCli& cli, const RunContext& context) {
   const PlateRunOutcome outcome =
       run_plate_config(config, kind, [](const std::string& line) { spdlog::info("{}", line); });
   write_force_csv(out / "force.csv", outcome, config, kind);
-  if (cli.snapshot)
+  meta.output("force.csv");
+  if (cli.snapshot && outcome.final_snapshot) {
     write_plate_snapshot(out, outcome,
                          Provenance{context.command_line, root.text(),
                                     config.bms ? std::optional(config.bms->seed) : std::nullopt});
+    meta.output("final.h5").output("final.xdmf");
+  }
+  add_plate_facts(meta, config, kind, outcome);
+  meta.write(out / run_metadata_name);
   const PlateRow& last = outcome.rows.back();
   spdlog::info("plate: {} rows in {}; {} of {} bonds intact; {:.3g} s wall, {:.3g} s CPU",
                outcome.rows.size(), (out / "force.csv").string(), last.intact_bonds, outcome.bonds,

@@ -68,7 +68,7 @@ void write_plate_snapshot(const std::filesystem::path& folder, const PlateRunOut
 // force.csv (atomically): time_s, deformation, approach_m, top_force_N, bottom_force_N,
 // hertz_force_N, contacts, intact_bonds, kinetic_energy_J, work_J, cpu_s, wall_s, and for an
 // ensemble of fills top_force_sd_N, top_force_min_N, top_force_max_N; comment lines say what was
-// pressed (report reads "sub_spheres = N"), and "fills = K".
+// pressed, for people (report reads the same facts from run.json, scenarios/run_facts.hpp).
 void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,
                      const PlateConfig& config, PlateParticleKind kind);
 inline void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& outcome,

@@ -6,7 +6,11 @@ compaction_run/punch.csv: a Heckel-exact loading branch (K = 1/(50 MPa), A = 0.5
 plate_run/force.csv: the Tatara force of the paper's rubber sphere (R = 10 mm, E = 18.5 MPa,
   nu = 0.46) as the "simulated" force, with the Hertz force in hertz_force_N, to 40 % deformation.
 bad_run/punch.csv: a punch curve without its stress_Pa column.
+Each folder also gets the run.json its stage would write (common/run_metadata.hpp): the report
+reads H0, the die area, the particle kind, sub-sphere count and fills from it, not from the
+comment lines, which stay for people.
 """
+import json
 import math
 import os
 
@@ -23,6 +27,15 @@ def write(path, comments, header, rows):
         f.write(",".join(header) + "\n")
         for r in rows:
             f.write(",".join("%.10g" % v for v in r) + "\n")
+
+
+def write_run_json(folder, stage, outputs, facts):
+    record = {"schema": 1, "stage": stage, "version": "synthetic", "revision": "",
+              "command": "tests/data/analysis/make_synthetic_runs.py", "inputs": [],
+              "outputs": outputs, "facts": facts}
+    with open(os.path.join(folder, "run.json"), "w") as f:
+        json.dump(record, f, indent=2)
+        f.write("\n")
 
 
 def punch_rows():
@@ -83,6 +96,13 @@ def main():
     write("compaction_run/punch.csv", comments, PUNCH_HEADER, table)
     write("bad_run/punch.csv", comments, [c for c in PUNCH_HEADER if c != "stress_Pa"],
           [r[:6] + r[7:] for r in table])
+    # H0 as the comment gives it (10 digits), so the numbers the tests expect do not move.
+    compaction_facts = {"reference_gap_m": float("%.10g" % h0), "die_area_m2": DIE_AREA,
+                        "solid_volume_m3": float("%.10g" % (SOLID_HEIGHT * DIE_AREA)), "strain_reference": "start",
+                        "particle_kind": "sphere", "spheres": 0, "clumps": 0, "bonds": 0,
+                        "laws": [], "time_step_s": 1e-6, "steps": (len(table) - 1) * 10}
+    for folder in ("compaction_run", "bad_run"):
+        write_run_json(folder, "compact", ["punch.csv"], compaction_facts)
     r, es = 0.01, 18.5e6 / (1 - 0.46 ** 2)
     rows = []
     for i in range(81):
@@ -97,6 +117,10 @@ def main():
            "hertz_force_N = (sqrt(2)/3) E* sqrt(R) approach^1.5 (models.md), E* sphere-plate"],
           ["time_s", "deformation", "approach_m", "top_force_N", "bottom_force_N", "hertz_force_N"],
           rows)
+    write_run_json("plate_run", "plate", ["force.csv"],
+                   {"particle_kind": "sphere", "sub_spheres": 1, "bonds": 0, "fills": 1,
+                    "radius_m": r, "max_deformation": 0.4, "normal_law": "hertz", "laws": [],
+                    "time_step_s": 1e-4, "rows": len(rows)})
 
 
 if __name__ == "__main__":

@@ -6,8 +6,12 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
+#include "common/sha256.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
 
@@ -115,14 +119,94 @@ TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
   const std::string csv = read_text(dir / "report" / "stress_strain.csv");
   EXPECT_THAT(csv, HasSubstr("compact load"));
   EXPECT_THAT(csv, HasSubstr("compaction_run load"));
+
+  // Both stages wrote a run.json; the report's H0 is its fact, and the config is hashed.
+  const nlohmann::json compact = nlohmann::json::parse(read_text(dir / "compact" / "run.json"));
+  EXPECT_EQ(compact["stage"], "compact");
+  EXPECT_EQ(compact["inputs"][0]["role"], "config");
+  EXPECT_EQ(compact["inputs"][0]["sha256"], sha256_hex(read_text(dir / "compact.toml")));
+  const nlohmann::json& facts = compact["facts"];
+  ASSERT_TRUE(facts["reference_gap_m"].is_number()) << compact.dump(2);
+  const double h0 = facts["reference_gap_m"].get<double>();
+  EXPECT_NEAR(metric(json, "H0")[0], h0, 1e-9 * h0);  // metrics.json writes 10 digits
+  EXPECT_DOUBLE_EQ(facts["die_area_m2"].get<double>(), 8e-3 * 8e-3);
+  EXPECT_TRUE(facts["spheres"].is_number_integer());
+  EXPECT_GT(facts["spheres"].get<std::int64_t>(), 0);
+  EXPECT_EQ(facts["particle_kind"], "sphere");
+  EXPECT_GT(facts["solid_volume_m3"].get<double>(), 0.0);
+  EXPECT_GT(facts["time_step_s"].get<double>(), 0.0);
+  EXPECT_GT(facts["steps"].get<std::int64_t>(), 0);
+  const nlohmann::json plate = nlohmann::json::parse(read_text(dir / "plate" / "run.json"));
+  EXPECT_EQ(plate["stage"], "plate");
+  EXPECT_EQ(plate["facts"]["particle_kind"], "sphere");
+  EXPECT_EQ(plate["facts"]["sub_spheres"], 1);
+  EXPECT_EQ(plate["facts"]["fills"], 1);
+  EXPECT_DOUBLE_EQ(plate["facts"]["radius_m"].get<double>(), metric(json, "radius")[0]);
+
+  // Rewording the CSV comment lines (for people) changes nothing the report computes.
+  for (const char* file : {"compact/punch.csv", "plate/force.csv"}) {
+    std::istringstream in(read_text(dir / file));
+    std::string text;
+    for (std::string line; std::getline(in, line);) {
+      if (line.starts_with("#")) {
+        line = std::regex_replace(line, std::regex("H0"), "the reference height");
+        line = std::regex_replace(line, std::regex("die area|sub_spheres|particle|fills"), "x");
+      }
+      text += line + "\n";
+    }
+    write_text(dir / file, text);
+  }
+  r = run_shapepress("report " + quote(dir / "compact") + " " + quote(data / "compaction_run") +
+                     " " + quote(dir / "plate") + " --poisson-ratio 0.46 --out " +
+                     quote(dir / "reworded"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_text(dir / "reworded" / "stress_strain.csv"), csv);
+  const std::string reworded = read_text(dir / "reworded" / "metrics.json");
+  for (const char* name : {"H0", "heckel_yield_pressure", "hertz_rms_relative_error", "radius"})
+    EXPECT_EQ(metric(reworded, name), metric(json, name)) << name;
+}
+
+// The report takes the facts from run.json: one missing is exit 2 naming the file and the key,
+// a folder without run.json is exit 2 naming the folder and the file.
+TEST(ReportE2e, RunJsonWithoutAFactOrMissingIsExitTwo) {
+  const auto dir = fresh_directory("analysis_run_json");
+  std::filesystem::copy(data / "compaction_run", dir / "compaction");
+  std::filesystem::copy(data / "plate_run", dir / "plate");
+  const auto without = [&](const std::filesystem::path& folder, const std::string& key) {
+    nlohmann::json j = nlohmann::json::parse(read_text(folder / "run.json"));
+    j["facts"].erase(key);
+    write_text(folder / "run.json", j.dump(2));
+  };
+  without(dir / "compaction", "reference_gap_m");
+  auto r = run_shapepress("report " + quote(dir / "compaction") + " --out " + quote(dir / "r"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("compaction/run.json"));
+  EXPECT_THAT(r.output, HasSubstr("reference_gap_m"));
+  without(dir / "plate", "sub_spheres");
+  r = run_shapepress("report " + quote(dir / "plate") + " --out " + quote(dir / "r"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("plate/run.json"));
+  EXPECT_THAT(r.output, HasSubstr("sub_spheres"));
+  std::filesystem::remove(dir / "plate" / "run.json");
+  r = run_shapepress("report " + quote(dir / "plate") + " --out " + quote(dir / "r"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr((dir / "plate").string() + ": no run.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "r" / "report.html"));
+  // A report writes its own run.json, listing the runs it read.
+  r = run_shapepress("report " + quote(data / "plate_run") + " --out " + quote(dir / "ok"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(read_text(dir / "ok" / "run.json"));
+  EXPECT_EQ(report["stage"], "report");
+  EXPECT_EQ(report["facts"]["plate_runs"], 1);
+  EXPECT_EQ(report["inputs"].size(), 2u);  // force.csv and run.json
 }
 
 TEST(ReportE2e, SameNamedFoldersGetDistinctLabelsAndPlateWithoutNuIsHertzOnly) {
   const auto dir = fresh_directory("analysis_labels");
   for (const char* parent : {"a", "b"}) {
     std::filesystem::create_directories(dir / parent / "run");
-    std::filesystem::copy_file(data / "plate_run" / "force.csv",
-                               dir / parent / "run" / "force.csv");
+    for (const char* name : {"force.csv", "run.json"})
+      std::filesystem::copy_file(data / "plate_run" / name, dir / parent / "run" / name);
   }
   const auto r = run_shapepress("report " + quote(dir / "a" / "run") + " " +
                                 quote(dir / "b" / "run") + " --out " + quote(dir / "report"));

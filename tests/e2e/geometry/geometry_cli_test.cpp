@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "geometry/icosphere.hpp"
@@ -67,6 +68,22 @@ TEST(GeometryCli, GenerateDescribeFillChain) {
   for (const Vec3& c : templates[0].body.centres)
     mean += c / 200.0;
   EXPECT_LT(mean.norm(), 1e-9 * templates[0].body.radii[0]);  // rounding of a mean only
+  // Each stage's run.json: in the folder (generate), beside the output file (describe, fill).
+  const auto json = [](const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json generated = json(dir / "shapes" / "run.json");
+  EXPECT_EQ(generated["stage"], "generate");
+  EXPECT_EQ(generated["facts"]["particles"], 3);
+  EXPECT_EQ(generated["facts"]["seed"], 4);
+  EXPECT_EQ(generated["inputs"][0]["role"], "targets");
+  EXPECT_EQ(json(dir / "d.csv.run.json")["facts"]["meshes"], 1);
+  const nlohmann::json filled = json(dir / "t.h5.run.json");
+  EXPECT_EQ(filled["stage"], "fill");
+  EXPECT_EQ(filled["facts"]["particle_kind"], "bms");
+  EXPECT_EQ(filled["facts"]["sub_spheres"], nlohmann::json::array({200}));
+  EXPECT_EQ(filled["inputs"][0]["path"], mesh);
 }
 
 TEST(GeometryCli, SameSeedSameTemplatesAndMeshes) {

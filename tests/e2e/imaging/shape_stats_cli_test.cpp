@@ -83,6 +83,19 @@ TEST_F(ShapeStatsCli, SyntheticSemImagesEndToEnd) {
   EXPECT_EQ(s["asr"]["quantiles"].size(), s["asr"]["quantile_levels"].size());
   EXPECT_GT(s["asr"]["mean"].get<double>(), 0.4);
   EXPECT_LE(s["asr"]["mean"].get<double>(), 1.0);
+  // Both stages wrote their run.json: the settings and counts typed, the images hashed.
+  const nlohmann::json synth_run = read_json(path("syn/run.json"));
+  EXPECT_EQ(synth_run["stage"], "synth-images");
+  EXPECT_EQ(synth_run["facts"]["images"], 2);
+  EXPECT_EQ(synth_run["facts"]["particles"], truth);
+  EXPECT_DOUBLE_EQ(synth_run["facts"]["pixel_size_m"].get<double>(), 8e-7);
+  const nlohmann::json stats_run = read_json(path("stats/run.json"));
+  EXPECT_EQ(stats_run["stage"], "shape-stats");
+  EXPECT_EQ(stats_run["facts"]["particles"], truth);
+  EXPECT_EQ(stats_run["facts"]["images"], 2);
+  ASSERT_EQ(stats_run["inputs"].size(), 2u);
+  EXPECT_EQ(stats_run["inputs"][0]["role"], "image");
+  EXPECT_EQ(stats_run["inputs"][0]["sha256"].get<std::string>().size(), 64u);
 }
 
 TEST_F(ShapeStatsCli, PngNeedsAPixelSizeAndFindsTheBar) {

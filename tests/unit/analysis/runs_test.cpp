@@ -6,8 +6,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "common/error.hpp"
+#include "common/run_metadata.hpp"
 
 namespace shapepress::analysis {
 namespace {
@@ -67,6 +69,87 @@ TEST(Runs, APunchCsvWithoutTheH0CommentIsRejected) {
   const std::string message = message_of([&] { read_punch_curve(folder / "punch.csv"); });
   EXPECT_NE(message.find("H0"), std::string::npos) << message;
   std::filesystem::remove_all(folder);
+}
+
+// A copy of a synthetic run folder, its CSV's comment lines replaced and its run.json edited.
+std::filesystem::path edited_copy(const std::string& run, const std::string& csv,
+                                  const std::function<void(nlohmann::json&)>& edit) {
+  const auto folder = std::filesystem::temp_directory_path() / ("shapepress_runs_" + run);
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  std::ifstream in(data / run / csv);
+  std::ofstream out(folder / csv);
+  out << "# reworded for people: nothing here says H0, die area, sub_spheres or fills\n";
+  for (std::string line; std::getline(in, line);)
+    if (!line.starts_with("#")) out << line << "\n";
+  std::ifstream json(data / run / "run.json");
+  nlohmann::json record = nlohmann::json::parse(json);
+  edit(record);
+  std::ofstream(folder / "run.json") << record.dump(2);
+  return folder;
+}
+
+TEST(Runs, FactsComeFromRunJsonNotTheCommentLines) {
+  const auto compaction = edited_copy("compaction_run", "punch.csv", [](nlohmann::json& j) {
+    j["facts"]["reference_gap_m"] = 0.0125;
+    j["facts"]["die_area_m2"] = 2e-4;
+  });
+  const PunchCurve c = read_punch_curve(compaction / "punch.csv");
+  EXPECT_DOUBLE_EQ(c.reference_gap, 0.0125);
+  EXPECT_DOUBLE_EQ(c.die_area, 2e-4);
+  const auto plate = edited_copy("plate_run", "force.csv", [](nlohmann::json& j) {
+    j["facts"]["particle_kind"] = "bms";
+    j["facts"]["sub_spheres"] = 545;
+  });
+  const PlateCurve p = read_plate_curve(plate / "force.csv");
+  EXPECT_EQ(p.particle, "bms");
+  EXPECT_EQ(p.sub_spheres, 545);
+  EXPECT_EQ(p.fills, 1);
+  const PlateCurve synthetic = read_plate_curve(data / "plate_run" / "force.csv");
+  EXPECT_EQ(synthetic.particle, "sphere");
+  EXPECT_EQ(synthetic.sub_spheres, 1);
+  std::filesystem::remove_all(compaction);
+  std::filesystem::remove_all(plate);
+}
+
+TEST(Runs, ARunJsonWithoutAFactIsRejectedNamingTheKey) {
+  for (const char* key : {"reference_gap_m", "die_area_m2"}) {
+    const auto folder = edited_copy("compaction_run", "punch.csv",
+                                    [&](nlohmann::json& j) { j["facts"].erase(key); });
+    const std::string message = message_of([&] { read_punch_curve(folder / "punch.csv"); });
+    EXPECT_NE(message.find("run.json"), std::string::npos) << message;
+    EXPECT_NE(message.find(key), std::string::npos) << message;
+    std::filesystem::remove_all(folder);
+  }
+  for (const char* key : {"particle_kind", "sub_spheres", "fills"}) {
+    const auto folder =
+        edited_copy("plate_run", "force.csv", [&](nlohmann::json& j) { j["facts"].erase(key); });
+    const std::string message = message_of([&] { read_plate_curve(folder / "force.csv"); });
+    EXPECT_NE(message.find("run.json"), std::string::npos) << message;
+    EXPECT_NE(message.find(key), std::string::npos) << message;
+    std::filesystem::remove_all(folder);
+  }
+  // A number written as text is not read as a number.
+  const auto text = edited_copy("compaction_run", "punch.csv",
+                                [](nlohmann::json& j) { j["facts"]["reference_gap_m"] = "0.01"; });
+  EXPECT_NE(message_of([&] { read_punch_curve(text / "punch.csv"); }).find("reference_gap_m"),
+            std::string::npos);
+  std::filesystem::remove_all(text);
+}
+
+TEST(Runs, AFolderWithoutRunJsonOrFromAnotherStageIsAnError) {
+  const auto folder = edited_copy("compaction_run", "punch.csv", [](nlohmann::json&) {});
+  std::filesystem::remove(folder / "run.json");
+  const std::string missing = message_of([&] { find_run(folder); });
+  EXPECT_NE(missing.find(folder.string()), std::string::npos) << missing;
+  EXPECT_NE(missing.find("run.json"), std::string::npos) << missing;
+  const auto plate =
+      edited_copy("plate_run", "force.csv", [](nlohmann::json& j) { j["stage"] = "compact"; });
+  const std::string stage = message_of([&] { find_run(plate); });
+  EXPECT_NE(stage.find("stage \"compact\""), std::string::npos) << stage;
+  EXPECT_NE(stage.find("force.csv"), std::string::npos) << stage;
+  std::filesystem::remove_all(folder);
+  std::filesystem::remove_all(plate);
 }
 
 }  // namespace
