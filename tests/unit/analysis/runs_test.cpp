@@ -10,20 +10,14 @@
 
 #include "common/error.hpp"
 #include "common/run_metadata.hpp"
+#include "tests/support/errors.hpp"
 
 namespace shapepress::analysis {
 namespace {
 
 const std::filesystem::path data = std::filesystem::path(SHAPEPRESS_TEST_DATA) / "analysis";
 
-std::string message_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError";
-}
+using testing::input_error_of;
 
 TEST(Runs, FindsTheKindOfRunAndItsProvenanceComments) {
   const RunFiles compaction = find_run(data / "compaction_run");
@@ -46,15 +40,16 @@ TEST(Runs, ReadsAPunchCurveWithH0AndDieAreaFromTheComment) {
 }
 
 TEST(Runs, ErrorsNameTheFolderFileAndColumn) {
-  EXPECT_NE(message_of([] { find_run(data / "no_such_run"); }).find("no_such_run"),
+  EXPECT_NE(input_error_of([] { find_run(data / "no_such_run"); }).find("no_such_run"),
             std::string::npos);
-  const std::string empty = message_of([] { find_run(data); });  // a folder without CSVs
+  const std::string empty = input_error_of([] { find_run(data); });  // a folder without CSVs
   EXPECT_NE(empty.find("punch.csv"), std::string::npos) << empty;
-  const std::string missing = message_of([] { read_punch_curve(data / "bad_run" / "punch.csv"); });
+  const std::string missing =
+      input_error_of([] { read_punch_curve(data / "bad_run" / "punch.csv"); });
   EXPECT_NE(missing.find("bad_run/punch.csv"), std::string::npos) << missing;
   EXPECT_NE(missing.find("stress_Pa"), std::string::npos) << missing;
   const std::string no_force =
-      message_of([] { read_plate_curve(data / "compaction_run" / "punch.csv"); });
+      input_error_of([] { read_plate_curve(data / "compaction_run" / "punch.csv"); });
   EXPECT_NE(no_force.find("deformation"), std::string::npos) << no_force;
 }
 
@@ -66,7 +61,7 @@ TEST(Runs, APunchCsvWithoutTheH0CommentIsRejected) {
     out << "time_s,gap_m,top_force_N,stress_Pa,solid_fraction,phase\n"
            "0,0.01,0,0,0.5,0\n0,0.009,1,1e4,0.55,0\n0,0.008,2,2e4,0.6,0\n";
   }
-  const std::string message = message_of([&] { read_punch_curve(folder / "punch.csv"); });
+  const std::string message = input_error_of([&] { read_punch_curve(folder / "punch.csv"); });
   EXPECT_NE(message.find("H0"), std::string::npos) << message;
   std::filesystem::remove_all(folder);
 }
@@ -116,7 +111,7 @@ TEST(Runs, ARunJsonWithoutAFactIsRejectedNamingTheKey) {
   for (const char* key : {"reference_gap_m", "die_area_m2"}) {
     const auto folder = edited_copy("compaction_run", "punch.csv",
                                     [&](nlohmann::json& j) { j["facts"].erase(key); });
-    const std::string message = message_of([&] { read_punch_curve(folder / "punch.csv"); });
+    const std::string message = input_error_of([&] { read_punch_curve(folder / "punch.csv"); });
     EXPECT_NE(message.find("run.json"), std::string::npos) << message;
     EXPECT_NE(message.find(key), std::string::npos) << message;
     std::filesystem::remove_all(folder);
@@ -124,7 +119,7 @@ TEST(Runs, ARunJsonWithoutAFactIsRejectedNamingTheKey) {
   for (const char* key : {"particle_kind", "sub_spheres", "fills"}) {
     const auto folder =
         edited_copy("plate_run", "force.csv", [&](nlohmann::json& j) { j["facts"].erase(key); });
-    const std::string message = message_of([&] { read_plate_curve(folder / "force.csv"); });
+    const std::string message = input_error_of([&] { read_plate_curve(folder / "force.csv"); });
     EXPECT_NE(message.find("run.json"), std::string::npos) << message;
     EXPECT_NE(message.find(key), std::string::npos) << message;
     std::filesystem::remove_all(folder);
@@ -132,7 +127,7 @@ TEST(Runs, ARunJsonWithoutAFactIsRejectedNamingTheKey) {
   // A number written as text is not read as a number.
   const auto text = edited_copy("compaction_run", "punch.csv",
                                 [](nlohmann::json& j) { j["facts"]["reference_gap_m"] = "0.01"; });
-  EXPECT_NE(message_of([&] { read_punch_curve(text / "punch.csv"); }).find("reference_gap_m"),
+  EXPECT_NE(input_error_of([&] { read_punch_curve(text / "punch.csv"); }).find("reference_gap_m"),
             std::string::npos);
   std::filesystem::remove_all(text);
 }
@@ -140,12 +135,12 @@ TEST(Runs, ARunJsonWithoutAFactIsRejectedNamingTheKey) {
 TEST(Runs, AFolderWithoutRunJsonOrFromAnotherStageIsAnError) {
   const auto folder = edited_copy("compaction_run", "punch.csv", [](nlohmann::json&) {});
   std::filesystem::remove(folder / "run.json");
-  const std::string missing = message_of([&] { find_run(folder); });
+  const std::string missing = input_error_of([&] { find_run(folder); });
   EXPECT_NE(missing.find(folder.string()), std::string::npos) << missing;
   EXPECT_NE(missing.find("run.json"), std::string::npos) << missing;
   const auto plate =
       edited_copy("plate_run", "force.csv", [](nlohmann::json& j) { j["stage"] = "compact"; });
-  const std::string stage = message_of([&] { find_run(plate); });
+  const std::string stage = input_error_of([&] { find_run(plate); });
   EXPECT_NE(stage.find("stage \"compact\""), std::string::npos) << stage;
   EXPECT_NE(stage.find("force.csv"), std::string::npos) << stage;
   std::filesystem::remove_all(folder);

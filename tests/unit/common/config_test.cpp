@@ -7,23 +7,14 @@
 #include <fstream>
 
 #include "common/error.hpp"
+#include "tests/support/errors.hpp"
 
 namespace shapepress {
 namespace {
 
 using ::testing::HasSubstr;
 
-// Runs `action` and returns the InputError message; fails the test if nothing was thrown.
-template <typename Action>
-std::string input_error_of(Action action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError was thrown";
-  return {};
-}
+using testing::input_error_of;
 
 constexpr std::string_view kMaterial = R"(
 seed = 7

@@ -8,22 +8,14 @@
 #include <optional>
 
 #include "common/error.hpp"
+#include "tests/support/errors.hpp"
 
 namespace shapepress {
 namespace {
 
 using ::testing::HasSubstr;
 
-template <typename Action>
-std::string input_error_of(Action action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError was thrown";
-  return {};
-}
+using testing::input_error_of;
 
 enum class Mode { slow, fast };
 

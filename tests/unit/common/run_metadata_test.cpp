@@ -12,18 +12,12 @@
 #include "common/error.hpp"
 #include "common/provenance.hpp"
 #include "common/sha256.hpp"
+#include "tests/support/errors.hpp"
 
 namespace shapepress {
 namespace {
 
-std::string message_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError";
-}
+using testing::input_error_of;
 
 std::filesystem::path fresh_folder(const std::string& name) {
   const auto folder = std::filesystem::temp_directory_path() / ("shapepress_" + name);
@@ -52,7 +46,7 @@ TEST(Sha256, OfAFileIsOfItsBytes) {
   const auto folder = fresh_folder("sha256_file");
   std::ofstream(folder / "abc.txt", std::ios::binary) << "abc";
   EXPECT_EQ(sha256_file(folder / "abc.txt"), sha256_hex("abc"));
-  EXPECT_NE(message_of([&] { sha256_file(folder / "none.txt"); }).find("none.txt"),
+  EXPECT_NE(input_error_of([&] { sha256_file(folder / "none.txt"); }).find("none.txt"),
             std::string::npos);
   std::filesystem::remove_all(folder);
 }
@@ -98,24 +92,25 @@ TEST(RunMetadata, MissingOrMistypedFactsNameTheFileAndKey) {
   const auto folder = fresh_folder("run_metadata_bad");
   RunMetadata("plate", "shapepress plate").fact("fills", "4").write(folder / "run.json");
   const RunRecord record = RunRecord::read(folder / "run.json");
-  const std::string missing = message_of([&] { record.integer("sub_spheres"); });
+  const std::string missing = input_error_of([&] { record.integer("sub_spheres"); });
   EXPECT_NE(missing.find("run.json"), std::string::npos) << missing;
   EXPECT_NE(missing.find("sub_spheres"), std::string::npos) << missing;
-  const std::string mistyped = message_of([&] { record.integer("fills"); });
+  const std::string mistyped = input_error_of([&] { record.integer("fills"); });
   EXPECT_NE(mistyped.find("fills"), std::string::npos) << mistyped;
   EXPECT_NE(mistyped.find("integer"), std::string::npos) << mistyped;
-  const std::string absent = message_of([&] { RunRecord::read(folder / "none" / "run.json"); });
+  const std::string absent = input_error_of([&] { RunRecord::read(folder / "none" / "run.json"); });
   EXPECT_NE(absent.find("none/run.json"), std::string::npos) << absent;
   std::ofstream(folder / "broken.json") << "{\"stage\": ";
-  EXPECT_NE(message_of([&] { RunRecord::read(folder / "broken.json"); }).find("JSON"),
+  EXPECT_NE(input_error_of([&] { RunRecord::read(folder / "broken.json"); }).find("JSON"),
             std::string::npos);
   std::ofstream(folder / "no_facts.json") << R"({"schema": 1, "stage": "plate"})";
-  EXPECT_NE(message_of([&] { RunRecord::read(folder / "no_facts.json"); }).find("facts"),
+  EXPECT_NE(input_error_of([&] { RunRecord::read(folder / "no_facts.json"); }).find("facts"),
             std::string::npos);
   // An input that is not there is named, not hashed as empty.
   RunMetadata meta("plate", "");
-  EXPECT_NE(message_of([&] { meta.input("config", folder / "absent.toml"); }).find("absent.toml"),
-            std::string::npos);
+  EXPECT_NE(
+      input_error_of([&] { meta.input("config", folder / "absent.toml"); }).find("absent.toml"),
+      std::string::npos);
   std::filesystem::remove_all(folder);
 }
 

@@ -9,6 +9,7 @@
 #include <variant>
 
 #include "common/error.hpp"
+#include "tests/support/errors.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -103,16 +104,7 @@ PlateConfig read_plate(const std::string& text) {
   return c;
 }
 
-template <typename Action>
-std::string input_error_of(Action action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError was thrown";
-  return {};
-}
+using testing::input_error_of;
 
 TEST(PlateConfig, EveryKeyRoundTripsThroughTheEffectiveConfig) {
   const PlateConfig a = read_plate(plate_text);
