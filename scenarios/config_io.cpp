@@ -33,45 +33,49 @@ const OptionTable<Material>& material_table() {
   return t;
 }
 
-// The plain keys of an [[interaction]]; `normal_law` and each law's keys come from the laws.
-std::vector<OptionDoc> interaction_docs() {
-  std::vector<OptionDoc> rows = {
-      {"first", "", "text", "required", "material name of one side"},
-      {"second", "", "text", "required", "material name of the other side"},
-      {"restitution", "", "in (0, 1]", "required", "coefficient of restitution e"},
-      {"sliding_friction", "", ">= 0", "required", "sliding friction coefficient"},
-      {"rolling_friction", "", ">= 0", "0", "rolling friction coefficient"},
-      {"effective_modulus", "Pa", "> 0", "from the materials",
-       "E* of the pair, replacing the one the materials' E and nu give"},
-  };
-  for (OptionDoc& row : normal_law_options())
-    rows.push_back(std::move(row));
-  return rows;
+// The plain keys of an [[interaction]]; `normal_law` and each law's keys are the laws' own
+// (read_normal_law, normal_law_toml, normal_law_options).
+const OptionTable<Interaction>& interaction_table() {
+  static const OptionTable<Interaction> t = [] {
+    OptionTable<Interaction> i("interaction", "one per pair of materials that touch");
+    i.string("first", &Interaction::first, "material name of one side")
+        .required()
+        .string("second", &Interaction::second, "material name of the other side")
+        .required()
+        .number("restitution", &Interaction::restitution, Range::open_closed(0.0, 1.0),
+                "coefficient of restitution e")
+        .required()
+        .number("sliding_friction", &Interaction::sliding_friction, Range::non_negative(),
+                "sliding friction coefficient")
+        .required()
+        .number("rolling_friction", &Interaction::rolling_friction, Range::non_negative(),
+                "rolling friction coefficient")
+        .quantity("effective_modulus", &Interaction::effective_modulus, dim::pressure,
+                  Range::positive(),
+                  "E* of the pair, replacing the one the materials' E and nu give")
+        .default_text("from the materials");
+    return i;
+  }();
+  return t;
 }
 
 std::string materials_toml(const MaterialConfig& c) {
   std::string out;
   for (const Material& m : c.materials)
     out += "[[material]]\n" + material_table().lines(m) + "\n";
-  for (const Interaction& in : c.interactions) {
-    out += fmt::format(
-        "[[interaction]]\nfirst = {}\nsecond = {}\nrestitution = {}\nsliding_friction = {}\n"
-        "rolling_friction = {}\n",
-        toml_string(in.first), toml_string(in.second), toml_number(in.restitution),
-        toml_number(in.sliding_friction), toml_number(in.rolling_friction));
-    if (in.effective_modulus)
-      out += fmt::format("effective_modulus = {}\n", toml_number(*in.effective_modulus));
-    out += normal_law_toml(in.normal_law);
-    out += "\n";
-  }
+  for (const Interaction& in : c.interactions)
+    out +=
+        "[[interaction]]\n" + interaction_table().lines(in) + normal_law_toml(in.normal_law) + "\n";
   return out;
 }
 
 void add_material_sections(StageOptions& options) {
   options.sections.push_back(material_table().docs());
   options.sections.back().repeated = true;
-  options.sections.push_back(
-      {"interaction", "one per pair of materials that touch", true, interaction_docs()});
+  options.sections.push_back(interaction_table().docs());
+  options.sections.back().repeated = true;
+  for (OptionDoc& row : normal_law_options())
+    options.sections.back().rows.push_back(std::move(row));
 }
 
 }  // namespace
@@ -82,15 +86,7 @@ MaterialConfig read_materials(const ConfigTable& root,
   for (const ConfigTable& t : root.tables("material"))
     out.materials.push_back(material_table().read(t));
   for (const ConfigTable& t : root.tables("interaction")) {
-    Interaction in;
-    in.first = t.string("first");
-    in.second = t.string("second");
-    in.restitution = t.number("restitution", std::nullopt, Range::open_closed(0.0, 1.0));
-    in.sliding_friction = t.number("sliding_friction", std::nullopt, Range::non_negative());
-    in.rolling_friction = t.number("rolling_friction", 0.0, Range::non_negative());
-    if (t.has("effective_modulus"))
-      in.effective_modulus =
-          t.quantity("effective_modulus", dim::pressure, std::nullopt, Range::positive());
+    Interaction in = interaction_table().read(t);
     in.normal_law = read_normal_law(t, "interaction " + in.first + "–" + in.second, normal_law);
     out.interactions.push_back(in);
   }
