@@ -420,3 +420,31 @@ double bond_oscillation_period(const BondSet& bonds, const SphereState& state) {
 }
 
 }  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+
+BondSet bonds_from_pairs(const SphereState& state, std::span<const std::array<std::int32_t, 2>> pairs,
+                         std::span<const double> rest_length, const BondParameters& parameters) {
+  parameters.check();
+  if (rest_length.size() != pairs.size())
+    throw InputError(fmt::format("bonds: {} pairs but {} rest lengths", pairs.size(),
+                                 rest_length.size()));
+  const auto n = static_cast<std::int32_t>(state.size());
+  BondSet bonds;
+  bonds.contact_when_bonded = parameters.contact_when_bonded;
+  for (std::size_t b = 0; b < pairs.size(); ++b) {
+    const auto [i, j] = pairs[b];
+    if (i < 0 || j <= i || j >= n || (b > 0 && !(pairs[b - 1] < pairs[b])))
+      throw InputError(fmt::format(
+          "bond {} joins spheres {} and {}: pairs must be i < j < {} and sorted", b, i, j, n));
+    if (!(rest_length[b] > 0.0 && std::isfinite(rest_length[b])))
+      throw InputError(fmt::format("bond {}: rest length {} must be > 0", b, rest_length[b]));
+    add_bond(bonds, state, i, j, parameters);
+    BondSet::History& h = bonds.history.back();
+    h.normal_force = bonds.normal_spring.back() * (rest_length[b] - h.length);
+  }
+  bonds.index(state);
+  return bonds;
+}
+
+}  // namespace shapepress::simulate

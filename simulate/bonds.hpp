@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,13 @@ struct BondSet {
 BondSet create_bonds(const SphereState& state, double bond_multiplier,
                      const BondParameters& parameters,
                      const std::vector<std::string>& body_names = {});
+
+// Bonds between the given pairs (i < j, sorted), as a packing stores them: each carries the
+// normal force k̄n A (rest length − centre distance) of its stored rest length (> 0 compressive),
+// no shear and no moments. InputError naming the pair when an index is out of range, a pair is
+// not i < j or not sorted, or a rest length is not > 0.
+BondSet bonds_from_pairs(const SphereState& state, std::span<const std::array<std::int32_t, 2>> pairs,
+                         std::span<const double> rest_length, const BondParameters& parameters);
 
 // Below this many bonds the bond loop runs on one thread. The threshold is the engine's
 // (engine.hpp): on a loaded machine a parallel region's barrier can cost a scheduler slice, far
