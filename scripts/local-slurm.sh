@@ -40,10 +40,11 @@ usage() {
 }
 
 # A process that runs (an exited daemon may stay a zombie a while where nobody reaps it).
+# (/proc rather than ps: a minimal Debian has no procps.)
 alive() {
-  local state
-  state=$(ps -o stat= -p "$1" 2>/dev/null) || return 1
-  [[ -n "$state" && "$state" != Z* ]]
+  local stat
+  stat=$(cat "/proc/$1/stat" 2>/dev/null) || return 1
+  [[ "${stat##*) }" != Z* ]]
 }
 
 # The pid in a pid file, if that process is alive.
@@ -89,7 +90,8 @@ free_port() {
   for _ in $(seq 100); do
     port=$((20000 + RANDOM % 20000))
     [[ " $* " == *" $port "* ]] && continue
-    if ! ss -Htln "sport = :$port" 2>/dev/null | grep -q .; then
+    # Nobody answers a connection there (bash's /dev/tcp: a minimal Debian has no ss).
+    if ! (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null; then
       echo "$port"
       return 0
     fi
