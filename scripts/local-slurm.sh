@@ -193,6 +193,8 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU
 ReturnToService=2
 MailProg=/bin/true
+# Finished jobs stay listed (scontrol show jobs) for an hour, not 5 minutes: what a test checks.
+MinJobAge=3600
 $node NodeAddr=127.0.0.1 State=UNKNOWN
 PartitionName=local Nodes=$name Default=YES MaxTime=INFINITE State=UP
 EOF
