@@ -324,9 +324,15 @@ using Vec = std::array<double, 3>;
 Vec cross(const Vec& a, const Vec& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const Vec& a) { return std::sqrt(dot(a, a)); }
-Vec unit(const Vec& a) { return {a[0] / norm(a), a[1] / norm(a), a[2] / norm(a)}; }
+double dot(const Vec& a, const Vec& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+double norm(const Vec& a) {
+  return std::sqrt(dot(a, a));
+}
+Vec unit(const Vec& a) {
+  return {a[0] / norm(a), a[1] / norm(a), a[2] / norm(a)};
+}
 // Rodrigues: v turned by `angle` about the unit `axis`.
 Vec turned(const Vec& v, const Vec& axis, double angle) {
   const Vec k = cross(axis, v);
@@ -364,8 +370,8 @@ void load_bonds(BondSet& bonds, const SphereState& s, const std::vector<double>&
 // a steady spin ω: each step the positions on the exact turn, v = ω × (x - c) and the spin ω for
 // every sphere (what a rigid body's integrator leaves), the bond forces evaluated, their dampers
 // fed the same motion.
-void turn_rigidly(BondSet& bonds, SphereState& s, const Vec& axis, const Vec& centre,
-                  double angle, int steps) {
+void turn_rigidly(BondSet& bonds, SphereState& s, const Vec& axis, const Vec& centre, double angle,
+                  int steps) {
   const double dt = 1e-6, rate = angle / (steps * dt);
   const Vec spin = {rate * axis[0], rate * axis[1], rate * axis[2]};
   std::vector<Vec> start(s.size());
@@ -428,7 +434,7 @@ BondParameters damped() {
 TEST(BondRotation, APairSpinningAboutItsBondKeepsItsForcesInTheBodies) {
   // The turn about the bond's own axis: n stays put, so only the spin term turns the history.
   // Without it the shear force would stay fixed in space and, seen from the bodies, turn by -φ:
-  // a spurious shear of 2 |Fs| sin(φ/2). The turn's angle error, θ⁵/240 per step, is far below
+  // a spurious shear of 2 |Fs| sin(φ/2). The turn's angle error, 2θ⁵/15 per step, is far below
   // the tolerance.
   SphereState s = pair_state();
   BondSet bonds = create_bonds(s, 1.15, damped());
