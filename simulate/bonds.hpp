@@ -5,10 +5,12 @@
 // two sphere centres that carries a normal force, a shear force, a twisting and a bending moment:
 //   A = π R̄²,  I = π R̄⁴/4,  J = π R̄⁴/2
 //   ΔFn = k̄n A Δun,   ΔFs = -k̄s A Δus,   ΔMt = -k̄s J Δθt,   ΔMb = -k̄n I Δθb
-// Forces and moments are accumulated incrementally and rotated with the bond every step (the
-// shear force and bending moment are turned into the current plane normal to the bond keeping
-// their length, as LIGGGHTS turns its tangential history). Optional strengths break a bond for
-// good when σmax = -Fn/A + |Mb| R̄/I ≥ σc or τmax = |Fs|/A + |Mt| R̄/J ≥ τc.
+// Forces and moments are accumulated incrementally and turned with the pair every step: the
+// shear force and bending moment into the current plane normal to the bond keeping their length
+// (the axis' tilt, as LIGGGHTS turns its tangential history), then about the bond by the pair's
+// mean spin θ = dt (ωi + ωj)·n / 2 (as Yade's ScGeom), so a rigid turn of a loaded body leaves
+// them fixed in the body. Optional strengths break a bond for good when
+// σmax = -Fn/A + |Mb| R̄/I ≥ σc or τmax = |Fs|/A + |Mt| R̄/J ≥ τc; compression never breaks one.
 //
 // The engine evaluates bonds like contacts: one pass computes each bond's force once into a
 // per-bond result, then each sphere gathers its bonds in a fixed order (after its contacts), so

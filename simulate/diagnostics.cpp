@@ -89,16 +89,22 @@ void Engine::check_divergence() const {
     // A bonded pair without the contact law (contact_when_bonded false) is a piece of one
     // elastic body: its overlap is the bond's compression, a strain of the particle, not a
     // contact gone too deep (under a plate a protruding sub-sphere is pressed into its bonded
-    // neighbour by more than its radius before the others take the load; docs/models.md). It
-    // has diverged when its centres come within a fifth of the radii sum.
+    // neighbour by more than its radius before the others take the load; docs/models.md). Only
+    // the linear bond keeps the centres apart, so it has failed when they come within a fifth of
+    // the radii sum. With the contact law (true) the pair is checked as any contact below.
     const bool bond_only =
         !pair_bond_.empty() && pair_bond_[p] >= 0 && bonds_.intact[pair_bond_[p]];
     if (bond_only) {
-      if (overlap > bond_only_overlap_limit * (s.radius[i] + s.radius[j]))
+      const double radii_sum = s.radius[i] + s.radius[j];
+      if (overlap > bond_only_overlap_limit * radii_sum)
         throw ComputationError(fmt::format(
-            "diverged at step {}: bonded spheres {} and {} overlap by {:.3g} m, their centres "
-            "nearer than {} of the radii sum (time step too large or the load too fast?)",
-            step_, i, j, overlap, 1.0 - bond_only_overlap_limit));
+            "diverged at step {}: bonded spheres {} and {} overlap by {:.3g} m, {:.3f} of their "
+            "radii sum, past the limit {} (their centres nearer than {:.2g} of it): with "
+            "contact_when_bonded = false only the linear bond holds them apart (time step too "
+            "large, the load too fast, or set contact_when_bonded = true for the contact law "
+            "beside the bond)",
+            step_, i, j, overlap, overlap / radii_sum, bond_only_overlap_limit,
+            1.0 - bond_only_overlap_limit));
       continue;
     }
     if (overlap > fraction * std::min(s.radius[i], s.radius[j]))
