@@ -198,6 +198,20 @@ std::vector<double> Engine::particle_stress() const {
       add_pair(i, static_cast<std::size_t>(pairs_.second_pairs[e]), sigma);
     for (std::int32_t p = pairs_.first_offset[i]; p < pairs_.first_offset[i + 1]; ++p)
       add_pair(i, static_cast<std::size_t>(p), sigma);
+    // Bonds (as the gather, forces.cpp): at either end l ⊗ f = -share d ⊗ F, d = x_second -
+    // x_first (nearest image), F on `second`, share the end's part of d up to the bond centre.
+    if (!bonds_.empty())
+      for (std::int32_t e = bonds_.gather_offset[i]; e < bonds_.gather_offset[i + 1]; ++e) {
+        const std::int32_t entry = bonds_.gather[e];
+        const BondSet::Constants& k = bonds_.constants[entry >> 1];
+        double d[3] = {s.position.x[k.second] - s.position.x[k.first],
+                       s.position.y[k.second] - s.position.y[k.first],
+                       s.position.z[k.second] - s.position.z[k.first]};
+        if (box_.periodic_x()) d[0] -= box_.length_x * std::nearbyint(d[0] / box_.length_x);
+        if (box_.periodic_y()) d[1] -= box_.length_y * std::nearbyint(d[1] / box_.length_y);
+        add(sigma, (entry & 1) == 0 ? k.arm_first : k.arm_second, d,
+            bonds_.result[entry >> 1].force);
+      }
     for (std::size_t k = 0; k < walls_.size(); ++k) {
       // (a restarted engine has no wall forces until its first step)
       if (wall_force_per_sphere_.size() <= k || wall_force_per_sphere_[k].size() != s.size() ||
