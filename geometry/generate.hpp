@@ -47,6 +47,7 @@ struct GeneratedParticle {
   int redraws = 0;         // rejected draws before it
   double size_m = 0.0;     // equivalent-circle diameter it was scaled to
   double elongation_target = 0.0, flatness_target = 0.0;  // 3D stretch asked for
+  double roughness = 1.0;  // amplitude of its roughness relative to the spectrum's D_l
 };
 
 // Progress hook: called with the number of particles done so far.
