@@ -30,8 +30,8 @@ Bed bed_from_packing(const BodyPacking& packing, const BedRequest& request) {
                                request.density * s5 * shape.principal_inertia[1],
                                request.density * s5 * shape.principal_inertia[2]};
       add_rigid_clump(bed.state, bed.clumps, body_centres, radii, body.centre, body.orientation,
-                      request.density * s3 * shape.sphere_volume, s3 * shape.sphere_volume,
-                      inertia, request.material, fmt::format("{} (body {})", shape.name, b));
+                      request.density * s3 * shape.sphere_volume, s3 * shape.sphere_volume, inertia,
+                      request.material, fmt::format("{} (body {})", shape.name, b));
       continue;
     }
     for (std::size_t i = first; i < last; ++i) {

@@ -71,11 +71,11 @@ int run(const CompactCli& cli, const RunContext& context) {
   const Provenance provenance{
       context.command_line, root.text(),
       config.generate ? std::optional(config.generate->seed) : std::nullopt};
-  CsvWriter csv(out / "punch.csv",
-                {"time_s", "step", "gap_m", "strain", "top_force_N", "bottom_force_N", "stress_Pa",
-                 "solid_fraction", "phase", "kinetic_energy_J", "contacts", "wall_contacts",
-                 "contacts_per_particle", "intact_bonds", "solid_fraction_spheres",
-                 "punch_work_J"});
+  CsvWriter csv(
+      out / "punch.csv",
+      {"time_s", "step", "gap_m", "strain", "top_force_N", "bottom_force_N", "stress_Pa",
+       "solid_fraction", "phase", "kinetic_energy_J", "contacts", "wall_contacts",
+       "contacts_per_particle", "intact_bonds", "solid_fraction_spheres", "punch_work_J"});
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
                           prepared.punch.reference_gap, setup.die_area));
@@ -105,8 +105,8 @@ int run(const CompactCli& cli, const RunContext& context) {
     csv.row({r.time, static_cast<double>(r.step), r.gap, r.strain, r.top_force, r.bottom_force,
              r.stress, r.solid_fraction, static_cast<double>(r.phase), r.kinetic_energy,
              static_cast<double>(r.sphere_contacts), static_cast<double>(r.wall_contacts),
-             r.contacts_per_particle, static_cast<double>(r.intact_bonds),
-             r.solid_fraction_spheres, r.punch_work});
+             r.contacts_per_particle, static_cast<double>(r.intact_bonds), r.solid_fraction_spheres,
+             r.punch_work});
   };
   hooks.snapshot = [&](const Engine& e, const PunchState& punch) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
@@ -131,8 +131,8 @@ int run(const CompactCli& cli, const RunContext& context) {
         "compact: the run was not quasi-static: kinetic energy up to {:.3g} of the punch's work "
         "(limit {}), top and bottom forces {:.3g} apart on average (limit {}); slow the punch, "
         "or lower run.density_scale",
-        qs.max_kinetic_to_work, QuasiStaticCheck::max_kinetic_energy_ratio,
-        qs.mean_force_imbalance, QuasiStaticCheck::max_mean_force_imbalance);
+        qs.max_kinetic_to_work, QuasiStaticCheck::max_kinetic_energy_ratio, qs.mean_force_imbalance,
+        QuasiStaticCheck::max_mean_force_imbalance);
   csv.commit();
   meta.output("punch.csv");
   if (!index.empty()) meta.output("snapshots.xdmf");

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <vector>
 #include <numbers>
+#include <vector>
 
 namespace shapepress::scenarios {
 
@@ -48,12 +48,14 @@ QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& loading) {
   for (const PunchRecord& r : loading) {
     if (!(peak > 0.0) || r.stress < 0.1 * peak || !(r.punch_work > 0.0)) continue;
     ++check.records;
-    check.max_kinetic_to_work = std::max(check.max_kinetic_to_work, r.kinetic_energy / r.punch_work);
+    check.max_kinetic_to_work =
+        std::max(check.max_kinetic_to_work, r.kinetic_energy / r.punch_work);
     const double imbalance = std::fabs(r.top_force - r.bottom_force) / r.top_force;
     imbalance_sum += imbalance;
     check.max_force_imbalance = std::max(check.max_force_imbalance, imbalance);
   }
-  if (check.records > 0) check.mean_force_imbalance = imbalance_sum / static_cast<double>(check.records);
+  if (check.records > 0)
+    check.mean_force_imbalance = imbalance_sum / static_cast<double>(check.records);
   return check;
 }
 

@@ -38,13 +38,13 @@ struct CompactionSetup {
 // One row of punch.csv (columns: docs/stages.md, "compact").
 struct PunchRecord {
   std::int64_t step = 0;
-  double time = 0.0;            // s
-  double gap = 0.0;             // m, punch - bottom
-  double strain = 0.0;          // (H0 - H)/H0
-  double top_force = 0.0;       // N, compressive load on the punch
-  double bottom_force = 0.0;    // N, on the bottom plate
-  double stress = 0.0;          // Pa, top force / die area
-  double solid_fraction = 0.0;  // solid_volume / (die area × gap)
+  double time = 0.0;                    // s
+  double gap = 0.0;                     // m, punch - bottom
+  double strain = 0.0;                  // (H0 - H)/H0
+  double top_force = 0.0;               // N, compressive load on the punch
+  double bottom_force = 0.0;            // N, on the bottom plate
+  double stress = 0.0;                  // Pa, top force / die area
+  double solid_fraction = 0.0;          // solid_volume / (die area × gap)
   double solid_fraction_spheres = 0.0;  // sphere_volume / (die area × gap)
   PunchPhase phase = PunchPhase::load;
   double kinetic_energy = 0.0;  // J, translational + rotational
@@ -65,10 +65,10 @@ struct CompactionHooks {
 // punch, and the top and bottom forces equal (no stress wave or inertia between them), judged
 // over the loading records from a tenth of the peak stress on, where the forces carry the curve.
 struct QuasiStaticCheck {
-  double max_kinetic_to_work = 0.0;     // largest kinetic energy / punch work
-  double mean_force_imbalance = 0.0;    // mean |top - bottom| / top
-  double max_force_imbalance = 0.0;     // largest |top - bottom| / top
-  std::int64_t records = 0;             // loading records judged
+  double max_kinetic_to_work = 0.0;   // largest kinetic energy / punch work
+  double mean_force_imbalance = 0.0;  // mean |top - bottom| / top
+  double max_force_imbalance = 0.0;   // largest |top - bottom| / top
+  std::int64_t records = 0;           // loading records judged
   bool quasi_static() const {
     return max_kinetic_to_work <= max_kinetic_energy_ratio &&
            mean_force_imbalance <= max_mean_force_imbalance;

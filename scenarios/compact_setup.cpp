@@ -162,9 +162,12 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
 
 PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking& packing) {
   if (c.generate || c.clumps)
-    throw InputError("packing: a packing made by `pack` is the whole bed; remove [generate] and "
-                     "[clumps] from the config");
-  const auto differs = [](double a, double b) { return std::fabs(a - b) > 1e-9 * std::max(std::fabs(a), std::fabs(b)) + 1e-15; };
+    throw InputError(
+        "packing: a packing made by `pack` is the whole bed; remove [generate] and "
+        "[clumps] from the config");
+  const auto differs = [](double a, double b) {
+    return std::fabs(a - b) > 1e-9 * std::max(std::fabs(a), std::fabs(b)) + 1e-15;
+  };
   if (differs(c.box_x, packing.box.length_x) || differs(c.box_y, packing.box.length_y) ||
       differs(c.bottom, packing.floor))
     throw InputError(fmt::format(
@@ -186,11 +189,12 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   request.material = particle;
   request.bond = c.bond;
   Bed bed = bed_from_packing(packing, request);
-  std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall}, PlaneWall{punch, -1, 0.0, wall}};
+  std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
+                                  PlaneWall{punch, -1, 0.0, wall}};
   PreparedCompaction out;
-  out.time_step = select_time_step(bed.state, table, {wall}, c.run.time_step,
-                                   c.run.time_step_fraction, expected_speed(c, bed.state),
-                                   bed.bonds, bed.clumps);
+  out.time_step =
+      select_time_step(bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
+                       expected_speed(c, bed.state), bed.bonds, bed.clumps);
   const EngineSettings settings = settings_for(c, bed.state, out.time_step.time_step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
@@ -212,8 +216,8 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = punch_state_from(snapshot.scenario);
-  // A bed of bodies keeps its shape and sub-sphere volumes in the snapshot (compaction_scenario_state);
-  // a bed of spheres and clumps has them in its state.
+  // A bed of bodies keeps its shape and sub-sphere volumes in the snapshot
+  // (compaction_scenario_state); a bed of spheres and clumps has them in its state.
   double shape = solid_volume(out.engine->state(), out.engine->clumps()), spheres = shape;
   for (const auto& [name, value] : snapshot.scenario) {
     if (name == "bed_shape_volume") shape = value;

@@ -5,8 +5,8 @@
 #include <optional>
 #include "scenarios/namespaces.hpp"
 
-#include "scenarios/compact.hpp"
 #include "packing/body_packing.hpp"
+#include "scenarios/compact.hpp"
 #include "scenarios/config_io.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"

@@ -438,12 +438,13 @@ double bond_oscillation_period(const BondSet& bonds, const SphereState& state) {
 
 namespace shapepress::simulate {
 
-BondSet bonds_from_pairs(const SphereState& state, std::span<const std::array<std::int32_t, 2>> pairs,
+BondSet bonds_from_pairs(const SphereState& state,
+                         std::span<const std::array<std::int32_t, 2>> pairs,
                          std::span<const double> rest_length, const BondParameters& parameters) {
   parameters.check();
   if (rest_length.size() != pairs.size())
-    throw InputError(fmt::format("bonds: {} pairs but {} rest lengths", pairs.size(),
-                                 rest_length.size()));
+    throw InputError(
+        fmt::format("bonds: {} pairs but {} rest lengths", pairs.size(), rest_length.size()));
   const auto n = static_cast<std::int32_t>(state.size());
   BondSet bonds;
   bonds.contact_when_bonded = parameters.contact_when_bonded;

@@ -121,7 +121,8 @@ BondSet create_bonds(const SphereState& state, double bond_multiplier,
 // normal force k̄n A (rest length − centre distance) of its stored rest length (> 0 compressive),
 // no shear and no moments. InputError naming the pair when an index is out of range, a pair is
 // not i < j or not sorted, or a rest length is not > 0.
-BondSet bonds_from_pairs(const SphereState& state, std::span<const std::array<std::int32_t, 2>> pairs,
+BondSet bonds_from_pairs(const SphereState& state,
+                         std::span<const std::array<std::int32_t, 2>> pairs,
                          std::span<const double> rest_length, const BondParameters& parameters);
 
 // Below this many bonds the bond loop runs on one thread. The threshold is the engine's
