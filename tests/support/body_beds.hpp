@@ -1,0 +1,77 @@
+#pragma once
+// Small beds of bodies for the tests of `compact --packing` and of packed.h5: a 13-sphere BMS
+// body (a centre and its 12 face-centred cubic neighbours, all touching, bonded to every touching
+// neighbour) and the same cluster as a rigid CMS clump, laid on a lattice in a periodic die.
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "packing/body_packing.hpp"
+
+namespace shapepress::testing {
+
+// The cluster of sub-sphere radius r in its body frame (symmetric: the centre of mass at the
+// origin and any axes principal). Its shape is the circumscribed sphere of radius 3r.
+inline packing::BodyTemplate cluster_template(packing::BodyKind kind, double r) {
+  packing::BodyTemplate t;
+  t.kind = kind;
+  t.name = kind == packing::BodyKind::bms ? "bms/cluster13" : "cms/cluster13";
+  t.source = "test";
+  t.centres.push_back({0.0, 0.0, 0.0});
+  const double a = 2.0 * r / std::numbers::sqrt2;  // neighbours at 2r from the centre
+  for (int i = -1; i <= 1; i += 2)
+    for (int j = -1; j <= 1; j += 2) {
+      t.centres.push_back({i * a, j * a, 0.0});
+      t.centres.push_back({i * a, 0.0, j * a});
+      t.centres.push_back({0.0, i * a, j * a});
+    }
+  t.radii.assign(t.centres.size(), r);
+  if (kind == packing::BodyKind::bms)
+    for (std::int32_t i = 0; i < 13; ++i)
+      for (std::int32_t j = i + 1; j < 13; ++j) {
+        const auto& p = t.centres[static_cast<std::size_t>(i)];
+        const auto& q = t.centres[static_cast<std::size_t>(j)];
+        if (std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]) < 2.0 * r * 1.15)  // Eq. 10
+          t.bonds.push_back({i, j});
+      }
+  const double v = 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  t.sphere_volume = 13.0 * v;
+  t.shape_volume = 4.0 / 3.0 * std::numbers::pi * 27.0 * r * r * r;
+  // Own moments 13 × 2/5 v r², offsets Σ (|x|² - x_k²) = 12 (2r)² 2/3.
+  const double moment = v * (13.0 * 0.4 * r * r + 32.0 * r * r);
+  t.principal_inertia = {moment, moment, moment};
+  return t;
+}
+
+// `layers` layers of `per_side` × `per_side` clusters of sub-sphere radius r in a periodic die
+// of side per_side × 7r, turned at random (seed), at scale 1 or drawn in [1 - spread, 1].
+inline packing::BodyPacking cluster_bed(packing::BodyKind kind, double r, int per_side, int layers,
+                                        std::uint64_t seed = 7, double spread = 0.0) {
+  packing::BodyPacking p;
+  p.templates.push_back(cluster_template(kind, r));
+  const double pitch = 7.0 * r;
+  p.box = {per_side * pitch, per_side * pitch};
+  p.floor = 0.0;
+  p.top = layers * pitch;
+  std::mt19937_64 random(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int k = 0; k < layers; ++k)
+    for (int j = 0; j < per_side; ++j)
+      for (int i = 0; i < per_side; ++i) {
+        packing::PackedBody b;
+        b.scale = 1.0 - spread * unit(random);
+        b.orientation = simulate::normalized({gauss(random), gauss(random), gauss(random), gauss(random)});
+        b.centre = {(i + 0.5) * pitch, (j + 0.5) * pitch, (k + 0.5) * pitch};
+        const double s3 = b.scale * b.scale * b.scale;
+        b.shape_volume = s3 * p.templates[0].shape_volume;
+        b.sphere_volume = s3 * p.templates[0].sphere_volume;
+        p.bodies.push_back(b);
+      }
+  packing::place_bodies(p);
+  return p;
+}
+
+}  // namespace shapepress::testing
