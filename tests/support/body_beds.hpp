@@ -45,13 +45,15 @@ inline packing::BodyTemplate cluster_template(packing::BodyKind kind, double r) 
   return t;
 }
 
-// `layers` layers of `per_side` × `per_side` clusters of sub-sphere radius r in a periodic die
-// of side per_side × 7r, turned at random (seed), at scale 1 or drawn in [1 - spread, 1].
+// `layers` layers of `per_side` × `per_side` clusters of sub-sphere radius r, `pitch` apart (at
+// least 6r, their diameter), in a periodic die of side per_side × pitch, turned at random (seed),
+// at scale 1 or drawn in [1 - spread, 1].
 inline packing::BodyPacking cluster_bed(packing::BodyKind kind, double r, int per_side, int layers,
-                                        std::uint64_t seed = 7, double spread = 0.0) {
+                                        std::uint64_t seed = 7, double spread = 0.0,
+                                        double pitch_in_radii = 7.0) {
   packing::BodyPacking p;
   p.templates.push_back(cluster_template(kind, r));
-  const double pitch = 7.0 * r;
+  const double pitch = pitch_in_radii * r;
   p.box = {per_side * pitch, per_side * pitch};
   p.floor = 0.0;
   p.top = layers * pitch;
