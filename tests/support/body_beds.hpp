@@ -65,7 +65,8 @@ inline packing::BodyPacking cluster_bed(packing::BodyKind kind, double r, int pe
       for (int i = 0; i < per_side; ++i) {
         packing::PackedBody b;
         b.scale = 1.0 - spread * unit(random);
-        b.orientation = simulate::normalized({gauss(random), gauss(random), gauss(random), gauss(random)});
+        b.orientation =
+            simulate::normalized({gauss(random), gauss(random), gauss(random), gauss(random)});
         b.centre = {(i + 0.5) * pitch, (j + 0.5) * pitch, (k + 0.5) * pitch};
         const double s3 = b.scale * b.scale * b.scale;
         b.shape_volume = s3 * p.templates[0].shape_volume;

@@ -35,12 +35,12 @@ std::filesystem::path bonded_bed(const std::filesystem::path& dir, packing::Body
                                  const std::string& extra = "") {
   const packing::BodyPacking bed = cluster_bed(kind, sub_sphere_radius, 3, 3, 7, 0.2, 6.1);
   write_packing(dir / "packed.h5", bed, Provenance{"test", "", 7});
-  write_text(dir / "compact.toml",
-             test_data_text("scenarios/bonded-bed.toml") +
-                 "\n[box]\nx = \"366 um\"\ny = \"366 um\"\n\n"
-                 "[run]\nrecord_every = 500\nsnapshot_every = 20000\n" + extra +
-                 "\n[punch]\nmode = \"displacement\"\nspeed = \"0.1 m/s\"\n"
-                 "target_strain = 0.3\nunload_speed = \"0.1 m/s\"\n");
+  write_text(dir / "compact.toml", test_data_text("scenarios/bonded-bed.toml") +
+                                       "\n[box]\nx = \"366 um\"\ny = \"366 um\"\n\n"
+                                       "[run]\nrecord_every = 500\nsnapshot_every = 20000\n" +
+                                       extra +
+                                       "\n[punch]\nmode = \"displacement\"\nspeed = \"0.1 m/s\"\n"
+                                       "target_strain = 0.3\nunload_speed = \"0.1 m/s\"\n");
   return dir / "compact.toml";
 }
 
@@ -96,9 +96,9 @@ TEST(BodyBedCli, RefusesADieThatIsNotThePackings) {
   std::string text = read_text(config);
   text.replace(text.find("x = \"366 um\""), 12, "x = \"500 um\"");
   write_text(config, text);
-  const auto r = run_shapepress("--quiet compact --config " + shell_quoted(config) + " --packing " +
-                                shell_quoted(dir / "packed.h5") + " --out " +
-                                shell_quoted(dir / "run"));
+  const auto r =
+      run_shapepress("--quiet compact --config " + shell_quoted(config) + " --packing " +
+                     shell_quoted(dir / "packed.h5") + " --out " + shell_quoted(dir / "run"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("not the packing's"));
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "punch.csv"));
@@ -110,9 +110,9 @@ TEST(BodyBedCli, RefusesBondedBodiesWithoutBondParameters) {
   std::string text = read_text(config);
   text.erase(text.find("[bond]"), text.find("[particles]") - text.find("[bond]"));
   write_text(config, text);
-  const auto r = run_shapepress("--quiet compact --config " + shell_quoted(config) + " --packing " +
-                                shell_quoted(dir / "packed.h5") + " --out " +
-                                shell_quoted(dir / "run"));
+  const auto r =
+      run_shapepress("--quiet compact --config " + shell_quoted(config) + " --packing " +
+                     shell_quoted(dir / "packed.h5") + " --out " + shell_quoted(dir / "run"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("[bond]"));
 }

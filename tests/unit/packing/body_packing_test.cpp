@@ -76,8 +76,8 @@ TEST(BodyPacking, AStoredRestLengthLoadsTheBond) {
   p.bond_rest_length[0] *= 1.01;  // the bond pressed by 1 % of its length
   const Bed bed = bed_from_packing(p, {1541.0, 0, BondParameters{}, false});
   EXPECT_NEAR(bed.bonds.history[0].normal_force,
-              bed.bonds.normal_spring[0] * 0.01 * bed.bonds.history[0].length, 1e-9 *
-              bed.bonds.normal_spring[0] * r);
+              bed.bonds.normal_spring[0] * 0.01 * bed.bonds.history[0].length,
+              1e-9 * bed.bonds.normal_spring[0] * r);
 }
 
 TEST(BodyPacking, AScaledTemplateKeepsItsShapesMassAndInertia) {
@@ -121,7 +121,9 @@ TEST(BodyPacking, RefusesABondBetweenTwoBodiesNamingTheDataset) {
 
 TEST(BodyPacking, RefusesBmsBodiesWithoutBondParameters) {
   const BodyPacking p = cluster_bed(BodyKind::bms, r, 1, 1);
-  EXPECT_THAT(input_error_of([&] { bed_from_packing(p, {1541.0, 0, std::nullopt, false}); }),
+  EXPECT_THAT(input_error_of([&] {
+                bed_from_packing(p, {1541.0, 0, std::nullopt, false});
+              }),
               HasSubstr("[bond]"));
 }
 

@@ -115,7 +115,8 @@ inline std::unique_ptr<Engine> resume_through_snapshot(const Engine& first, cons
                                                        const std::string& name) {
   const auto file =
       std::filesystem::temp_directory_path() / ("shapepress_" + name + "_restart_test.h5");
-  write_snapshot(file, first, punch_scenario_state(punch), Provenance{"test", "", std::nullopt});
+  write_snapshot(file, first, compaction_scenario_state(punch, setup),
+                 Provenance{"test", "", std::nullopt});
   LoadedSnapshot loaded = read_snapshot(file);
   std::filesystem::remove(file);
   auto resumed = std::make_unique<Engine>(std::move(loaded.state), loaded.box, first.materials(),

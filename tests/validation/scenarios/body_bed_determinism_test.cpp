@@ -1,0 +1,81 @@
+// A bed of bonded bodies (packed.h5's BMS clusters) under the punch: 1 vs 2 threads and a restart
+// from a snapshot give the same bits, bonds and the multi-contact law's pressure included, and
+// the bed's shape volume survives the restart.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "common/config.hpp"
+#include "scenarios/compact_setup.hpp"
+#include "tests/support/body_beds.hpp"
+#include "tests/support/files.hpp"
+#include "tests/validation/scenarios/scenes.hpp"
+
+namespace shapepress::scenarios {
+namespace {
+
+using testing::expect_same_bits;
+
+// 144 clusters of 13 sub-spheres (1872 sub-spheres, 5184 bonds: both loops run on two threads)
+// touching on a lattice, pressed at 1 m/s.
+testing::CompactionScene scene() {
+  const double r = 20e-6;
+  const BodyPacking bed = shapepress::testing::cluster_bed(BodyKind::bms, r, 6, 4, 11, 0.0, 6.0);
+  const ConfigTable root = ConfigTable::parse(
+      shapepress::testing::test_data_text("scenarios/bonded-bed.toml") +
+          "\n[box]\nx = \"720 um\"\ny = \"720 um\"\n\n[punch]\nmode = \"displacement\"\n"
+          "speed = \"1 m/s\"\ntarget_strain = 0.3\n",
+      "bonded-bed");
+  PreparedCompaction prepared = prepare_compaction(read_compact_config(root), bed);
+  testing::CompactionScene s;
+  s.engine = std::move(prepared.engine);
+  s.setup = prepared.setup;
+  s.setup.record_every = 0;
+  s.punch = prepared.punch;
+  return s;
+}
+
+constexpr int steps = 1500;
+
+TEST(BodyBedDeterminism, OneAndTwoThreadsGiveTheSameBits) {
+  const testing::ThreadRuns runs = testing::run_on_one_and_two_threads(scene, steps);
+  const Engine& one = *runs.one.engine;
+  // Loaded: the punch pushes, bonds carry force, sub-spheres of different bodies touch.
+  EXPECT_GT(one.wall_load(1), 0.0);
+  EXPECT_GT(one.sphere_contacts(), 1000);
+  double largest_bond_force = 0.0;
+  for (const BondSet::History& h : one.bonds().history)
+    largest_bond_force = std::max(largest_bond_force, std::fabs(h.normal_force));
+  EXPECT_GT(largest_bond_force, 0.0);
+  expect_same_bits(one, *runs.two.engine);
+  EXPECT_TRUE(one.bonds().history == runs.two.engine->bonds().history);
+}
+
+TEST(BodyBedDeterminism, RestartFromSnapshotContinuesWithTheSameBits) {
+  const testing::RestartRuns runs = testing::run_continuous_and_restarted(scene, steps, "body_bed");
+  expect_same_bits(*runs.continuous.engine, *runs.resumed);
+  EXPECT_TRUE(runs.continuous.engine->bonds().history == runs.resumed->bonds().history);
+}
+
+TEST(BodyBedDeterminism, ARestartKeepsTheBedsShapeVolume) {
+  testing::CompactionScene first = scene();
+  first.setup.max_steps = 10;
+  run_compaction(*first.engine, first.setup, first.punch, {});
+  const auto file = std::filesystem::temp_directory_path() / "shapepress_body_bed_volume.h5";
+  write_snapshot(file, *first.engine, compaction_scenario_state(first.punch, first.setup),
+                 Provenance{"test", "", std::nullopt});
+  const ConfigTable root =
+      ConfigTable::parse(shapepress::testing::test_data_text("scenarios/bonded-bed.toml") +
+                             "\n[box]\nx = \"720 um\"\ny = \"720 um\"\npunch = \"1 mm\"\n[punch]\n"
+                             "mode = \"displacement\"\nspeed = \"1 m/s\"\ntarget_strain = 0.3\n",
+                         "bonded-bed");
+  const PreparedCompaction resumed =
+      resume_compaction(read_compact_config(root), read_snapshot(file));
+  std::filesystem::remove(file);
+  EXPECT_EQ(resumed.setup.solid_volume, first.setup.solid_volume);
+  EXPECT_EQ(resumed.setup.sphere_volume, first.setup.sphere_volume);
+  EXPECT_NEAR(first.setup.sphere_volume / first.setup.solid_volume, 13.0 / 27.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace shapepress::scenarios
