@@ -141,6 +141,43 @@ std::size_t add_clump(SphereState& state, ClumpSet& clumps, std::span<const Vect
   return c;
 }
 
+std::size_t add_rigid_body(SphereState& state, ClumpSet& clumps, const Vector3& centre,
+                           const Quaternion& orientation, std::span<const Vector3> offsets,
+                           std::span<const double> radii, double mass,
+                           const Vector3& principal_inertia, double volume, int material,
+                           const std::string& name) {
+  if (offsets.empty() || offsets.size() != radii.size())
+    throw InputError(fmt::format("body {}: no sub-spheres (or offsets and radii differ)", name));
+  if (!(mass > 0.0) || !(volume > 0.0) || !(principal_inertia[0] > 0.0) ||
+      !(principal_inertia[1] > 0.0) || !(principal_inertia[2] > 0.0))
+    throw InputError(fmt::format("body {}: mass, volume and principal moments must be > 0", name));
+  const std::size_t c = clumps.size();
+  const auto begin = static_cast<std::int32_t>(state.size());
+  clumps.first.push_back(begin);
+  clumps.last.push_back(begin + static_cast<std::int32_t>(offsets.size()));
+  clumps.mass.push_back(mass);
+  clumps.volume.push_back(volume);
+  clumps.centre.push_back(centre[0], centre[1], centre[2]);
+  clumps.velocity.push_back(0.0, 0.0, 0.0);
+  clumps.force.push_back(0.0, 0.0, 0.0);
+  clumps.torque.push_back(0.0, 0.0, 0.0);
+  RigidRotation rotation;
+  rotation.orientation = normalized(orientation);
+  rotation.principal_inertia = principal_inertia;
+  clumps.rotation.push_back(rotation);
+  for (std::size_t i = 0; i < offsets.size(); ++i) {
+    if (!(radii[i] > 0.0))
+      throw InputError(fmt::format("body {}: sub-sphere {} has radius {} m", name, i, radii[i]));
+    clumps.offset.push_back(offsets[i][0], offsets[i][1], offsets[i][2]);
+    const Vector3 arm = rotate_to_world(rotation.orientation, offsets[i]);
+    state.add_sphere(centre[0] + arm[0], centre[1] + arm[1], centre[2] + arm[2], radii[i], 0.0,
+                     material);
+    state.body.back() = begin;
+  }
+  clumps.index(state.size());
+  return c;
+}
+
 // Velocity Verlet for the centre (half kick with the last force, drift) and, for the rotation,
 // the half kick of L with the last torque and the free rotation over dt (rigid_body.hpp); the
 // second half kicks come in gather_clump_forces.
