@@ -54,8 +54,8 @@ BodyTemplate body_template(const geometry::TemplateRecord& r, const std::filesys
   for (int k = 0; k < 3; ++k)
     t.principal_inertia[k] = r.mass.inertia(k, k);
   if (!(t.shape_volume > 0.0) || !(t.sphere_volume > 0.0) || t.radii.empty())
-    throw InputError(fmt::format("{}: template {} has no volume or no sub-spheres", file.string(),
-                                 t.name));
+    throw InputError(
+        fmt::format("{}: template {} has no volume or no sub-spheres", file.string(), t.name));
   return t;
 }
 
@@ -74,6 +74,7 @@ void PackRequest::check() const {
               diameter_max > diameter_min,
           fmt::format("need 0 < diameter_min < diameter_max (got {} and {} m)", diameter_min,
                       diameter_max));
+  require(std::isfinite(damping_time) && damping_time >= 0.0, "settle.damping_time must be >= 0");
   for (double v : {density, youngs_modulus, restitution, insertion_fraction, max_settle_time,
                    time_step_fraction, punch_speed, kinetic_energy_ratio})
     require(std::isfinite(v) && v > 0.0, "material, settle and press values must be > 0");
@@ -121,9 +122,10 @@ std::vector<BodyTemplate> load_body_templates(const std::vector<std::filesystem:
     }
     const bool bms = choice.name.starts_with("bms/"), cms = choice.name.starts_with("cms/");
     if (!bms && !cms)
-      throw InputError(fmt::format("pack: template '{}' must be \"sphere\", \"bms/<name>\" or "
-                                   "\"cms/<name>\"",
-                                   choice.name));
+      throw InputError(
+          fmt::format("pack: template '{}' must be \"sphere\", \"bms/<name>\" or "
+                      "\"cms/<name>\"",
+                      choice.name));
     const std::string name = choice.name.substr(4);
     const geometry::TemplateKind kind =
         bms ? geometry::TemplateKind::bonded : geometry::TemplateKind::rigid;
@@ -224,8 +226,8 @@ std::vector<PackedBody> draw_bodies(const PackRequest& request,
     } else {  // the template whose volume share lags furthest behind its weight
       double worst = -std::numeric_limits<double>::infinity();
       for (std::size_t t = 0; t < templates.size(); ++t) {
-        const double lag = request.templates[t].weight / weight_sum * (drawn_volume + volume) -
-                           template_volume[t];
+        const double lag =
+            request.templates[t].weight / weight_sum * (drawn_volume + volume) - template_volume[t];
         if (lag > worst) worst = lag, pick = t;
       }
     }
@@ -248,9 +250,9 @@ std::vector<PackedBody> draw_bodies(const PackRequest& request,
 double bounding_radius(const BodyTemplate& shape) {
   double reach = 0.0;
   for (std::size_t i = 0; i < shape.radii.size(); ++i)
-    reach = std::max(reach, std::hypot(shape.centres[i][0], shape.centres[i][1],
-                                       shape.centres[i][2]) +
-                                shape.radii[i]);
+    reach =
+        std::max(reach, std::hypot(shape.centres[i][0], shape.centres[i][1], shape.centres[i][2]) +
+                            shape.radii[i]);
   return reach;
 }
 
@@ -277,8 +279,7 @@ double insert_bodies(const PackRequest& request, const std::vector<BodyTemplate>
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return reach[a] > reach[b]; });
   const double area = request.box_x * request.box_y;
-  double height =
-      std::max(2.0 * largest, bound_volume / (request.insertion_fraction * area));
+  double height = std::max(2.0 * largest, bound_volume / (request.insertion_fraction * area));
   std::mt19937_64 random(request.seed ^ 0x94d049bb133111ebULL);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   // A region that jams is made taller (by a quarter, a few times) before giving up.
@@ -364,8 +365,55 @@ EngineBed engine_bed(const PackRequest& r, const std::vector<BodyTemplate>& temp
   return bed;
 }
 
+// The rigid-clump period bound (simulate/timestep.hpp clump_contact_period) for a body in a
+// packed bed: at most contacts_per_body of its sub-spheres touch at once, taken as its outermost
+// ones (the longest lever arms) at 0.1 of their radius. The engine's generic bound lets every
+// sub-sphere touch; a body of 350 sub-spheres in a bed touches a dozen neighbours and the walls,
+// and that bound would cost its square root in time step (√(350 / 12) ≈ 5). The divergence check
+// stays the guard.
+constexpr std::size_t contacts_per_body = 12;
+
+double packed_clump_period(const SphereState& state, const ClumpSet& clumps,
+                           const MaterialTable& table) {
+  std::vector<double> overlap(state.size(), 0.0);
+  std::vector<int> partners = {0, 1};
+  for (std::size_t c = 0; c < clumps.size(); ++c) {
+    std::vector<std::pair<double, std::int32_t>> reach;
+    for (std::int32_t i = clumps.first[c]; i < clumps.last[c]; ++i)
+      reach.emplace_back(-(std::hypot(state.position.x[i] - clumps.centre.x[c],
+                                      state.position.y[i] - clumps.centre.y[c],
+                                      state.position.z[i] - clumps.centre.z[c]) +
+                           state.radius[i]),
+                         i);
+    const std::size_t touching = std::min(contacts_per_body, reach.size());
+    std::partial_sort(reach.begin(), reach.begin() + static_cast<std::ptrdiff_t>(touching),
+                      reach.end());
+    for (std::size_t k = 0; k < touching; ++k) {
+      const auto i = static_cast<std::size_t>(reach[k].second);
+      overlap[i] = assumed_clump_overlap * state.radius[i];
+    }
+  }
+  return clump_contact_period(clumps, state, table, partners, overlap);
+}
+
 double kinetic_energy(const Engine& engine) {
   return engine.energy().kinetic;
+}
+
+void apply_drag(Engine& engine, double factor) {
+  SphereState& s = engine.mutable_state();
+  ClumpSet& clumps = engine.mutable_clumps();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!clumps.clump_of.empty() && clumps.clump_of[i] >= 0) continue;  // the body's
+    s.velocity.x[i] *= factor, s.velocity.y[i] *= factor, s.velocity.z[i] *= factor;
+    s.angular_velocity.x[i] *= factor, s.angular_velocity.y[i] *= factor,
+        s.angular_velocity.z[i] *= factor;
+  }
+  for (std::size_t c = 0; c < clumps.size(); ++c) {
+    clumps.velocity.x[c] *= factor, clumps.velocity.y[c] *= factor, clumps.velocity.z[c] *= factor;
+    for (double& l : clumps.rotation[c].body_angular_momentum)
+      l *= factor;
+  }
 }
 
 struct Phase {
@@ -387,13 +435,16 @@ bool run_phase(Engine& engine, const PackRequest& r, const Phase& phase, double 
       if (t >= phase.min_time && kinetic_energy(engine) < rest) return true;
     }
     if (t >= r.max_settle_time) {
-      spdlog::warn("pack: {} did not come to rest in {} s (settle.max_time): kinetic energy "
-                   "{:.3g} J against the threshold {:.3g} J",
-                   phase.name, r.max_settle_time, kinetic_energy(engine), rest);
+      spdlog::warn(
+          "pack: {} did not come to rest in {} s (settle.max_time): kinetic energy "
+          "{:.3g} J against the threshold {:.3g} J",
+          phase.name, r.max_settle_time, kinetic_energy(engine), rest);
       return false;
     }
     if (!each_step()) return true;
     engine.step();
+    if (r.damping_time > 0.0)
+      apply_drag(engine, std::exp(-engine.settings().time_step / r.damping_time));
   }
 }
 
@@ -414,14 +465,17 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   spdlog::info("pack: {} bodies inserted below {:.4g} m", bodies.size(), region_top);
   EngineBed bed = engine_bed(request, templates, bodies);
   const MaterialTable table = pack_materials(request);
-  std::vector<PlaneWall> walls = {PlaneWall{request.floor, 1, 0.0, 1},
-                                  PlaneWall{region_top + 0.01 * (region_top - request.floor), -1,
-                                            0.0, 1}};
+  std::vector<PlaneWall> walls = {
+      PlaneWall{request.floor, 1, 0.0, 1},
+      PlaneWall{region_top + 0.01 * (region_top - request.floor), -1, 0.0, 1}};
   const double fall = region_top - request.floor;
   const double speed = std::sqrt(2.0 * request.gravity * fall) + request.punch_speed;
-  const TimeStepChoice step =
-      select_time_step(bed.state, table, {1}, request.time_step, request.time_step_fraction,
-                       speed, BondSet{}, bed.clumps);
+  TimeStepChoice step = select_time_step(bed.state, table, {1}, request.time_step,
+                                         request.time_step_fraction, speed, BondSet{}, bed.clumps);
+  if (!request.time_step && !bed.clumps.empty()) {
+    step.clump_period = packed_clump_period(bed.state, bed.clumps, table);
+    step.time_step = request.time_step_fraction * std::min(step.rayleigh_time, step.clump_period);
+  }
   run.time_step = step.time_step;
   double smallest = std::numeric_limits<double>::infinity();
   for (double radius : bed.state.radius)
@@ -430,10 +484,10 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   settings.time_step = step.time_step;
   settings.gravity = {0.0, 0.0, -request.gravity};
   settings.skin = 0.2 * smallest;
-  spdlog::info("pack: {} sub-spheres in {} bodies, time step {:.3g} s (Rayleigh {:.3g} s, clump "
-               "bound {:.3g} s)",
-               bed.state.size(), bodies.size(), step.time_step, step.rayleigh_time,
-               step.clump_period);
+  spdlog::info(
+      "pack: {} sub-spheres in {} bodies, time step {:.3g} s (Rayleigh {:.3g} s, clump "
+      "bound {:.3g} s)",
+      bed.state.size(), bodies.size(), step.time_step, step.rayleigh_time, step.clump_period);
   Engine engine(std::move(bed.state), Box{request.box_x, request.box_y}, table, walls, settings,
                 BondSet{}, std::move(bed.clumps));
 
@@ -444,9 +498,8 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   rest *= request.kinetic_energy_ratio;
   const auto started = std::chrono::steady_clock::now();
   const double free_fall = std::sqrt(2.0 * fall / request.gravity);
-  run.settled = run_phase(engine, request, {"settle", free_fall}, rest, progress, [] {
-    return true;
-  });
+  run.settled =
+      run_phase(engine, request, {"settle", free_fall}, rest, progress, [] { return true; });
   if (request.target_solid_fraction) {
     const double area = request.box_x * request.box_y;
     const double gap = solid_shape_volume(bodies) / (area * *request.target_solid_fraction);
@@ -526,10 +579,10 @@ void overlapping_pairs(const BodyPacking& p, Visit&& visit) {
   };
   std::vector<std::array<int, 3>> at(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const int ix = std::min(nx - 1, static_cast<int>(wrap(s.x[i], p.box.length_x) /
-                                                     p.box.length_x * nx));
-    const int iy = std::min(ny - 1, static_cast<int>(wrap(s.y[i], p.box.length_y) /
-                                                     p.box.length_y * ny));
+    const int ix =
+        std::min(nx - 1, static_cast<int>(wrap(s.x[i], p.box.length_x) / p.box.length_x * nx));
+    const int iy =
+        std::min(ny - 1, static_cast<int>(wrap(s.y[i], p.box.length_y) / p.box.length_y * ny));
     const int iz = std::min(nz - 1, static_cast<int>((s.z[i] - z_low) / cell));
     at[i] = {ix, iy, iz};
     cells[key(ix, iy, iz)].push_back(i);
@@ -552,7 +605,8 @@ void overlapping_pairs(const BodyPacking& p, Visit&& visit) {
             double ddx = s.x[j] - s.x[i], ddy = s.y[j] - s.y[i];
             ddx -= p.box.length_x * std::nearbyint(ddx / p.box.length_x);
             ddy -= p.box.length_y * std::nearbyint(ddy / p.box.length_y);
-            const double d = std::sqrt(ddx * ddx + ddy * ddy + (s.z[j] - s.z[i]) * (s.z[j] - s.z[i]));
+            const double d =
+                std::sqrt(ddx * ddx + ddy * ddy + (s.z[j] - s.z[i]) * (s.z[j] - s.z[i]));
             const double overlap = s.radius[i] + s.radius[j] - d;
             if (overlap > 0.0) visit(i, j, overlap);
           }
@@ -605,8 +659,8 @@ PackMeasures measure_packing(const BodyPacking& p, const SizeTable& target, bool
   std::vector<std::pair<std::int32_t, std::int32_t>> touching;
   overlapping_pairs(p, [&](std::size_t i, std::size_t j, double overlap) {
     m.largest_overlap = std::max(m.largest_overlap, overlap);
-    m.largest_overlap_relative = std::max(m.largest_overlap_relative,
-                                          overlap / std::min(s.radius[i], s.radius[j]));
+    m.largest_overlap_relative =
+        std::max(m.largest_overlap_relative, overlap / std::min(s.radius[i], s.radius[j]));
     touching.emplace_back(std::min(p.particle_body[i], p.particle_body[j]),
                           std::max(p.particle_body[i], p.particle_body[j]));
   });

@@ -42,28 +42,32 @@ inline constexpr double bms_overlap_tolerance = 0.02;
 struct PackRequest {
   std::vector<TemplateChoice> templates;
   TemplateWeighting weighting = TemplateWeighting::number;
-  std::int64_t count = 0;              // bodies; 0: draw until target_mass
-  std::optional<double> target_mass;   // kg of shape volume × density
-  SizeQuantiles sizes;                 // of the volume-equivalent diameter
+  std::int64_t count = 0;                         // bodies; 0: draw until target_mass
+  std::optional<double> target_mass;              // kg of shape volume × density
+  SizeQuantiles sizes;                            // of the volume-equivalent diameter
   double diameter_min = 0.0, diameter_max = 0.0;  // m, truncation
-  double box_x = 1e-3, box_y = 1e-3;               // m, periodic cross-section
-  double floor = 0.0;                              // m, the die floor's z
+  double box_x = 1e-3, box_y = 1e-3;              // m, periodic cross-section
+  double floor = 0.0;                             // m, the die floor's z
   std::uint64_t seed = 1;
 
   // Material of the bodies during pack (Hertz–Mindlin) and of the die walls.
-  double density = 1500.0;         // kg/m³
-  double youngs_modulus = 100e6;   // Pa, reduced from the solid's for a larger time step
+  double density = 1500.0;      // kg/m³
+  double youngs_modulus = 5e6;  // Pa, reduced from the solid's for a larger time step
   double poisson_ratio = 0.3;
-  double restitution = 0.3;
-  double friction = 0.3;           // body–body sliding
-  double wall_friction = 0.3;      // body–wall sliding
+  double restitution = 0.1;    // low: a clump's contacts damp with M/n (clumps.hpp)
+  double friction = 0.3;       // body–body sliding
+  double wall_friction = 0.3;  // body–wall sliding
   double rolling_friction = 0.0;
 
   // Insertion and settle.
   double insertion_fraction = 0.2;  // of the bounding spheres in the insertion region
   int attempts_per_body = 2000;
-  double gravity = 9.81;            // m/s², down
-  double kinetic_energy_ratio = 1e-6;  // at rest: KE below this × Σ m g d of the bodies
+  double gravity = 9.81;               // m/s², down
+  double kinetic_energy_ratio = 1e-5;  // at rest: KE below this × Σ m g d of the bodies
+  // Viscous drag on every body's velocity and spin, v → v e^(-dt/τ): a clump's contacts damp
+  // with M/n (clumps.hpp), too little to bring a bed to rest; the drag is what LIGGGHTS users add
+  // to fill a die. It slows the fall to ≈ g τ, so it is kept long against the contacts' periods.
+  double damping_time = 0.01;       // s, τ; 0: none
   double max_settle_time = 0.5;     // s, per phase (settle, press, relax)
   std::optional<double> time_step;  // s, fixed; else time_step_fraction × the engine's bound
   double time_step_fraction = 0.2;
@@ -71,7 +75,7 @@ struct PackRequest {
   // Pre-compression: the punch moves down at punch_speed until the solid fraction by shape
   // volume reaches this, then back up and the bed relaxes.
   std::optional<double> target_solid_fraction;
-  double punch_speed = 0.05;           // m/s
+  double punch_speed = 0.05;             // m/s
   double solid_fraction_ceiling = 0.74;  // a target above it is refused
 
   void check() const;  // InputError naming the bad value
@@ -112,7 +116,7 @@ struct PackRun {
   BodyPacking packing;
   double time_step = 0.0;  // s
   std::int64_t steps = 0;
-  bool settled = true;     // every phase ended below the kinetic-energy threshold
+  bool settled = true;  // every phase ended below the kinetic-energy threshold
   double precompression_solid_fraction = 0.0;  // reached by the punch (0: no press)
   double loop_seconds = 0.0;
 };

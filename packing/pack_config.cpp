@@ -129,6 +129,9 @@ const OptionTable<PackRequest>& settle_table() {
                   "downwards")
         .number("kinetic_energy_ratio", &PackRequest::kinetic_energy_ratio, Range::positive(),
                 "at rest when the kinetic energy is below this × sum of m g d over the bodies")
+        .quantity("damping_time", &PackRequest::damping_time, dim::time, Range::non_negative(),
+                  "viscous drag time on every body's motion, v -> v exp(-dt/tau) (0: none); a "
+                  "clump's contacts alone damp too little to bring a bed to rest")
         .quantity("max_time", &PackRequest::max_settle_time, dim::time, Range::positive(),
                   "longest settle, press or relaxation (a warning when reached)")
         .quantity("time_step", &PackRequest::time_step, dim::time, Range::positive(),

@@ -21,13 +21,13 @@ using shapepress::testing::write_text;
 namespace fs = std::filesystem;
 
 // A small bed: Table 2's Avicel distribution (Q3 x10/x50/x90 = 71/198/350 um) cut to
-// [250, 350] um, in a box of 1.2 mm.
+// [250, 350] um, in a box of 0.8 mm.
 std::string config(const std::string& templates, const std::string& extra = "",
                    const std::string& sizes = "diameter_min = 250e-6\ndiameter_max = 350e-6\n") {
-  return "[pack]\ncount = 16\nseed = 3\nbox_x = 1.2e-3\nbox_y = 1.2e-3\n" + templates +
+  return "[pack]\ncount = 16\nseed = 3\nbox_x = 0.8e-3\nbox_y = 0.8e-3\n" + templates +
          "[sizes]\nsize_quantiles = [71e-6, 198e-6, 350e-6]\n"
          "size_quantile_levels = [0.1, 0.5, 0.9]\n" +
-         sizes + "[settle]\ntime_step_fraction = 0.3\nkinetic_energy_ratio = 1e-4\n" + extra;
+         sizes + "[settle]\nkinetic_energy_ratio = 1e-4\n" + extra;
 }
 
 const std::string two_templates =
@@ -36,9 +36,10 @@ const std::string two_templates =
 fs::path filled_templates(const fs::path& dir) {
   const fs::path t = dir / "t.h5";
   if (fs::exists(t)) return t;
-  const auto r = run_shapepress("--quiet fill --ellipsoid 150um,100um,80um --count 30 --lattice "
-                                "random --out " +
-                                t.string());
+  const auto r = run_shapepress(
+      "--quiet fill --ellipsoid 150um,100um,80um --count 60 --lattice "
+      "random --out " +
+      t.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return t;
 }
@@ -48,9 +49,9 @@ TEST(PackCli, FillThenPackWritesAPackingTheReaderAcceptsWithItsMeasures) {
   const fs::path templates = filled_templates(dir);
   write_text(dir / "pack.toml",
              config(two_templates, "[press]\nsolid_fraction = 0.5\nspeed = 0.1\n"));
-  const auto r = run_shapepress("--quiet pack " + templates.string() + " --config " +
-                                (dir / "pack.toml").string() + " --out " +
-                                (dir / "packed.h5").string());
+  const auto r =
+      run_shapepress("--quiet pack " + templates.string() + " --config " +
+                     (dir / "pack.toml").string() + " --out " + (dir / "packed.h5").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("solid fraction"), std::string::npos) << r.output;
   const BodyPacking p = read_packing(dir / "packed.h5");
@@ -69,7 +70,7 @@ TEST(PackCli, FillThenPackWritesAPackingTheReaderAcceptsWithItsMeasures) {
   EXPECT_GT(m.solid_fraction_shape, 0.25);
   EXPECT_LT(m.solid_fraction_shape, 0.6);
   EXPECT_LT(m.solid_fraction_spheres, m.solid_fraction_shape);
-  EXPECT_GT(m.coordination, 1.0);
+  EXPECT_GT(m.coordination, 0.5);
   EXPECT_LT(m.largest_overlap_relative, 0.1);  // rigid bodies at rest: small overlaps
   EXPECT_GE(m.x10, 250e-6 * (1 - 1e-9));
   EXPECT_LE(m.x90, 350e-6 * (1 + 1e-9));
@@ -101,8 +102,8 @@ TEST(PackCli, SpheresFromASummaryJson) {
 }
 
 void expect_refused(const fs::path& dir, const std::string& arguments, const std::string& cause) {
-  const auto r = run_shapepress("--quiet pack " + arguments + " --out " +
-                                (dir / "packed.h5").string());
+  const auto r =
+      run_shapepress("--quiet pack " + arguments + " --out " + (dir / "packed.h5").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find(cause), std::string::npos) << "expected '" << cause << "' in\n"
                                                      << r.output;
@@ -116,8 +117,8 @@ TEST(PackCli, BadInputExitsTwoNamingTheCauseAndLeavesNoFile) {
   const std::string t = templates.string() + " --config " + (dir / "c.toml").string();
   write_text(dir / "c.toml", config("[[template]]\nname = \"bms/needle\"\n"));
   expect_refused(dir, t, "no template /bms/needle in '" + templates.string() + "'");
-  write_text(dir / "c.toml", config(two_templates, "",
-                                    "diameter_min = 5e-3\ndiameter_max = 6e-3\n"));
+  write_text(dir / "c.toml",
+             config(two_templates, "", "diameter_min = 5e-3\ndiameter_max = 6e-3\n"));
   expect_refused(dir, t, "size cutoff");
   write_text(dir / "c.toml", "[pack]\ncount = 4\nbox_x = 3e-4\nbox_y = 3e-4\n" + two_templates +
                                  "[sizes]\nsize_quantiles = [71e-6, 198e-6, 350e-6]\n"

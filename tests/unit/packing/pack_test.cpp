@@ -231,9 +231,9 @@ TEST(Pack, NoBondJoinsTwoBodiesAndBondsRestAtTheirPlacedLength) {
   for (std::size_t k = 0; k < p.bonds.size(); ++k) {
     const auto [i, j] = p.bonds[k];
     EXPECT_EQ(p.particle_body[i], p.particle_body[j]);
-    const double d = std::hypot(p.particles.x[i] - p.particles.x[j],
-                                p.particles.y[i] - p.particles.y[j],
-                                p.particles.z[i] - p.particles.z[j]);
+    const double d =
+        std::hypot(p.particles.x[i] - p.particles.x[j], p.particles.y[i] - p.particles.y[j],
+                   p.particles.z[i] - p.particles.z[j]);
     EXPECT_DOUBLE_EQ(p.bond_rest_length[k], d);
   }
 }
