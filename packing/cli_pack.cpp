@@ -50,8 +50,7 @@ int run(const PackCli& cli, const RunContext& context) {
   root.check_unknown_keys();
   if (cli.seed) config.request.seed = *cli.seed;
   std::vector<std::filesystem::path> files(cli.templates.begin(), cli.templates.end());
-  const std::vector<BodyTemplate> templates =
-      load_body_templates(files, config.request.templates);
+  const std::vector<BodyTemplate> templates = load_body_templates(files, config.request.templates);
   for (const std::filesystem::path& f : files)
     meta.input("templates", f);
   if (!config.summary.empty())
