@@ -91,6 +91,7 @@ int run(const PackCli& cli, const RunContext& context) {
       .fact("steps", result.steps)
       .fact("loop_s", result.loop_seconds)
       .fact("settled", result.settled)
+      .fact("settled_solid_fraction", result.settled_solid_fraction)
       .fact("precompression_solid_fraction", result.precompression_solid_fraction);
   add_measures(meta, m);
   meta.fact("effective_config", pack_config_toml(config));

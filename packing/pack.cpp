@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <numeric>
 
@@ -316,12 +317,19 @@ double insert_bodies(const PackRequest& request, const std::vector<BodyTemplate>
 
 namespace {
 
-MaterialTable pack_materials(const PackRequest& r) {
+MaterialTable pack_materials(const PackRequest& r, double friction, double wall_friction) {
   std::vector<Material> materials = {{"particle", r.youngs_modulus, r.poisson_ratio, r.density},
                                      {"wall", r.youngs_modulus, r.poisson_ratio, r.density}};
-  Interaction bodies{"particle", "particle", r.restitution, r.friction, r.rolling_friction};
-  Interaction walls{"particle", "wall", r.restitution, r.wall_friction, r.rolling_friction};
+  Interaction bodies{"particle", "particle", r.restitution, friction, r.rolling_friction};
+  Interaction walls{"particle", "wall", r.restitution, wall_friction, r.rolling_friction};
   return MaterialTable(materials, {bodies, walls});
+}
+
+// The same bed, walls and contact history, with other friction (the press slides the bodies).
+std::unique_ptr<Engine> with_friction(const Engine& e, const PackRequest& r, double friction,
+                                      double wall_friction) {
+  return std::make_unique<Engine>(e.state(), e.box(), pack_materials(r, friction, wall_friction),
+                                  e.settings(), e.checkpoint());
 }
 
 // Every body in the engine: a sphere body as a sphere, others as rigid clumps of the scaled
@@ -464,7 +472,7 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   const double region_top = insert_bodies(request, templates, bodies);
   spdlog::info("pack: {} bodies inserted below {:.4g} m", bodies.size(), region_top);
   EngineBed bed = engine_bed(request, templates, bodies);
-  const MaterialTable table = pack_materials(request);
+  const MaterialTable table = pack_materials(request, request.friction, request.wall_friction);
   std::vector<PlaneWall> walls = {
       PlaneWall{request.floor, 1, 0.0, 1},
       PlaneWall{region_top + 0.01 * (region_top - request.floor), -1, 0.0, 1}};
@@ -488,8 +496,8 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
       "pack: {} sub-spheres in {} bodies, time step {:.3g} s (Rayleigh {:.3g} s, clump "
       "bound {:.3g} s)",
       bed.state.size(), bodies.size(), step.time_step, step.rayleigh_time, step.clump_period);
-  Engine engine(std::move(bed.state), Box{request.box_x, request.box_y}, table, walls, settings,
-                BondSet{}, std::move(bed.clumps));
+  auto engine = std::make_unique<Engine>(std::move(bed.state), Box{request.box_x, request.box_y},
+                                         table, walls, settings, BondSet{}, std::move(bed.clumps));
 
   double rest = 0.0;  // Σ m g d: KE below ratio × this is rest
   for (const PackedBody& b : bodies)
@@ -499,17 +507,23 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   const auto started = std::chrono::steady_clock::now();
   const double free_fall = std::sqrt(2.0 * fall / request.gravity);
   run.settled =
-      run_phase(engine, request, {"settle", free_fall}, rest, progress, [] { return true; });
+      run_phase(*engine, request, {"settle", free_fall}, rest, progress, [] { return true; });
+  const double area = request.box_x * request.box_y;
+  run.settled_solid_fraction = solid_shape_volume(bodies) /
+                               (area * (bed_top(engine->state(), request.floor) - request.floor));
+  spdlog::info("pack: settled at solid fraction {:.4f} by shape volume",
+               run.settled_solid_fraction);
   if (request.target_solid_fraction) {
-    const double area = request.box_x * request.box_y;
     const double gap = solid_shape_volume(bodies) / (area * *request.target_solid_fraction);
-    PlaneWall& punch = engine.walls()[1];
-    punch.position = std::max(bed_top(engine.state(), request.floor), request.floor + gap);
-    engine.rebase_energy();
+    // Frictionless by default: the bodies slide into a denser bed, as DEM fills are made.
+    engine = with_friction(*engine, request, request.press_friction, request.press_friction);
+    PlaneWall& punch = engine->walls()[1];
+    punch.position = std::max(bed_top(engine->state(), request.floor), request.floor + gap);
+    engine->rebase_energy();
     const double dt = step.time_step;
-    run_phase(engine, request, {"press", std::numeric_limits<double>::infinity()}, 0.0, progress,
+    run_phase(*engine, request, {"press", std::numeric_limits<double>::infinity()}, 0.0, progress,
               [&] {
-                PlaneWall& p = engine.walls()[1];
+                PlaneWall& p = engine->walls()[1];
                 if (p.position - request.floor <= gap) {
                   p.velocity = 0.0;
                   return false;
@@ -519,21 +533,22 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
                 return true;
               });
     run.precompression_solid_fraction =
-        solid_shape_volume(bodies) / (area * (engine.walls()[1].position - request.floor));
+        solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
     // Release: the punch back to where it was parked; the bed relaxes under gravity.
-    engine.walls()[1].velocity = 0.0;
-    engine.walls()[1].position = walls[1].position;
-    engine.rebase_energy();
-    run.settled = run_phase(engine, request, {"relax", 0.0}, rest, progress, [] { return true; }) &&
-                  run.settled;
+    engine->walls()[1].velocity = 0.0;
+    engine->walls()[1].position = walls[1].position;
+    engine = with_friction(*engine, request, request.friction, request.wall_friction);
+    run.settled =
+        run_phase(*engine, request, {"relax", 0.0}, rest, progress, [] { return true; }) &&
+        run.settled;
   }
   run.loop_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  run.steps = engine.step_index();
+  run.steps = engine->step_index();
 
   // The bodies where the engine left them.
-  const SphereState& s = engine.state();
-  const ClumpSet& clumps = engine.clumps();
+  const SphereState& s = engine->state();
+  const ClumpSet& clumps = engine->clumps();
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     if (bed.clump_of_body[b] < 0) {
       const auto i = static_cast<std::size_t>(bed.sphere_of_body[b]);
@@ -550,7 +565,7 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   packing.box = Box{request.box_x, request.box_y};
   packing.floor = request.floor;
   place_bodies(packing);
-  packing.top = bed_top(engine.state(), request.floor);
+  packing.top = bed_top(engine->state(), request.floor);
   const SizeTable target = size_table(request.sizes, request.diameter_min, request.diameter_max);
   packing.measures = measure_packing(packing, target, request.sizes.volume_weighted);
   return run;

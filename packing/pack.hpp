@@ -75,6 +75,7 @@ struct PackRequest {
   // Pre-compression: the punch moves down at punch_speed until the solid fraction by shape
   // volume reaches this, then back up and the bed relaxes.
   std::optional<double> target_solid_fraction;
+  double press_friction = 0.0;           // sliding friction of every contact while pressing
   double punch_speed = 0.05;             // m/s
   double solid_fraction_ceiling = 0.74;  // a target above it is refused
 
@@ -116,7 +117,8 @@ struct PackRun {
   BodyPacking packing;
   double time_step = 0.0;  // s
   std::int64_t steps = 0;
-  bool settled = true;  // every phase ended below the kinetic-energy threshold
+  bool settled = true;                  // every phase ended below the kinetic-energy threshold
+  double settled_solid_fraction = 0.0;  // by shape volume after the gravity settle
   double precompression_solid_fraction = 0.0;  // reached by the punch (0: no press)
   double loop_seconds = 0.0;
 };

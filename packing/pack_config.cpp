@@ -153,6 +153,9 @@ const OptionTable<PackRequest>& press_table() {
     p.number("solid_fraction", &PackRequest::target_solid_fraction, Range::positive(),
              "target solid fraction by shape volume (the paper: 0.59)")
         .default_text("none (no press)")
+        .number("friction", &PackRequest::press_friction, Range::non_negative(),
+                "sliding friction of every contact while pressing (0: the bodies slide into a "
+                "denser bed); the bed relaxes with [material]'s")
         .quantity("speed", &PackRequest::punch_speed, dim::velocity, Range::positive(),
                   "punch speed")
         .number("solid_fraction_ceiling", &PackRequest::solid_fraction_ceiling,
