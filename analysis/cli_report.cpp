@@ -18,6 +18,7 @@ struct ReportCli {
   std::vector<std::string> runs;
   std::string out;
   std::optional<double> poisson_ratio;
+  std::optional<double> compare_from;
   std::vector<std::string> plate_curves;  // LABEL=FILE.csv
   std::vector<std::string> spread_from;   // METHOD=N
   std::vector<double> heckel_window{0.3, 1.0};
@@ -34,6 +35,10 @@ int run(const ReportCli& cli, const RunContext& context) {
   if (cli.poisson_ratio && !(*cli.poisson_ratio >= 0.0 && *cli.poisson_ratio < 0.5))
     throw InputError(fmt::format("--poisson-ratio {}: expected 0 <= nu < 0.5", *cli.poisson_ratio));
   options.poisson_ratio = cli.poisson_ratio;
+  if (cli.compare_from && !(*cli.compare_from > 0.0 && *cli.compare_from < 1.0))
+    throw InputError(
+        fmt::format("--compare-from {}: expected 0 < deformation < 1", *cli.compare_from));
+  options.plate_compare_from = cli.compare_from;
   for (const std::string& curve : cli.plate_curves) {
     const std::size_t equals = curve.find('=');
     if (equals == std::string::npos || equals == 0 || equals + 1 == curve.size())
@@ -91,6 +96,9 @@ StageRunner setup_report_cli(CLI::App& app) {
       ->required();
   app.add_option("--poisson-ratio", cli->poisson_ratio,
                  "plate runs: the sphere's Poisson ratio, to draw and compare Tatara's curve");
+  app.add_option("--compare-from", cli->compare_from,
+                 "plate runs: the deformation Delta/(2R) the RMS against Hertz and Tatara starts "
+                 "at, e.g. 0.05 for the paper's 5-40 % (default: 5 % of the deepest)");
   app.add_option("--plate-curve", cli->plate_curves,
                  "LABEL=FILE.csv: one more curve on the plate chart (columns deformation and "
                  "force_N or top_force_N), e.g. a BMS plate run; repeatable");

@@ -34,7 +34,17 @@ std::vector<LoadedRun> load_runs(const ReportOptions& options) {
       run.compaction = analyse_compaction(*run.punch, options.windows);
     } else {
       run.plate = read_plate_curve(run.files.csv);
-      run.plate_metrics = analyse_plate(*run.plate, options.poisson_ratio);
+      double from_fraction = 0.05;  // analyse_plate's: of the deepest deformation
+      if (options.plate_compare_from) {
+        const double deepest =
+            *std::max_element(run.plate->deformation.begin(), run.plate->deformation.end());
+        if (!(*options.plate_compare_from < deepest))
+          throw InputError(fmt::format("--compare-from {}: {} reaches deformation {} only",
+                                       *options.plate_compare_from, run.files.csv.string(),
+                                       deepest));
+        from_fraction = *options.plate_compare_from / deepest;
+      }
+      run.plate_metrics = analyse_plate(*run.plate, options.poisson_ratio, from_fraction);
     }
     runs.push_back(std::move(run));
   }

@@ -17,6 +17,9 @@ struct ReportOptions {
   std::filesystem::path out;
   FitWindows windows;
   std::optional<double> poisson_ratio;  // plate runs: ν of the sphere, for Tatara
+  // Plate runs: the deformation Δ/(2R) the comparisons with Hertz and Tatara start at (the
+  // paper's 5–40 %: 0.05); absent: 5 % of the run's deepest deformation.
+  std::optional<double> plate_compare_from;
   // Extra curves on the plate chart (another method's force–deformation, e.g. a BMS run or a
   // digitised experiment): label and a CSV with columns deformation and force_N or top_force_N.
   std::vector<std::pair<std::string, std::filesystem::path>> plate_curves;

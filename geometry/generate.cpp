@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -31,37 +32,213 @@ void stretch_along(TriangleMesh& mesh, const Mat3& axes, const Vec3& factors) {
     p = centre + map * (p - centre);
 }
 
-// The pooled projected ASR of every particle's hull, stretched by (1, e, e f) along x, y, z.
-std::vector<double> pooled_projected_asr(const std::vector<std::vector<Vec3>>& hulls,
-                                         const std::vector<std::vector<Vec3>>& directions,
-                                         const std::vector<double>& ratio, double w,
-                                         std::vector<double>* per_particle_mean) {
-  const std::size_t n = hulls.size(), m = directions.front().size();
-  std::vector<double> pooled(n * m);
-#pragma omp parallel for schedule(dynamic, 4)
-  for (std::size_t i = 0; i < n; ++i) {
-    const double e = std::pow(ratio[i], w), s = ratio[i];
-    std::vector<Vec3> stretched = hulls[i];
-    for (Vec3& p : stretched)
-      p = Vec3(p.x(), e * p.y(), s * p.z());
-    for (std::size_t k = 0; k < m; ++k)
-      pooled[i * m + k] = projected_feret(stretched, directions[i][k]).ratio();
-  }
-  if (per_particle_mean != nullptr) {
-    per_particle_mean->assign(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < m; ++k)
-        (*per_particle_mean)[i] += pooled[i * m + k] / m;
-  }
-  return pooled;
+// The shape a particle takes in the projected-ASR fit: its 3D S/L `ratio`, split as I/L =
+// ratio^share and S/I = ratio^(1 - share), and the amplitude of its roughness relative to the
+// spectrum's D_l.
+struct ShapeChoice {
+  double ratio = 1.0, share = 0.5, roughness = 1.0;
+};
+
+// The shapes the fit chooses from: S/L from 0.05 to 1 in steps of 0.025 for each split at the
+// population's roughness, then at S/L = 1 that roughness stepped down to a smooth sphere. A rough
+// sphere's silhouettes stay near Feret ratio 0.95 (its D3 alone costs a few per cent of width),
+// so the round particles that images show near ASR 1 (the discs of a mixture) exist only as
+// smooth ones.
+std::vector<ShapeChoice> shape_choices(double roughness, const std::vector<double>& shares) {
+  std::vector<ShapeChoice> choices;
+  for (double share : shares)
+    for (int k = 0; k <= 38; ++k)
+      choices.push_back({0.05 + 0.025 * k, share, roughness});
+  for (int j = 1; j <= 8; ++j)
+    choices.push_back({1.0, shares.front(), roughness * (1.0 - j / 8.0)});
+  return choices;
 }
 
-double sorted_quantile(const std::vector<double>& sorted, double p) {
-  const double x = p * static_cast<double>(sorted.size()) - 0.5;
-  const auto i = static_cast<std::size_t>(std::clamp(std::floor(x), 0.0, sorted.size() - 1.0));
-  const std::size_t j = std::min(i + 1, sorted.size() - 1);
-  const double t = std::clamp(x - static_cast<double>(i), 0.0, 1.0);
-  return sorted[i] + t * (sorted[j] - sorted[i]);
+// The unit-roughness draw with its radial field r(u) - 1 scaled: its vertices lie on the
+// icosphere's rays, so |v| is r(u) (floored as in rough_sphere).
+std::vector<Vec3> with_roughness(const std::vector<Vec3>& vertices, double roughness) {
+  std::vector<Vec3> scaled(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const double r = vertices[i].norm();
+    scaled[i] = vertices[i] / r * std::max(1.0 + roughness * (r - 1.0), 0.05);
+  }
+  return scaled;
+}
+
+// Projected ASRs are binned on [0, 1] for the fit's cumulative distributions.
+constexpr int asr_bins = 400;
+
+std::uint16_t asr_bin(double asr) {
+  return static_cast<std::uint16_t>(std::clamp(static_cast<int>(asr * asr_bins), 0, asr_bins - 1));
+}
+
+// views[c]: the bins of the particle's silhouettes in its calibration directions for choice c,
+// sorted.
+using ChoiceViews = std::vector<std::vector<std::uint16_t>>;
+
+ChoiceViews choice_views(const std::vector<Vec3>& vertices, const std::vector<ShapeChoice>& choices,
+                         const std::vector<Vec3>& directions) {
+  ChoiceViews views(choices.size());
+  double hull_roughness = -1.0;
+  std::vector<Vec3> hull;
+  for (std::size_t c = 0; c < choices.size(); ++c) {
+    // A stretch maps the hull to the stretched body's hull: one hull per roughness.
+    if (choices[c].roughness != hull_roughness) {
+      hull_roughness = choices[c].roughness;
+      const std::vector<Vec3> rough = with_roughness(vertices, hull_roughness);
+      hull.clear();
+      for (std::size_t id : convex_hull_vertices(rough))
+        hull.push_back(rough[id]);
+    }
+    const double a = choices[c].ratio, e = std::pow(a, choices[c].share);
+    std::vector<Vec3> stretched = hull;
+    for (Vec3& p : stretched)
+      p = Vec3(p.x(), e * p.y(), a * p.z());
+    for (const Vec3& d : directions)
+      views[c].push_back(asr_bin(projected_feret(stretched, d).ratio()));
+    std::sort(views[c].begin(), views[c].end());
+  }
+  return views;
+}
+
+// Squared distance between the pooled silhouettes' cumulative distribution and the target's,
+// summed over the bins: `others` the cumulative counts of every other particle, `mine` this
+// particle's sorted bins.
+double cdf_misfit(const std::vector<double>& others, const std::vector<std::uint16_t>& mine,
+                  const std::vector<double>& target_cdf, double total) {
+  double misfit = 0.0;
+  std::size_t k = 0;
+  for (int b = 0; b < asr_bins; ++b) {
+    while (k < mine.size() && mine[k] <= b)
+      ++k;
+    const double gap = (others[static_cast<std::size_t>(b)] + static_cast<double>(k)) / total -
+                       target_cdf[static_cast<std::size_t>(b)];
+    misfit += gap * gap;
+  }
+  return misfit;
+}
+
+// Chooses each particle's shape so that the silhouettes of the whole population, pooled over
+// random directions, follow the image's projected-ASR distribution: coordinate descent on the
+// Cramér–von Mises misfit of the pooled cumulative distribution, one particle at a time, from a
+// start where particle i stands for level p_i of the distribution. The pooled silhouettes of a
+// particle spread over a range of ratios, so matching per-particle levels one by one cannot
+// work; matching the pooled distribution deconvolves the orientation spread as a whole.
+std::vector<std::size_t> fit_choices(const std::vector<ChoiceViews>& views,
+                                     const std::vector<double>& start_asr,
+                                     const ShapeTargets& targets, int sweeps) {
+  const std::size_t n = views.size(), m = views.front().front().size();
+  const std::size_t choices = views.front().size();
+  std::vector<double> target_cdf(asr_bins);
+  for (int b = 0; b < asr_bins; ++b)
+    target_cdf[static_cast<std::size_t>(b)] = targets.asr_cdf((b + 1.0) / asr_bins);
+  std::vector<std::size_t> chosen(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double best = 2.0;
+    for (std::size_t c = 0; c < choices; ++c) {
+      const double median = (views[i][c][m / 2] + 0.5) / asr_bins;
+      if (std::abs(median - start_asr[i]) < best) {
+        best = std::abs(median - start_asr[i]);
+        chosen[i] = c;
+      }
+    }
+  }
+  std::vector<double> histogram(asr_bins, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint16_t b : views[i][chosen[i]])
+      histogram[b] += 1.0;
+  const double total = static_cast<double>(n * m);
+  std::vector<double> others(asr_bins);
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    bool changed = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::uint16_t b : views[i][chosen[i]])
+        histogram[b] -= 1.0;
+      double running = 0.0;
+      for (int b = 0; b < asr_bins; ++b)
+        others[static_cast<std::size_t>(b)] = running += histogram[static_cast<std::size_t>(b)];
+      double best = cdf_misfit(others, views[i][chosen[i]], target_cdf, total);
+      for (std::size_t c = 0; c < choices; ++c) {
+        const double misfit = cdf_misfit(others, views[i][c], target_cdf, total);
+        if (misfit < best) {
+          best = misfit;
+          chosen[i] = c;
+          changed = true;
+        }
+      }
+      for (std::uint16_t b : views[i][chosen[i]])
+        histogram[b] += 1.0;
+    }
+    if (!changed) break;
+  }
+  return chosen;
+}
+
+// The projected-distribution branch of generate_population: each particle's 3D S/L, its split
+// between elongation and flatness, and its roughness. Images cannot tell how a particle's
+// shortening splits between I/L and S/I; explicit targets fix it, else the fit picks per particle
+// between the even split and the prolate one (I = S). A prolate particle shows nearly the same
+// Feret ratio from most directions (only views near its long axis look rounder), an even or
+// flat one a broad spread: a narrow peak in the images (a batch of like ellipses) needs the
+// former.
+void fit_projected_distribution(std::vector<GeneratedParticle>& particles,
+                                const ShapeTargets& targets, const GenerateOptions& options,
+                                double e_target, double f_target) {
+  const std::size_t n = particles.size();
+  Rng rng(mix(options.seed));
+  std::vector<std::size_t> rank(n);
+  for (std::size_t i = 0; i < n; ++i)
+    rank[i] = i;
+  for (std::size_t i = n; i-- > 1;)
+    std::swap(rank[i], rank[static_cast<std::size_t>(uniform01(rng) * (i + 1)) % (i + 1)]);
+  const bool split_given = targets.elongation.has_value() || targets.flatness.has_value();
+  const std::vector<double> shares =
+      split_given && e_target * f_target < 1.0
+          ? std::vector<double>{std::log(e_target) / std::log(e_target * f_target)}
+          : std::vector<double>{0.5, 1.0};
+  std::vector<std::vector<Vec3>> directions(n);
+  std::vector<double> start_asr(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Rng view(mix(particles[i].seed ^ 0x5eedULL));
+    for (int k = 0; k < options.calibration_directions; ++k)
+      directions[i].push_back(random_direction(view));
+    start_asr[i] = targets.asr_quantile((static_cast<double>(rank[i]) + 0.5) / n);
+  }
+  // The images' spectrum is a mean over their particles, smooth ones included: when the fit
+  // makes some particles smoother, the others carry more roughness so that the population's
+  // mean amplitude stays the measured one (at most twice it, one refit).
+  double roughness = 1.0;
+  std::vector<ShapeChoice> choices;
+  std::vector<std::size_t> chosen;
+  for (int fit = 0; fit < 2; ++fit) {
+    choices = shape_choices(roughness, shares);
+    std::vector<ChoiceViews> views(n);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t i = 0; i < n; ++i)
+      views[i] = choice_views(particles[i].mesh.vertices, choices, directions[i]);
+    chosen = fit_choices(views, start_asr, targets, options.calibration_iterations);
+    double mean = 0.0;
+    for (std::size_t c : chosen)
+      mean += choices[c].roughness / static_cast<double>(n);
+    if (mean >= 0.99 || roughness >= 2.0) break;
+    roughness = std::min(2.0, roughness / std::max(mean, 0.5));
+  }
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t i = 0; i < n; ++i) {
+    GeneratedParticle& p = particles[i];
+    ShapeChoice shape = choices[chosen[i]];
+    TriangleMesh rough{with_roughness(p.mesh.vertices, shape.roughness), p.mesh.triangles};
+    // The unit draw passed the mesh checks; an amplified one may fold: it keeps unit roughness.
+    if (shape.roughness > 1.0 && !check_mesh(rough).valid()) {
+      shape.roughness = 1.0;
+      rough.vertices = with_roughness(p.mesh.vertices, 1.0);
+    }
+    p.mesh = std::move(rough);
+    p.roughness = shape.roughness;
+    p.elongation_target = std::pow(shape.ratio, shape.share);
+    p.flatness_target = std::pow(shape.ratio, 1.0 - shape.share);
+    stretch_along(p.mesh, Mat3::Identity(), Vec3(1.0, p.elongation_target, shape.ratio));
+  }
 }
 
 }  // namespace
@@ -182,44 +359,7 @@ std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
   // 2. Shape: either the image's projected-ASR distribution (population calibration of one
   //    stretch ratio per particle on its convex hull) or 3D box ratios per particle.
   if (targets.projected_distribution()) {
-    // Particle i stands for level p_i of the distribution (a seeded permutation of strata);
-    // its S/L ratio a_i is corrected until the pooled silhouettes' quantile at p_i is the
-    // image's: a fixed-point deconvolution of the orientation spread.
-    Rng rng(mix(options.seed));
-    std::vector<std::size_t> rank(n);
-    for (std::size_t i = 0; i < n; ++i)
-      rank[i] = i;
-    for (std::size_t i = n; i-- > 1;)
-      std::swap(rank[i], rank[static_cast<std::size_t>(uniform01(rng) * (i + 1)) % (i + 1)]);
-    const bool split_given = targets.elongation.has_value() || targets.flatness.has_value();
-    const double w = split_given && e_target * f_target < 1.0
-                         ? std::log(e_target) / std::log(e_target * f_target)
-                         : 0.5;
-    std::vector<std::vector<Vec3>> hulls(n), directions(n);
-    std::vector<double> level(n), ratio(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t id : convex_hull_vertices(particles[i].mesh.vertices))
-        hulls[i].push_back(particles[i].mesh.vertices[id]);
-      Rng view(mix(particles[i].seed ^ 0x5eedULL));
-      for (int k = 0; k < options.calibration_directions; ++k)
-        directions[i].push_back(random_direction(view));
-      level[i] = (static_cast<double>(rank[i]) + 0.5) / static_cast<double>(n);
-      ratio[i] = targets.asr_quantile(level[i]);
-    }
-    for (int iteration = 0; iteration < options.calibration_iterations; ++iteration) {
-      std::vector<double> pooled = pooled_projected_asr(hulls, directions, ratio, w, nullptr);
-      std::sort(pooled.begin(), pooled.end());
-      for (std::size_t i = 0; i < n; ++i)
-        ratio[i] = std::clamp(
-            ratio[i] + targets.asr_quantile(level[i]) - sorted_quantile(pooled, level[i]), 0.05,
-            1.0);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      particles[i].elongation_target = std::pow(ratio[i], w);
-      particles[i].flatness_target = std::pow(ratio[i], 1.0 - w);
-      stretch_along(particles[i].mesh, Mat3::Identity(),
-                    Vec3(1.0, particles[i].elongation_target, ratio[i]));
-    }
+    fit_projected_distribution(particles, targets, options, e_target, f_target);
   } else {
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t i = 0; i < n; ++i) {

@@ -2,7 +2,9 @@
 // Particle generation from shape statistics: a star-shaped random field on the sphere (real
 // spherical harmonics with Gaussian coefficients whose degree-l amplitude follows the Fourier
 // spectrum D_l of the images, after Mollon & Zhao 2014 and Wei et al. 2018), stretched to the
-// target L:I:S, scaled to a size drawn from the size distribution. Each particle is reproducible
+// target L:I:S, scaled to a size drawn from the size distribution. With the image's projected-ASR
+// distribution as the target, each particle's stretch and roughness are chosen so that the whole
+// population's silhouettes follow it (docs/stages.md, "generate"). Each particle is reproducible
 // from (seed, index) and redrawn until its mesh is closed, manifold and self-intersection free.
 #include <cstdint>
 #include <functional>
@@ -36,7 +38,7 @@ struct GenerateOptions {
   int max_degree = 15;              // highest spherical-harmonic degree
   double ratio_spread = 0.05;       // relative spread of the per-particle 3D ratios (box targets)
   int calibration_directions = 24;  // per particle, for the projected-ASR calibration
-  int calibration_iterations = 20;
+  int calibration_iterations = 20;  // sweeps of the projected-ASR fit at most
   int max_redraws = 20;
   void check() const;
 };
@@ -47,6 +49,7 @@ struct GeneratedParticle {
   int redraws = 0;         // rejected draws before it
   double size_m = 0.0;     // equivalent-circle diameter it was scaled to
   double elongation_target = 0.0, flatness_target = 0.0;  // 3D stretch asked for
+  double roughness = 1.0;  // amplitude of its roughness relative to the spectrum's D_l
 };
 
 // Progress hook: called with the number of particles done so far.

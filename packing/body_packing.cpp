@@ -246,6 +246,13 @@ struct Reader {
 
 }  // namespace
 
+bool is_body_packing(const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext != ".h5" && ext != ".hdf5") return false;
+  const H5Reader file(path);
+  return file.has_attribute("/", "format") && file.attribute_string("/", "format") == format_name;
+}
+
 BodyPacking read_packing(const std::filesystem::path& path) {
   const H5Reader file(path);
   const Reader read{file};

@@ -113,6 +113,10 @@ void place_bodies(BodyPacking& packing);
 // file when the folder cannot be written.
 void write_packing(const std::filesystem::path& path, const BodyPacking& packing,
                    const Provenance& provenance);
+// Whether `path` is an HDF5 file written by write_packing (a bed of bodies), as against a plain
+// sphere list (packing.hpp). False for a file that is not HDF5.
+bool is_body_packing(const std::filesystem::path& path);
+
 // InputError naming the file and the dataset or attribute that is missing or inconsistent
 // (a bond across bodies, a particle range that does not match, a template index out of range).
 BodyPacking read_packing(const std::filesystem::path& path);

@@ -366,9 +366,9 @@ EngineBed engine_bed(const PackRequest& r, const std::vector<BodyTemplate>& temp
     const Vector3 inertia = {r.density * s5 * t.principal_inertia[0],
                              r.density * s5 * t.principal_inertia[1],
                              r.density * s5 * t.principal_inertia[2]};
-    bed.clump_of_body.push_back(static_cast<std::int32_t>(add_rigid_body(
-        bed.state, bed.clumps, body.centre, body.orientation, offsets, radii,
-        r.density * s3 * t.sphere_volume, inertia, s3 * t.sphere_volume, 0, t.name)));
+    bed.clump_of_body.push_back(static_cast<std::int32_t>(add_rigid_clump(
+        bed.state, bed.clumps, offsets, radii, body.centre, body.orientation,
+        r.density * s3 * t.sphere_volume, s3 * t.sphere_volume, inertia, 0, t.name)));
   }
   return bed;
 }

@@ -2,6 +2,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -39,16 +40,20 @@ int run(const CompactCli& cli, const RunContext& context) {
     prepared = resume_compaction(config, read_snapshot(cli.restart));
     meta.input("restart", cli.restart);
   } else {
-    std::optional<SphereList> spheres;
-    if (!cli.packing.empty()) {
-      spheres = read_spheres(cli.packing);
-      meta.input("packing", cli.packing);
+    if (!cli.packing.empty() && is_body_packing(cli.packing)) {
+      prepared = prepare_compaction(config, read_packing(cli.packing));
+    } else {
+      std::optional<SphereList> spheres;
+      if (!cli.packing.empty()) spheres = read_spheres(cli.packing);
+      prepared = prepare_compaction(config, spheres);
     }
-    prepared = prepare_compaction(config, spheres);
+    if (!cli.packing.empty()) meta.input("packing", cli.packing);
     if (config.clumps && !config.clumps->templates.empty())
       meta.input("templates", config.clumps->templates);
   }
   Engine& engine = *prepared.engine;
+  // Where the punch starts when [box] leaves it to the packing: the effective config states it.
+  if (std::isnan(config.punch)) config.punch = engine.walls()[prepared.setup.punch_wall].position;
   spdlog::info(
       "compact: {} spheres ({} rigid clumps), time step {:.3g} s ({:.3g} of the Rayleigh time, "
       "{:.0f} steps per Hertz collision)",
@@ -69,7 +74,8 @@ int run(const CompactCli& cli, const RunContext& context) {
   CsvWriter csv(out / "punch.csv",
                 {"time_s", "step", "gap_m", "strain", "top_force_N", "bottom_force_N", "stress_Pa",
                  "solid_fraction", "phase", "kinetic_energy_J", "contacts", "wall_contacts",
-                 "contacts_per_particle", "intact_bonds"});
+                 "contacts_per_particle", "intact_bonds", "solid_fraction_spheres",
+                 "punch_work_J"});
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
                           prepared.punch.reference_gap, setup.die_area));
@@ -78,6 +84,14 @@ int run(const CompactCli& cli, const RunContext& context) {
                   : "H0 is the gap when loading starts (punch.strain_reference = start)");
   csv.comment(fmt::format("solid volume {:.10g} m^3; solid fraction ceiling {} at gap {:.10g} m",
                           setup.solid_volume, setup.max_solid_fraction, *setup.program.min_gap));
+  if (setup.sphere_volume != setup.solid_volume)
+    csv.comment(fmt::format(
+        "solid_fraction is by the bodies' shape volume {:.10g} m^3; solid_fraction_spheres by "
+        "their sub-spheres' {:.10g} m^3 ({:.4g} of it)",
+        setup.solid_volume, setup.sphere_volume, setup.sphere_volume / setup.solid_volume));
+  if (config.density_scale != 1.0)
+    csv.comment(fmt::format("mass scaling: particle density x {} (run.density_scale)",
+                            config.density_scale));
   if (setup.ceiling_limits_load)
     csv.comment(fmt::format(
         "loading stops at the solid fraction ceiling {} (gap {:.10g} m, strain {:.6g}) before "
@@ -91,11 +105,13 @@ int run(const CompactCli& cli, const RunContext& context) {
     csv.row({r.time, static_cast<double>(r.step), r.gap, r.strain, r.top_force, r.bottom_force,
              r.stress, r.solid_fraction, static_cast<double>(r.phase), r.kinetic_energy,
              static_cast<double>(r.sphere_contacts), static_cast<double>(r.wall_contacts),
-             r.contacts_per_particle, static_cast<double>(r.intact_bonds)});
+             r.contacts_per_particle, static_cast<double>(r.intact_bonds),
+             r.solid_fraction_spheres, r.punch_work});
   };
   hooks.snapshot = [&](const Engine& e, const PunchState& punch) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
-    write_snapshot(out / "snapshots" / name, e, punch_scenario_state(punch), provenance);
+    write_snapshot(out / "snapshots" / name, e, compaction_scenario_state(punch, setup),
+                   provenance);
     index.push_back({std::filesystem::path("snapshots") / name, e.time(), e.state().size(),
                      e.walls().size(), e.computes_particle_stress(), e.bonds().size(),
                      e.clumps().size()});
@@ -109,6 +125,14 @@ int run(const CompactCli& cli, const RunContext& context) {
   const double h0 = prepared.punch.reference_gap;
   const CompactionSummary summary = run_compaction(engine, prepared.setup, prepared.punch, hooks);
   progress.finish();
+  const QuasiStaticCheck& qs = summary.quasi_static;
+  if (qs.records > 0 && !qs.quasi_static())
+    spdlog::warn(
+        "compact: the run was not quasi-static: kinetic energy up to {:.3g} of the punch's work "
+        "(limit {}), top and bottom forces {:.3g} apart on average (limit {}); slow the punch, "
+        "or lower run.density_scale",
+        qs.max_kinetic_to_work, QuasiStaticCheck::max_kinetic_energy_ratio,
+        qs.mean_force_imbalance, QuasiStaticCheck::max_mean_force_imbalance);
   csv.commit();
   meta.output("punch.csv");
   if (!index.empty()) meta.output("snapshots.xdmf");

@@ -1,9 +1,19 @@
 #include "scenarios/compact.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <vector>
 #include <numbers>
 
 namespace shapepress::scenarios {
+
+ScenarioState compaction_scenario_state(const PunchState& punch, const CompactionSetup& setup) {
+  ScenarioState state = punch_scenario_state(punch);
+  state.emplace_back("bed_shape_volume", setup.solid_volume);
+  state.emplace_back("bed_sphere_volume", setup.sphere_volume);
+  return state;
+}
 
 PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
                          const PunchState& punch) {
@@ -16,10 +26,11 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   r.top_force = engine.wall_load(setup.punch_wall);
   r.bottom_force = engine.wall_load(setup.bottom_wall);
   r.stress = r.top_force / setup.die_area;
-  // setup.solid_volume counts each clump's union once (compact_setup.cpp).
   r.solid_fraction = setup.solid_volume / (setup.die_area * r.gap);
+  r.solid_fraction_spheres = setup.sphere_volume / (setup.die_area * r.gap);
   r.phase = punch.phase;
   r.kinetic_energy = engine.energy().kinetic;
+  r.punch_work = punch.work;
   r.sphere_contacts = engine.sphere_contacts();
   r.wall_contacts = engine.wall_contacts();
   const double n = static_cast<double>(engine.state().size());
@@ -28,11 +39,31 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   return r;
 }
 
+QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& loading) {
+  QuasiStaticCheck check;
+  double peak = 0.0;
+  for (const PunchRecord& r : loading)
+    peak = std::max(peak, r.stress);
+  double imbalance_sum = 0.0;
+  for (const PunchRecord& r : loading) {
+    if (!(peak > 0.0) || r.stress < 0.1 * peak || !(r.punch_work > 0.0)) continue;
+    ++check.records;
+    check.max_kinetic_to_work = std::max(check.max_kinetic_to_work, r.kinetic_energy / r.punch_work);
+    const double imbalance = std::fabs(r.top_force - r.bottom_force) / r.top_force;
+    imbalance_sum += imbalance;
+    check.max_force_imbalance = std::max(check.max_force_imbalance, imbalance);
+  }
+  if (check.records > 0) check.mean_force_imbalance = imbalance_sum / static_cast<double>(check.records);
+  return check;
+}
+
 CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, PunchState& punch,
                                  const CompactionHooks& hooks) {
   CompactionSummary summary;
+  std::vector<PunchRecord> loading;  // judged for the quasi-static check at the end
   const auto emit = [&](PunchRecord record) {
     summary.max_stress = std::max(summary.max_stress, record.stress);
+    if (record.phase == PunchPhase::load) loading.push_back(record);
     if (hooks.record) hooks.record(record);
     summary.last = record;
   };
@@ -43,9 +74,11 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
          (setup.max_steps <= 0 || engine.step_index() < setup.max_steps)) {
     const double gap = walls[setup.punch_wall].position - walls[setup.bottom_wall].position;
     const double stress = engine.wall_load(setup.punch_wall) / setup.die_area;
-    walls[setup.punch_wall].velocity =
-        punch_velocity(setup.program, punch, engine.time(), gap, stress);
+    const double velocity = punch_velocity(setup.program, punch, engine.time(), gap, stress);
+    walls[setup.punch_wall].velocity = velocity;
     engine.step();
+    // The punch moves down at -velocity against the bed's load on it.
+    punch.work -= engine.wall_load(setup.punch_wall) * velocity * engine.settings().time_step;
     ++summary.steps;
     const std::int64_t step = engine.step_index();
     if (setup.record_every > 0 && step % setup.record_every == 0)
@@ -57,6 +90,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
   summary.loop_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (summary.last.step != engine.step_index()) emit(punch_record(engine, setup, punch));
+  summary.quasi_static = quasi_static_check(loading);
   return summary;
 }
 

@@ -4,10 +4,12 @@
 // this file holds the physics loop and no I/O (the CLI writes punch.csv and snapshots).
 #include <cstdint>
 #include <functional>
+#include <vector>
 #include "scenarios/namespaces.hpp"
 
 #include "scenarios/punch.hpp"
 #include "simulate/engine.hpp"
+#include "simulate/snapshot.hpp"
 
 namespace shapepress::scenarios {
 
@@ -17,7 +19,12 @@ struct CompactionSetup {
   // H0 of the strain is PunchState::reference_gap (saved with the punch for a restart): the gap
   // at the run's start, or the loose fill height when this is set (punch.strain_reference).
   bool strain_from_fill = false;
-  double solid_volume = 0.0;         // m³, Σ sphere volumes
+  // m³: Σ of the bodies' shape volumes (a packing from `pack`), else Σ sphere volumes (clumps:
+  // their unions'); the solid fraction of punch.csv, Heckel's and the ceiling's.
+  double solid_volume = 0.0;
+  // m³: Σ sub-sphere volumes (clumps: unions); below solid_volume for BMS bodies by their
+  // sub-spheres' packing fraction. punch.csv's solid_fraction_spheres.
+  double sphere_volume = 0.0;
   double max_solid_fraction = 0.95;  // the ceiling behind program.min_gap
   // The target gap would pass the ceiling: loading stops at program.min_gap instead.
   bool ceiling_limits_load = false;
@@ -37,9 +44,11 @@ struct PunchRecord {
   double top_force = 0.0;       // N, compressive load on the punch
   double bottom_force = 0.0;    // N, on the bottom plate
   double stress = 0.0;          // Pa, top force / die area
-  double solid_fraction = 0.0;  // Σ sphere volumes / (die area × gap)
+  double solid_fraction = 0.0;  // solid_volume / (die area × gap)
+  double solid_fraction_spheres = 0.0;  // sphere_volume / (die area × gap)
   PunchPhase phase = PunchPhase::load;
   double kinetic_energy = 0.0;  // J, translational + rotational
+  double punch_work = 0.0;      // J, ∫ F dz done by the punch on the bed since the run began
   std::int64_t sphere_contacts = 0;
   std::int64_t wall_contacts = 0;
   double contacts_per_particle = 0.0;  // 2 × sphere–sphere contacts / N (LIGGGHTS contact/atom)
@@ -52,15 +61,41 @@ struct CompactionHooks {
   std::function<void(std::int64_t step)> progress;
 };
 
+// Whether a compaction was quasi-static: the bed's kinetic energy small against the work of the
+// punch, and the top and bottom forces equal (no stress wave or inertia between them), judged
+// over the loading records from a tenth of the peak stress on, where the forces carry the curve.
+struct QuasiStaticCheck {
+  double max_kinetic_to_work = 0.0;     // largest kinetic energy / punch work
+  double mean_force_imbalance = 0.0;    // mean |top - bottom| / top
+  double max_force_imbalance = 0.0;     // largest |top - bottom| / top
+  std::int64_t records = 0;             // loading records judged
+  bool quasi_static() const {
+    return max_kinetic_to_work <= max_kinetic_energy_ratio &&
+           mean_force_imbalance <= max_mean_force_imbalance;
+  }
+  // 1 % of the work held as motion, 5 % between the plates on average: beyond them the curve
+  // carries the bed's inertia, not its stiffness (docs/models.md, "Quasi-static").
+  static constexpr double max_kinetic_energy_ratio = 0.01;
+  static constexpr double max_mean_force_imbalance = 0.05;
+};
+
 struct CompactionSummary {
   PunchRecord last;
   double max_stress = 0.0;
+  QuasiStaticCheck quasi_static;
   std::int64_t steps = 0;     // steps taken by this call
   double loop_seconds = 0.0;  // wall time of the stepping loop
 };
 
+// What a compaction snapshot keeps beyond the engine: the punch controller's state and the bed's
+// shape and sub-sphere volumes (a bed of bodies cannot recompute its shape volume from spheres).
+ScenarioState compaction_scenario_state(const PunchState& punch, const CompactionSetup& setup);
+
 PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
                          const PunchState& punch);
+
+// The check over the loading records of a run (PunchRecord::phase load).
+QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& loading);
 
 // Steps until the program is done or max_steps is reached. Throws ComputationError on
 // divergence (from Engine::step).

@@ -1,5 +1,6 @@
 #include "scenarios/compact_setup.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <numbers>
 
 #include "common/error.hpp"
+#include "packing/bed_state.hpp"
 #include "packing/clump_packing.hpp"
 #include "packing/settle.hpp"
 
@@ -23,7 +25,8 @@ double expected_speed(const CompactConfig& c, const SphereState& s) {
                            s.velocity.z[i] * s.velocity.z[i]));
   const std::array<double, 3>& gravity = c.run.engine.gravity;
   const double g = std::hypot(gravity[0], gravity[1], gravity[2]);
-  return std::max(v, std::sqrt(2.0 * std::max(g, c.generate ? 9.81 : 0.0) * (c.punch - c.bottom)));
+  const double fall = std::isnan(c.punch) ? 0.0 : c.punch - c.bottom;
+  return std::max(v, std::sqrt(2.0 * std::max(g, c.generate ? 9.81 : 0.0) * fall));
 }
 
 // The skin defaults to 0.1 of the smallest diameter.
@@ -44,11 +47,21 @@ double solid_volume(const SphereState& s, const ClumpSet& clumps) {
   return volume;
 }
 
-CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
-                                 const SphereState& state, const ClumpSet& clumps) {
+// The particle material's density × run.density_scale (mass scaling).
+MaterialConfig scaled_materials(const CompactConfig& c) {
+  MaterialConfig m = c.materials;
+  if (c.density_scale != 1.0)
+    for (Material& material : m.materials)
+      if (material.name == c.particle_material) material.density *= c.density_scale;
+  return m;
+}
+
+CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap, double solid_volume,
+                                 double sphere_volume) {
   CompactionSetup setup = c.setup;
   if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
-  setup.solid_volume = solid_volume(state, clumps);
+  setup.solid_volume = solid_volume;
+  setup.sphere_volume = sphere_volume;
   // Solid-fraction ceiling: D = V / (A H) reaches it at H = V / (A D_max).
   const double min_gap = setup.solid_volume / (c.box_x * c.box_y * setup.max_solid_fraction);
   setup.program.min_gap = min_gap;
@@ -87,7 +100,11 @@ std::vector<ClumpTemplate> clump_templates(const ClumpsConfig& k) {
 }  // namespace
 
 PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<SphereList> spheres) {
-  const MaterialTable table = c.materials.table();
+  if (std::isnan(c.punch))
+    throw InputError(
+        "box.punch: required for a bed that is not a packing made by `pack` (it sets where the "
+        "punch starts)");
+  const MaterialTable table = scaled_materials(c).table();
   const int particle = table.index_of(c.particle_material);
   const int wall = table.index_of(c.wall_material);
   const Box box{c.box_x, c.box_y};
@@ -138,13 +155,52 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
   out.punch.reference_gap = c.setup.strain_from_fill && c.generate
                                 ? c.generate->z_high - c.generate->z_low
                                 : walls[1].position - walls[0].position;
-  out.setup =
-      compaction_setup(c, out.punch.reference_gap, out.engine->state(), out.engine->clumps());
+  const double volume = solid_volume(out.engine->state(), out.engine->clumps());
+  out.setup = compaction_setup(c, out.punch.reference_gap, volume, volume);
+  return out;
+}
+
+PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking& packing) {
+  if (c.generate || c.clumps)
+    throw InputError("packing: a packing made by `pack` is the whole bed; remove [generate] and "
+                     "[clumps] from the config");
+  const auto differs = [](double a, double b) { return std::fabs(a - b) > 1e-9 * std::max(std::fabs(a), std::fabs(b)) + 1e-15; };
+  if (differs(c.box_x, packing.box.length_x) || differs(c.box_y, packing.box.length_y) ||
+      differs(c.bottom, packing.floor))
+    throw InputError(fmt::format(
+        "packing: the box x = {:.6g} m, y = {:.6g} m, bottom = {:.6g} m of the config is not the "
+        "packing's ({:.6g}, {:.6g}, floor {:.6g} m): give the packing's die",
+        c.box_x, c.box_y, c.bottom, packing.box.length_x, packing.box.length_y, packing.floor));
+  double top = packing.floor;
+  for (std::size_t i = 0; i < packing.particles.size(); ++i)
+    top = std::max(top, packing.particles.z[i] + packing.particles.radius[i]);
+  const double punch = std::isnan(c.punch) ? std::max(packing.top, top) : c.punch;
+  if (punch < top)
+    throw InputError(fmt::format(
+        "box.punch = {:.6g} m is below the packing's highest particle top {:.6g} m", punch, top));
+  const MaterialTable table = scaled_materials(c).table();
+  const int particle = table.index_of(c.particle_material);
+  const int wall = table.index_of(c.wall_material);
+  BedRequest request;
+  request.density = table.material(particle).density;
+  request.material = particle;
+  request.bond = c.bond;
+  Bed bed = bed_from_packing(packing, request);
+  std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall}, PlaneWall{punch, -1, 0.0, wall}};
+  PreparedCompaction out;
+  out.time_step = select_time_step(bed.state, table, {wall}, c.run.time_step,
+                                   c.run.time_step_fraction, expected_speed(c, bed.state),
+                                   bed.bonds, bed.clumps);
+  const EngineSettings settings = settings_for(c, bed.state, out.time_step.time_step);
+  out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
+                                        std::move(bed.bonds), std::move(bed.clumps));
+  out.punch.reference_gap = punch - c.bottom;
+  out.setup = compaction_setup(c, out.punch.reference_gap, bed.shape_volume, bed.sphere_volume);
   return out;
 }
 
 PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snapshot) {
-  const MaterialTable table = c.materials.table();
+  const MaterialTable table = scaled_materials(c).table();
   PreparedCompaction out;
   std::vector<int> wall_materials;
   for (const PlaneWall& w : snapshot.checkpoint.walls)
@@ -156,8 +212,14 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = punch_state_from(snapshot.scenario);
-  out.setup =
-      compaction_setup(c, out.punch.reference_gap, out.engine->state(), out.engine->clumps());
+  // A bed of bodies keeps its shape and sub-sphere volumes in the snapshot (compaction_scenario_state);
+  // a bed of spheres and clumps has them in its state.
+  double shape = solid_volume(out.engine->state(), out.engine->clumps()), spheres = shape;
+  for (const auto& [name, value] : snapshot.scenario) {
+    if (name == "bed_shape_volume") shape = value;
+    if (name == "bed_sphere_volume") spheres = value;
+  }
+  out.setup = compaction_setup(c, out.punch.reference_gap, shape, spheres);
   return out;
 }
 

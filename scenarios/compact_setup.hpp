@@ -6,6 +6,7 @@
 #include "scenarios/namespaces.hpp"
 
 #include "scenarios/compact.hpp"
+#include "packing/body_packing.hpp"
 #include "scenarios/config_io.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
@@ -22,6 +23,10 @@ struct PreparedCompaction {
 // `spheres` empty: generate from config.generate (InputError if absent) and settle.
 PreparedCompaction prepare_compaction(const CompactConfig& config,
                                       std::optional<SphereList> spheres);
+// A bed of bodies made by `pack` (spheres, BMS bodies bonded by config.bond, CMS bodies as rigid
+// clumps): the box and floor must be the packing's, the punch starts at box.punch or, without
+// it, at the packing's top. Not settled again.
+PreparedCompaction prepare_compaction(const CompactConfig& config, const BodyPacking& packing);
 // Continues a run from a snapshot with the same config.
 PreparedCompaction resume_compaction(const CompactConfig& config, LoadedSnapshot snapshot);
 

@@ -323,6 +323,17 @@ BondParameters read_bond(const ConfigTable& root) {
   return p;
 }
 
+// [bond] in its two forms, for the docs.
+OptionSection bond_docs() {
+  OptionSection bond = bond_table().docs();
+  std::vector<OptionDoc> rows = bond_modulus_table().docs().rows;
+  for (const OptionDoc& row : bond_stiffness_table().docs().rows)
+    rows.push_back(row);
+  rows.insert(rows.end(), bond.rows.begin(), bond.rows.end());
+  bond.rows = rows;
+  return bond;
+}
+
 std::string bond_toml(const BondParameters& p) {
   return "[bond]\n" +
          (p.modulus > 0.0 ? bond_modulus_table().lines(p) : bond_stiffness_table().lines(p)) +
@@ -374,13 +385,7 @@ StageOptions plate_config_options(std::string stage) {
   for (const auto* t : {&plate_run_table(), &sphere_table(), &plate_table()})
     o.sections.push_back(t->docs());
   o.sections.push_back(bms_table().docs());
-  OptionSection bond = bond_table().docs();
-  std::vector<OptionDoc> rows = bond_modulus_table().docs().rows;
-  for (const OptionDoc& row : bond_stiffness_table().docs().rows)
-    rows.push_back(row);
-  rows.insert(rows.end(), bond.rows.begin(), bond.rows.end());
-  bond.rows = rows;
-  o.sections.push_back(bond);
+  o.sections.push_back(bond_docs());
   o.sections.push_back(cms_table().docs());
   return o;
 }
@@ -409,7 +414,10 @@ const OptionTable<CompactConfig>& compact_run_table() {
             Range::non_negative(), "steps between snapshots (0: none)")
         .numbers(
             "gravity", [](auto& c) -> auto& { return c.run.engine.gravity; }, dim::acceleration,
-            Range::any(), "[gx, gy, gz]");
+            Range::any(), "[gx, gy, gz]")
+        .number("density_scale", &CompactConfig::density_scale, Range::positive(),
+                "mass scaling: every particle's density x this, for quasi-static runs only "
+                "(the time step grows as its square root)");
     return r;
   }();
   return t;
@@ -427,7 +435,7 @@ const OptionTable<CompactConfig>& box_table() {
                   "height of the bottom plate")
         .quantity("punch", &CompactConfig::punch, dim::length, Range::any(),
                   "initial height of the punch, above bottom")
-        .required();
+        .default_text("the top of a packing made by pack (required for any other bed)");
     return b;
   }();
   return t;
@@ -596,8 +604,11 @@ CompactConfig read_compact_config(const ConfigTable& root) {
   c.materials = read_materials(root);
   if (root.has("run")) compact_run_table().read(root.table("run"), c);
   box_table().read(root.table("box"), c);
-  if (!(c.punch > c.bottom))
+  if (root.table("box").has("punch") && !(c.punch > c.bottom))
     throw InputError(root.source_name() + ": box.punch must be above box.bottom");
+  if (!root.table("box").has("punch") && (root.has("generate") || root.has("clumps")))
+    throw InputError(root.source_name() +
+                     ": box.punch is required with [generate] or [clumps] (it bounds the pour)");
   particles_table().read(root.table("particles"), c);
   walls_table().read(root.table("walls"), c);
   const ConfigTable punch = root.table("punch");
@@ -641,6 +652,7 @@ CompactConfig read_compact_config(const ConfigTable& root) {
                        ": clumps.spheres must hold x, y, z, r (metres) per sub-sphere");
     c.clumps = k;
   }
+  if (root.has("bond")) c.bond = read_bond(root);
   return c;
 }
 
@@ -655,6 +667,7 @@ std::string compact_config_toml(const CompactConfig& c) {
     out += "\n";
   }
   if (c.clumps) out += clumps_table().write(*c.clumps);
+  if (c.bond) out += "\n" + bond_toml(*c.bond);
   return out;
 }
 
@@ -672,6 +685,9 @@ StageOptions compact_config_options() {
     generate.rows.push_back(row);
   o.sections.push_back(generate);
   o.sections.push_back(clumps_table().docs());
+  OptionSection bond = bond_docs();
+  bond.help = "the parallel bonds of the BMS bodies of a packing from pack (compact --packing)";
+  o.sections.push_back(bond);
   return o;
 }
 

@@ -5,6 +5,7 @@
 // document the keys (`shapepress STAGE --help-config`, docs/config-reference.md).
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,7 +56,13 @@ struct ClumpsConfig {
 struct CompactConfig {
   MaterialConfig materials;
   RunSettings run;
-  double box_x = 0.0, box_y = 0.0, bottom = 0.0, punch = 0.0;
+  double box_x = 0.0, box_y = 0.0, bottom = 0.0;
+  // Where the punch starts; NaN when [box] gives none: then the top of a packing made by `pack`
+  // (prepare_compaction refuses any other bed without it).
+  double punch = std::numeric_limits<double>::quiet_NaN();
+  // Mass scaling: every particle's density × this (the time step grows as its square root). Only
+  // for quasi-static runs, whose curve must not move with it (docs/models.md, "Mass scaling").
+  double density_scale = 1.0;
   std::string particle_material, wall_material;
   // The compaction as the config gives it ([punch], [run] steps, record_every, snapshot_every);
   // prepare_compaction completes it with what the bed decides (H0, solid volume, ceiling).
@@ -70,6 +77,7 @@ struct CompactConfig {
   // fills are usually made to reach a target density); absent: the interactions' own.
   std::optional<double> settle_friction;
   std::optional<ClumpsConfig> clumps;  // filled in from [clumps] when present
+  std::optional<BondParameters> bond;  // [bond]: the bonds of a packing's BMS bodies
 };
 CompactConfig read_compact_config(const ConfigTable& root);
 // The config as TOML that read_compact_config reads back to the same values.

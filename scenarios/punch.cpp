@@ -9,7 +9,8 @@ namespace shapepress::scenarios {
 ScenarioState punch_scenario_state(const PunchState& state) {
   return {{"punch_phase", static_cast<double>(state.phase)},
           {"punch_phase_start", state.phase_start},
-          {"punch_reference_gap", state.reference_gap}};
+          {"punch_reference_gap", state.reference_gap},
+          {"punch_work", state.work}};
 }
 
 PunchState punch_state_from(const ScenarioState& scenario) {
@@ -22,6 +23,9 @@ PunchState punch_state_from(const ScenarioState& scenario) {
   state.phase = static_cast<PunchPhase>(static_cast<int>(value("punch_phase")));
   state.phase_start = value("punch_phase_start");
   state.reference_gap = value("punch_reference_gap");
+  // Snapshots written before the punch's work was kept have none: it counts from the restart.
+  for (const auto& [key, v] : scenario)
+    if (key == "punch_work") state.work = v;
   return state;
 }
 

@@ -37,6 +37,7 @@ struct PunchState {
   PunchPhase phase = PunchPhase::load;
   double phase_start = 0.0;    // s
   double reference_gap = 0.0;  // m, H0 of the strain (the gap when the run began)
+  double work = 0.0;           // J, done by the punch on the bed so far
 };
 
 // The controller's state as the snapshot's named numbers, and back (InputError when the

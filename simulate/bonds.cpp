@@ -177,17 +177,25 @@ BondSet create_bonds(const SphereState& state, double bond_multiplier,
 
 namespace {
 
-// Rotated with the bond: projected onto the plane normal to the current n, length kept.
-inline void turn_into_plane(double v[3], const double n[3]) {
+// Turned with the pair over the step, keeping its length: into the plane normal to the current
+// n (the tilt of the bond's axis, as LIGGGHTS turns its tangential history), and by the pair's
+// mean spin θ = dt (ωi + ωj)·n / 2 about n (as Yade's ScGeom twists its shear force):
+//   v ← |v| (v⊥ + τ n × v) / |v⊥ + τ n × v|,   v⊥ = v - (v·n) n,   τ = tan θ,
+// a turn by θ within the plane whatever τ. n × v is normal to v⊥ and as long, so the norm is
+// √(1 + τ²) |v⊥|: the one division and square root of the projection serve the turn too.
+inline void turn_with_pair(double v[3], const double n[3], double tan_spin,
+                           double one_plus_tan_spin2) {
   const double length2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
   if (length2 == 0.0) return;
   const double along = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-  // |v - (v·n) n|² = |v|² - (v·n)²: v was normal to last step's n, so (v·n)² is tiny next to
-  // |v|² and the difference loses nothing.
+  // |v⊥|² = |v|² - (v·n)²: v was normal to last step's n, so (v·n)² is tiny next to |v|² and the
+  // difference loses nothing.
   const double t2 = length2 - along * along;
-  const double scale = t2 > 0.0 ? std::sqrt(length2 / t2) : 0.0;
+  const double scale = t2 > 0.0 ? std::sqrt(length2 / (t2 * one_plus_tan_spin2)) : 0.0;
+  const double spun[3] = {n[1] * v[2] - n[2] * v[1], n[2] * v[0] - n[0] * v[2],
+                          n[0] * v[1] - n[1] * v[0]};
   for (int k = 0; k < 3; ++k)
-    v[k] = (v[k] - along * n[k]) * scale;
+    v[k] = (v[k] - along * n[k] + tan_spin * spun[k]) * scale;
 }
 
 // Relative motion of the bond ends, j minus i: the velocity of the bond centre seen from each
@@ -250,19 +258,26 @@ __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
     // Increments over the step: the exact change of length for the normal force (so also at the
     // first evaluation); the half-step velocities (those that moved the spheres) for shear,
     // twist and bending.
-    double v[3], w[3];
+    double v[3], w[3], spin;
     {
       const double vi[3] = {vx[i], vy[i], vz[i]}, vj[3] = {vx[j], vy[j], vz[j]};
       const double wi[3] = {wx[i], wy[i], wz[i]}, wj[3] = {wx[j], wy[j], wz[j]};
       relative_motion(vi, wi, vj, wj, n, rci, rcj, v, w);
+      // θ, the pair's mean spin about the bond over the step (turn_with_pair).
+      spin = 0.5 * increment_dt *
+             ((wi[0] + wj[0]) * n[0] + (wi[1] + wj[1]) * n[1] + (wi[2] + wj[2]) * n[2]);
     }
     BondSet::History& h = history[b];
     double fn = h.normal_force - k.normal_spring * (d - h.length);
     h.length = d;
     double fs[3] = {h.shear_force[0], h.shear_force[1], h.shear_force[2]};
     double mb[3] = {h.bend_moment[0], h.bend_moment[1], h.bend_moment[2]};
-    turn_into_plane(fs, n);
-    turn_into_plane(mb, n);
+    // The history turns with the pair, so a rigid turn leaves Fs and Mb fixed in the bodies.
+    // tan θ ≈ θ (1 + θ²/3): the turn's angle is atan of it, θ - 2θ⁵/15, without a tangent here.
+    const double tan_spin = spin * (1.0 + spin * spin * (1.0 / 3.0));
+    const double one_plus_tan_spin2 = 1.0 + tan_spin * tan_spin;
+    turn_with_pair(fs, n, tan_spin, one_plus_tan_spin2);
+    turn_with_pair(mb, n, tan_spin, one_plus_tan_spin2);
     const double vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
     const double wt = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
     const double ks_dt = k.shear_spring * increment_dt, kb_dt = k.bend_spring * increment_dt;
@@ -417,6 +432,34 @@ double bond_oscillation_period(const BondSet& bonds, const SphereState& state) {
     gamma = std::max({gamma, 2.0 * damping_t[i], 2.0 * damping_r[i]});
   if (gamma > 0.0) period = std::min(period, std::numbers::pi / gamma);
   return period;
+}
+
+}  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+
+BondSet bonds_from_pairs(const SphereState& state, std::span<const std::array<std::int32_t, 2>> pairs,
+                         std::span<const double> rest_length, const BondParameters& parameters) {
+  parameters.check();
+  if (rest_length.size() != pairs.size())
+    throw InputError(fmt::format("bonds: {} pairs but {} rest lengths", pairs.size(),
+                                 rest_length.size()));
+  const auto n = static_cast<std::int32_t>(state.size());
+  BondSet bonds;
+  bonds.contact_when_bonded = parameters.contact_when_bonded;
+  for (std::size_t b = 0; b < pairs.size(); ++b) {
+    const auto [i, j] = pairs[b];
+    if (i < 0 || j <= i || j >= n || (b > 0 && !(pairs[b - 1] < pairs[b])))
+      throw InputError(fmt::format(
+          "bond {} joins spheres {} and {}: pairs must be i < j < {} and sorted", b, i, j, n));
+    if (!(rest_length[b] > 0.0 && std::isfinite(rest_length[b])))
+      throw InputError(fmt::format("bond {}: rest length {} must be > 0", b, rest_length[b]));
+    add_bond(bonds, state, i, j, parameters);
+    BondSet::History& h = bonds.history.back();
+    h.normal_force = bonds.normal_spring.back() * (rest_length[b] - h.length);
+  }
+  bonds.index(state);
+  return bonds;
 }
 
 }  // namespace shapepress::simulate

@@ -5,10 +5,12 @@
 // two sphere centres that carries a normal force, a shear force, a twisting and a bending moment:
 //   A = π R̄²,  I = π R̄⁴/4,  J = π R̄⁴/2
 //   ΔFn = k̄n A Δun,   ΔFs = -k̄s A Δus,   ΔMt = -k̄s J Δθt,   ΔMb = -k̄n I Δθb
-// Forces and moments are accumulated incrementally and rotated with the bond every step (the
-// shear force and bending moment are turned into the current plane normal to the bond keeping
-// their length, as LIGGGHTS turns its tangential history). Optional strengths break a bond for
-// good when σmax = -Fn/A + |Mb| R̄/I ≥ σc or τmax = |Fs|/A + |Mt| R̄/J ≥ τc.
+// Forces and moments are accumulated incrementally and turned with the pair every step: the
+// shear force and bending moment into the current plane normal to the bond keeping their length
+// (the axis' tilt, as LIGGGHTS turns its tangential history), then about the bond by the pair's
+// mean spin θ = dt (ωi + ωj)·n / 2 (as Yade's ScGeom), so a rigid turn of a loaded body leaves
+// them fixed in the body. Optional strengths break a bond for good when
+// σmax = -Fn/A + |Mb| R̄/I ≥ σc or τmax = |Fs|/A + |Mt| R̄/J ≥ τc; compression never breaks one.
 //
 // The engine evaluates bonds like contacts: one pass computes each bond's force once into a
 // per-bond result, then each sphere gathers its bonds in a fixed order (after its contacts), so
@@ -17,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -113,6 +116,13 @@ struct BondSet {
 BondSet create_bonds(const SphereState& state, double bond_multiplier,
                      const BondParameters& parameters,
                      const std::vector<std::string>& body_names = {});
+
+// Bonds between the given pairs (i < j, sorted), as a packing stores them: each carries the
+// normal force k̄n A (rest length − centre distance) of its stored rest length (> 0 compressive),
+// no shear and no moments. InputError naming the pair when an index is out of range, a pair is
+// not i < j or not sorted, or a rest length is not > 0.
+BondSet bonds_from_pairs(const SphereState& state, std::span<const std::array<std::int32_t, 2>> pairs,
+                         std::span<const double> rest_length, const BondParameters& parameters);
 
 // Below this many bonds the bond loop runs on one thread. The threshold is the engine's
 // (engine.hpp): on a loaded machine a parallel region's barrier can cost a scheduler slice, far

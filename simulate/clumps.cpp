@@ -141,20 +141,20 @@ std::size_t add_clump(SphereState& state, ClumpSet& clumps, std::span<const Vect
   return c;
 }
 
-std::size_t add_rigid_body(SphereState& state, ClumpSet& clumps, const Vector3& centre,
-                           const Quaternion& orientation, std::span<const Vector3> offsets,
-                           std::span<const double> radii, double mass,
-                           const Vector3& principal_inertia, double volume, int material,
-                           const std::string& name) {
-  if (offsets.empty() || offsets.size() != radii.size())
-    throw InputError(fmt::format("body {}: no sub-spheres (or offsets and radii differ)", name));
-  if (!(mass > 0.0) || !(volume > 0.0) || !(principal_inertia[0] > 0.0) ||
-      !(principal_inertia[1] > 0.0) || !(principal_inertia[2] > 0.0))
-    throw InputError(fmt::format("body {}: mass, volume and principal moments must be > 0", name));
+std::size_t add_rigid_clump(SphereState& state, ClumpSet& clumps,
+                            std::span<const Vector3> body_centres, std::span<const double> radii,
+                            const Vector3& centre, const Quaternion& orientation, double mass,
+                            double volume, const Vector3& principal_inertia, int material,
+                            const std::string& name) {
+  if (!(mass > 0.0 && volume > 0.0 && principal_inertia[0] > 0.0 && principal_inertia[1] > 0.0 &&
+        principal_inertia[2] > 0.0))
+    throw InputError(fmt::format("clump {}: mass, volume and principal moments must be > 0", name));
+  if (body_centres.empty() || body_centres.size() != radii.size())
+    throw InputError(fmt::format("clump {}: needs sub-spheres, one radius each", name));
   const std::size_t c = clumps.size();
   const auto begin = static_cast<std::int32_t>(state.size());
   clumps.first.push_back(begin);
-  clumps.last.push_back(begin + static_cast<std::int32_t>(offsets.size()));
+  clumps.last.push_back(begin + static_cast<std::int32_t>(body_centres.size()));
   clumps.mass.push_back(mass);
   clumps.volume.push_back(volume);
   clumps.centre.push_back(centre[0], centre[1], centre[2]);
@@ -165,11 +165,10 @@ std::size_t add_rigid_body(SphereState& state, ClumpSet& clumps, const Vector3& 
   rotation.orientation = normalized(orientation);
   rotation.principal_inertia = principal_inertia;
   clumps.rotation.push_back(rotation);
-  for (std::size_t i = 0; i < offsets.size(); ++i) {
-    if (!(radii[i] > 0.0))
-      throw InputError(fmt::format("body {}: sub-sphere {} has radius {} m", name, i, radii[i]));
-    clumps.offset.push_back(offsets[i][0], offsets[i][1], offsets[i][2]);
-    const Vector3 arm = rotate_to_world(rotation.orientation, offsets[i]);
+  for (std::size_t i = 0; i < body_centres.size(); ++i) {
+    const Vector3& body = body_centres[i];
+    clumps.offset.push_back(body[0], body[1], body[2]);
+    const Vector3 arm = rotate_to_world(rotation.orientation, body);
     state.add_sphere(centre[0] + arm[0], centre[1] + arm[1], centre[2] + arm[2], radii[i], 0.0,
                      material);
     state.body.back() = begin;

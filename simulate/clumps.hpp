@@ -84,15 +84,16 @@ std::size_t add_clump(SphereState& state, ClumpSet& clumps, std::span<const Vect
                       std::span<const double> radii, double density, int material,
                       const std::string& name, int cells = 128);
 
-// Appends a clump of given mass properties (a scaled template's, not integrated again): its
-// centre of mass, orientation (body → world), sub-sphere offsets in the body frame (principal
-// axes), mass, principal moments (kg m², ascending or not) and volume, at rest. InputError naming
-// `name` for a mass, moment or radius that is not > 0.
-std::size_t add_rigid_body(SphereState& state, ClumpSet& clumps, const Vector3& centre,
-                           const Quaternion& orientation, std::span<const Vector3> offsets,
-                           std::span<const double> radii, double mass,
-                           const Vector3& principal_inertia, double volume, int material,
-                           const std::string& name);
+// Appends a clump whose mass properties are known (a template's, scaled), without integrating
+// them again: sub-spheres at `body_centres` in the body frame (centre of mass at the origin, axes
+// the principal axes), the body at `centre` turned by `orientation` (body axes → world), of
+// `mass`, union `volume` and `principal_inertia` (kg m² about the body axes), at rest.
+// InputError naming `name` for a mass, volume or moment that is not > 0.
+std::size_t add_rigid_clump(SphereState& state, ClumpSet& clumps,
+                            std::span<const Vector3> body_centres, std::span<const double> radii,
+                            const Vector3& centre, const Quaternion& orientation, double mass,
+                            double volume, const Vector3& principal_inertia, int material,
+                            const std::string& name);
 
 // The mass a sub-sphere of clump c brings to its contacts' damping: M / (sub-sphere count).
 inline double clump_damping_mass(const ClumpSet& clumps, std::size_t c) {

@@ -89,16 +89,22 @@ void Engine::check_divergence() const {
     // A bonded pair without the contact law (contact_when_bonded false) is a piece of one
     // elastic body: its overlap is the bond's compression, a strain of the particle, not a
     // contact gone too deep (under a plate a protruding sub-sphere is pressed into its bonded
-    // neighbour by more than its radius before the others take the load; docs/models.md). It
-    // has diverged when its centres come within a fifth of the radii sum.
+    // neighbour by more than its radius before the others take the load; docs/models.md). Only
+    // the linear bond keeps the centres apart, so it has failed when they come within a fifth of
+    // the radii sum. With the contact law (true) the pair is checked as any contact below.
     const bool bond_only =
         !pair_bond_.empty() && pair_bond_[p] >= 0 && bonds_.intact[pair_bond_[p]];
     if (bond_only) {
-      if (overlap > bond_only_overlap_limit * (s.radius[i] + s.radius[j]))
+      const double radii_sum = s.radius[i] + s.radius[j];
+      if (overlap > bond_only_overlap_limit * radii_sum)
         throw ComputationError(fmt::format(
-            "diverged at step {}: bonded spheres {} and {} overlap by {:.3g} m, their centres "
-            "nearer than {} of the radii sum (time step too large or the load too fast?)",
-            step_, i, j, overlap, 1.0 - bond_only_overlap_limit));
+            "diverged at step {}: bonded spheres {} and {} overlap by {:.3g} m, {:.3f} of their "
+            "radii sum, past the limit {} (their centres nearer than {:.2g} of it): with "
+            "contact_when_bonded = false only the linear bond holds them apart (time step too "
+            "large, the load too fast, or set contact_when_bonded = true for the contact law "
+            "beside the bond)",
+            step_, i, j, overlap, overlap / radii_sum, bond_only_overlap_limit,
+            1.0 - bond_only_overlap_limit));
       continue;
     }
     if (overlap > fraction * std::min(s.radius[i], s.radius[j]))
@@ -192,6 +198,20 @@ std::vector<double> Engine::particle_stress() const {
       add_pair(i, static_cast<std::size_t>(pairs_.second_pairs[e]), sigma);
     for (std::int32_t p = pairs_.first_offset[i]; p < pairs_.first_offset[i + 1]; ++p)
       add_pair(i, static_cast<std::size_t>(p), sigma);
+    // Bonds (as the gather, forces.cpp): at either end l ⊗ f = -share d ⊗ F, d = x_second -
+    // x_first (nearest image), F on `second`, share the end's part of d up to the bond centre.
+    if (!bonds_.empty())
+      for (std::int32_t e = bonds_.gather_offset[i]; e < bonds_.gather_offset[i + 1]; ++e) {
+        const std::int32_t entry = bonds_.gather[e];
+        const BondSet::Constants& k = bonds_.constants[entry >> 1];
+        double d[3] = {s.position.x[k.second] - s.position.x[k.first],
+                       s.position.y[k.second] - s.position.y[k.first],
+                       s.position.z[k.second] - s.position.z[k.first]};
+        if (box_.periodic_x()) d[0] -= box_.length_x * std::nearbyint(d[0] / box_.length_x);
+        if (box_.periodic_y()) d[1] -= box_.length_y * std::nearbyint(d[1] / box_.length_y);
+        add(sigma, (entry & 1) == 0 ? k.arm_first : k.arm_second, d,
+            bonds_.result[entry >> 1].force);
+      }
     for (std::size_t k = 0; k < walls_.size(); ++k) {
       // (a restarted engine has no wall forces until its first step)
       if (wall_force_per_sphere_.size() <= k || wall_force_per_sphere_[k].size() != s.size() ||

@@ -145,8 +145,10 @@ class Engine {
   // Work done on the spheres by moving walls and by gravity since the start, J.
   double work_in() const { return work_in_; }
   std::int64_t list_builds() const { return list_builds_; }
-  // Love–Weber stress of each sphere from the contacts of the last force evaluation: the
-  // symmetric part of (1/V) Σ l ⊗ f, stress_components per sphere, summed now (empty when the
+  // Love–Weber stress of each sphere from the contacts and bonds of the last force evaluation
+  // (a bond's force acts at the bond centre, so V σ summed over a body's sub-spheres is the
+  // body's stress from its external contacts): the symmetric part of (1/V) Σ l ⊗ f,
+  // stress_components per sphere, summed now (empty when the
   // engine does not compute particle stress: no multi-contact pair, settings.particle_stress
   // false). particle_pressure(i) is the p = -tr σ/3 the law reads next step.
   bool computes_particle_stress() const { return particle_stress_on_; }

@@ -61,6 +61,27 @@ void with_scene_law(const MaterialTable& materials, F&& f) {
   with_normal_law(*single, std::forward<F>(f));
 }
 
+// Σ l·f of sphere i's intact bonds with the sign of a contact's rc Fn (> 0 compressive): the
+// bond force acts at the bond centre, which divides the centre distance d = x_second - x_first
+// as ri : rj, so both ends give share × (d · F), F the force on `second` (a broken bond's is 0).
+// Bonds join sub-spheres of one body, smaller than half the box: the nearest image.
+double bond_arm_force(const BondSet& bonds, const SphereState& s, const Box& box, std::int64_t i) {
+  double sum = 0.0;
+  for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
+    const std::int32_t entry = bonds.gather[e];
+    const BondSet::Constants& k = bonds.constants[entry >> 1];
+    const double* force = bonds.result[entry >> 1].force;
+    double dx = s.position.x[k.second] - s.position.x[k.first];
+    double dy = s.position.y[k.second] - s.position.y[k.first];
+    const double dz = s.position.z[k.second] - s.position.z[k.first];
+    if (box.periodic_x()) dx -= box.length_x * std::nearbyint(dx / box.length_x);
+    if (box.periodic_y()) dy -= box.length_y * std::nearbyint(dy / box.length_y);
+    const double share = (entry & 1) == 0 ? k.arm_first : k.arm_second;
+    sum += share * (dx * force[0] + dy * force[1] + dz * force[2]);
+  }
+  return sum;
+}
+
 }  // namespace
 
 void Engine::pair_forces() {
@@ -371,7 +392,13 @@ void Engine::gather_forces_with(double kick) {
             t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
           }
         }
-        if (has_bonds) gather_bond_forces(bonds_, i, f, t);
+        if (has_bonds) {
+          gather_bond_forces(bonds_, i, f, t);
+          // A bonded sub-sphere's stress includes its bonds (models.md, "Stress of a bonded
+          // sub-sphere"): summed over a body's sub-spheres the bond terms leave the body's stress
+          // from its external contacts.
+          if constexpr (stress_on) arm_force += bond_arm_force(bonds_, s, box_, i);
+        }
         // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
         // Only the spheres near a wall at the last list build can touch it (build_list), and
         // next_near is the lowest of them still ahead.
@@ -407,10 +434,11 @@ void Engine::gather_forces_with(double kick) {
             c.effective_radius = ri;
             c.effective_mass = mi[6];
             c.inverse_inertia_sum = mi[7];
-            // A wall has p = 0 (models.md): P_ij = p_i / 2, p_i of the last step (overwritten
-            // below).
+            // Against a wall the pair's pressure is the sphere's own p_i of the last step
+            // (overwritten below): a sphere on a plate is the mirror half of two equal spheres
+            // pressed together, whose P_ij is p (models.md, "Which reading of Eq. 6").
             c.pair_pressure = 0.0;
-            if constexpr (stress_on) c.pair_pressure = 0.5 * pressure[i];
+            if constexpr (stress_on) c.pair_pressure = pressure[i];
             const PairConstants& pc = materials_.pair(material[i], w.material);
             const ContactForce cf = contact_force<Law>(c, pc, wall_history_[k][i], dt);
             const double cx = nn[1] * cf.force[2] - nn[2] * cf.force[1];

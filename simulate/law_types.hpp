@@ -22,7 +22,7 @@ struct ContactKinematics {
   double effective_radius;      // R* = ri rj / (ri + rj); wall: ri
   double effective_mass;        // m* = mi mj / (mi + mj); wall: mi
   double inverse_inertia_sum;   // 1/I* = 1/Ii + 1/Ij; wall: 1/Ii (chatter guard)
-  double pair_pressure;         // P_ij = ½ (p_i + p_j), previous step (multi-contact law only)
+  double pair_pressure;         // ½ (p_i + p_j), a wall: p_i; previous step (multi-contact only)
 };
 
 // The pair constants of every law (models.md "Hertz–Mindlin with restitution"), computed once per

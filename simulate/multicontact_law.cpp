@@ -17,8 +17,8 @@ std::vector<OptionDoc> MulticontactLaw::options() {
        "kc of Eq. 6, the adhesive branch -kc δ^{3/2}"},
       {"pull_off_force", "N", "<= 0", "0", "F0 of Eq. 6, a constant attraction while touching"},
       {"multicontact_prefactor", "", ">= 0", "0",
-       "β of the multi-contact term β ν A_ij P_ij of Eq. 6 (P_ij: the pair's mean Love–Weber "
-       "pressure)"},
+       "β of the multi-contact term β ν A_ij P_ij of Eq. 6 (A_ij = π R* δ; P_ij: the pair's mean "
+       "trace of the Love–Weber stress, a wall taking the sphere's own)"},
   };
 }
 
@@ -66,17 +66,20 @@ MulticontactLaw::Constants MulticontactLaw::constants(const Material& a, const M
   k.pull_off_force = m.pull_off_force;
   // ν of Eq. 6 for a pair (our choice; the paper has one material): the two Poisson ratios
   // weighted by compliance 1/E, so it is the particle's own ν between equal materials and
-  // against a far stiffer tool. A_ij = π a², a² = R* δ (Hertz contact radius, models.md).
+  // against a far stiffer tool. A_ij = π a², a² = R* δ (Hertz contact radius); P_ij the pair's
+  // mean trace of the Love–Weber stress, ½(tr σ_i + tr σ_j) = 3 × the mean pressure the pair
+  // loop passes: the reading Table 1's β = 1.71 implies for Fig. 1 (models.md, "Which reading
+  // of Eq. 6").
   const double ca = 1.0 / a.youngs_modulus, cb = 1.0 / b.youngs_modulus;
   const double nu = (a.poisson_ratio * ca + b.poisson_ratio * cb) / (ca + cb);
-  k.multicontact_factor = m.prefactor * nu * std::numbers::pi;
+  k.multicontact_factor = 3.0 * m.prefactor * nu * std::numbers::pi;
   return k;
 }
 
 std::string MulticontactLaw::describe(const ElasticPair&, const Constants& k) {
   return fmt::format(
-      "multicontact (Eq. 6), lambda_p = {:.6g}, k1 = {}, kc = {:.6g}, F0 = {:.6g} N, beta nu pi = "
-      "{:.6g}",
+      "multicontact (Eq. 6), lambda_p = {:.6g}, k1 = {}, kc = {:.6g}, F0 = {:.6g} N, 3 beta nu pi "
+      "= {:.6g}",
       1.0 / k.unloading_factor,
       k.loading_stiffness > 0.0 ? fmt::format("{:.6g} N/m^1.5", k.loading_stiffness)
                                 : std::string("4/3 E* sqrt(R*)"),

@@ -59,7 +59,7 @@ struct MulticontactLaw {
     double plastic_fraction = 0.0;     // 1 - λp: δp^{3/2} = (1 - k1/k2) δmax^{3/2}
     double adhesion_stiffness = 0.0;   // kc
     double pull_off_force = 0.0;       // F0 ≤ 0
-    double multicontact_factor = 0.0;  // β ν π: β ν A_ij P_ij with A_ij = π R* δ
+    double multicontact_factor = 0.0;  // 3 β ν π: β ν A_ij P_ij, A_ij = π R* δ, P_ij = 3 p̄
   };
 
   static std::vector<OptionDoc> options();
@@ -73,10 +73,10 @@ struct MulticontactLaw {
   // the loading branch k1 δ^{3/2} has 3/2 k1 √δ, s1 = k1 / (4/3 E* √R*) times Hertz's (1 with k1
   // from E*); the unloading branch k2 (δ^{3/2} - δp^{3/2}) has k2/k1 = 1/λp times that (Eq. 6,
   // Giannis 2023); the adhesive branch -kc δ^{3/2} softens and adds nothing. The term
-  // β ν π R* δ P (Eq. 6) has stiffness β ν π R* P at the step's P; with the Love–Weber pressure
-  // P = Σ rc Fn / (4π r³) of a sphere holding 12 contacts (a dense bed's most) on the loading
-  // branch at δ ≤ r/2 with R* ≤ r, P ≤ 4 s1 E* √R* δ^{3/2} / (π r²) and the term's stiffness is
-  // at most β ν s1 times Hertz's.
+  // β ν π R* δ 3p̄ (Eq. 6, P_ij the mean trace 3p̄) has stiffness 3 β ν π R* p̄ at the step's p̄;
+  // with the Love–Weber pressure p̄ = Σ rc Fn / (4π r³) of a sphere holding 12 contacts (a dense
+  // bed's most) on the loading branch at δ ≤ r/2 with R* ≤ r, p̄ ≤ 4 s1 E* √R* δ^{3/2} / (π r²)
+  // and the term's stiffness is at most 3 β ν s1 times Hertz's (the factor holds 3 β ν π).
   static double stiffness_ratio(const ElasticPair& p, const Constants& k, double effective_radius) {
     const double loading =
         k.loading_stiffness > 0.0
@@ -85,9 +85,10 @@ struct MulticontactLaw {
     return loading * k.unloading_factor + loading * k.multicontact_factor / std::numbers::pi;
   }
 
-  // `plastic_force` is the contact's k1 δp^{3/2}, updated here. `pair_pressure` is P_ij =
-  // ½ (p_i + p_j) from the previous step's Love–Weber stresses (a wall has p = 0); tension
-  // (P < 0) is taken as 0: the term models confinement, it does not pull. `sqrt_r_overlap` =
+  // `plastic_force` is the contact's k1 δp^{3/2}, updated here. `pair_pressure` is the pair's
+  // mean pressure p̄ = ½ (p_i + p_j) from the previous step's Love–Weber stresses (against a
+  // wall the sphere's own p_i), P_ij = 3 p̄ its mean trace; tension (p̄ < 0) is taken as 0: the
+  // term models confinement, it does not pull. `sqrt_r_overlap` =
   // √(R* δ) and `damping_root` = √(√(R* δ) m*), already computed by the caller.
   [[gnu::always_inline]] static MulticontactNormal normal(
       const ElasticPair& p, const Constants& k, double overlap, double effective_radius,
@@ -106,7 +107,7 @@ struct MulticontactLaw {
     const double unloading = k.unloading_factor * (loading - plastic_force);
     const double adhesive = -k.adhesion_stiffness * x;
     const double hysteretic = std::max(std::min(loading, unloading), adhesive);
-    // Multi-contact term, A_ij = π a² with a² = R* δ; the factor holds β ν π.
+    // Multi-contact term, A_ij = π a² with a² = R* δ, P_ij = 3 p̄; the factor holds 3 β ν π.
     const double confinement =
         k.multicontact_factor * effective_radius * overlap * std::max(pair_pressure, 0.0);
     // Damping on the loading stiffness S = dF/dδ = 3/2 k1 √δ (= 2 E* √(R* δ) for Hertz's k1), so

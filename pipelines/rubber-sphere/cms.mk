@@ -18,7 +18,7 @@ BMS_SPREAD_FROM ?= 819
 CMS_CONFIG ?= $(CONFIG)
 
 $(OUT)/cms-%/force.csv: $(CMS_CONFIG)
-	$(SP) plate --config $< --particle cms --spheres $* --out $(OUT)/cms-$*
+	$(call on_cluster,$(THREADS)) $(SP) plate --config $< --particle cms --spheres $* --out $(OUT)/cms-$*
 CMS_RUNS := $(foreach n,$(CMS_COUNTS),$(OUT)/cms-$(n)/force.csv)
 # Every BMS run of the ladder (for the change against N) and the Hertz sphere.
 CMS_REPORT_INPUTS := $(CMS_RUNS) $(foreach n,$(COUNTS),$(OUT)/bms-$(n)/force.csv) \

@@ -63,7 +63,10 @@ def multicontact():
             hysteretic = max(k2 * (x - xp), -kc * x)
         xp = (1.0 - lam) * xmax
         area = math.pi * r * delta  # A_ij = π a², a² = R* δ
-        force = f0 + hysteretic + beta * nu * area * max(pressure, 0.0)
+        # P_ij: the pair's mean trace of the Love–Weber stress, 3 × its mean pressure p̄
+        # (the pair_pressure column), a tensile p̄ counting as 0.
+        trace = 3.0 * max(pressure, 0.0)
+        force = f0 + hysteretic + beta * nu * area * trace
         # Energy given back unloading along k2 to the plastic overlap δp = xp^{2/3}:
         # ∫_{δp}^{δ} k2 (s^{3/2} - xp) ds = k2 (2/5 (δ^{5/2} - δp^{5/2}) - xp (δ - δp)).
         dp = xp ** (2.0 / 3.0)
@@ -90,7 +93,7 @@ def multicontact():
     case(1.0e-6, 2e-4, 2e-4, 1e8, 0.3, 0.0, 0.2, 2e6, 5e5, -1e-4, 0.0, (4e-6) ** 1.5)
     # The same contact just below δmax: still the k2 branch.
     case(3.9e-6, 2e-4, 2e-4, 1e8, 0.3, 0.0, 0.2, 2e6, 5e5, -1e-4, 0.0, (4e-6) ** 1.5)
-    # The multi-contact term β ν π R* δ P with a confining pressure; a tensile P counts as 0.
+    # The multi-contact term β ν π R* δ 3p̄ with a confining pressure; a tensile p̄ counts as 0.
     case(2e-6, 1e-4, 3e-4, 2.58e8, 0.3, 5e6, 0.3, None, 0.0, 0.0, 1.3, 0.0)
     case(2e-6, 1e-4, 3e-4, 2.58e8, 0.3, -5e6, 0.3, None, 0.0, 0.0, 1.3, 0.0)
     # Against a plane (R* = ri), Avicel-like.
@@ -99,7 +102,8 @@ def multicontact():
           ["Multi-contact adhesive elastic-plastic law, Giannis et al. 2023 Eq. 6, x = overlap^(3/2):",
            "k1 = loading_stiffness or 4/3 E* sqrt(R*); k2 = k1 / plasticity_ratio; xp = (1 - lp) xmax",
            "hys = k1 x if x >= xmax (then xmax = x) else max(k2 (x - xp), -kc x)",
-           "force = F0 + hys + beta nu pi R* overlap max(P, 0)",
+           "force = F0 + hys + beta nu pi R* overlap 3 max(P, 0), P = pair_pressure the pair's mean",
+           "Love-Weber pressure -tr(sigma)/3 (so 3P is the mean trace, P_ij of Eq. 6)",
            "plastic_force = k1 xp (the history before and after the step)",
            "energy = k2 (2/5 (d^(5/2) - dp^(5/2)) - xp (d - dp)), dp = xp^(2/3), 0 if d <= dp"],
           COMMON + keys + ["plastic_force", "plastic_force_after", "force", "energy"], rows)

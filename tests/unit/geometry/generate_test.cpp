@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -167,6 +168,38 @@ TEST(ShapeTargets, EffectiveTomlReadsBackToTheSameTargets) {
                          "x90_m = 2e-4\n";
   EXPECT_THROW(read_shape_targets(path), InputError);
   std::filesystem::remove(path);
+}
+
+// A mixture whose upper half is round (projected ASR 0.99, discs in the images) beside elongated
+// particles: the rough spheres of the measured spectrum show Feret ratios near 0.95 only, so the
+// fit must make the round ones smoother, and the others rougher to keep the mean amplitude.
+TEST(Generate, RoundMassOfAMixtureIsMadeOfSmootherParticles) {
+  ShapeTargets t;
+  t.D3 = 0.03;
+  t.D8 = 0.008;
+  t.x10_m = t.x50_m = t.x90_m = 1e-4;
+  t.asr_levels = {0.05, 0.25, 0.45, 0.55, 0.75, 0.95};
+  t.asr_quantiles = {0.55, 0.68, 0.78, 0.985, 0.99, 0.995};
+  GenerateOptions options;
+  options.count = 16;
+  options.seed = 3;
+  options.subdivisions = 3;
+  const auto particles = generate_population(t, options);
+  std::vector<double> projected;
+  int smoother = 0;
+  double mean_roughness = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const ShapeDescriptors d = describe(particles[i].mesh, {32, 100 + i});
+    projected.insert(projected.end(), d.projected_asr.begin(), d.projected_asr.end());
+    smoother += particles[i].roughness < 0.5 ? 1 : 0;
+    mean_roughness += particles[i].roughness / particles.size();
+    EXPECT_GE(particles[i].elongation_target, 0.3);  // no needles
+  }
+  EXPECT_GE(smoother, 4);
+  EXPECT_NEAR(mean_roughness, 1.0, 0.1);
+  std::sort(projected.begin(), projected.end());
+  EXPECT_GT(projected[projected.size() * 3 / 4], 0.98);  // the round mass is there
+  EXPECT_LT(ks_distance(projected, t), 0.15);            // 16 particles, 32 views each
 }
 
 TEST(ShapeTargets, KsDistanceOfTheTargetItselfIsSmall) {

@@ -4,8 +4,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "common/error.hpp"
 #include "simulate/bonds.hpp"
@@ -309,6 +311,173 @@ TEST(LocalDamping, EachSwingKeepsOneMinusAlphaOverOnePlusAlphaOfTheEnergy) {
   settings.local_damping = 1.0;
   SphereState t = pair_state();
   EXPECT_THROW(Engine(t, Box{}, table, {}, settings, create_bonds(t, 1.15, stiff())), InputError);
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+namespace {
+
+using Vec = std::array<double, 3>;
+
+Vec cross(const Vec& a, const Vec& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec& a, const Vec& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+double norm(const Vec& a) {
+  return std::sqrt(dot(a, a));
+}
+Vec unit(const Vec& a) {
+  return {a[0] / norm(a), a[1] / norm(a), a[2] / norm(a)};
+}
+// Rodrigues: v turned by `angle` about the unit `axis`.
+Vec turned(const Vec& v, const Vec& axis, double angle) {
+  const Vec k = cross(axis, v);
+  const double c = std::cos(angle), s = std::sin(angle), along = dot(axis, v) * (1 - c);
+  return {v[0] * c + k[0] * s + axis[0] * along, v[1] * c + k[1] * s + axis[1] * along,
+          v[2] * c + k[2] * s + axis[2] * along};
+}
+Vec position(const SphereState& s, std::size_t i) {
+  return {s.position.x[i], s.position.y[i], s.position.z[i]};
+}
+
+// Loads every bond of `bonds` with a normal force, a twist moment, and a shear force and a
+// bending moment normal to it (in different directions, different per bond), as a bed leaves
+// them; then evaluates once without increments so `result` holds the loaded bond's forces.
+void load_bonds(BondSet& bonds, const SphereState& s, const std::vector<double>& motion) {
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const Vec n = unit({s.position.x[bonds.second[b]] - s.position.x[bonds.first[b]],
+                        s.position.y[bonds.second[b]] - s.position.y[bonds.first[b]],
+                        s.position.z[bonds.second[b]] - s.position.z[bonds.first[b]]});
+    const Vec e1 = unit(cross(n, {0.3, -0.5, 0.8}));
+    const Vec e2 = cross(n, e1);
+    const double k = static_cast<double>(b) + 1.0;
+    BondSet::History& h = bonds.history[b];
+    h.normal_force = 5.0 * k;
+    h.twist_moment = 2e-3 * k;
+    for (int c = 0; c < 3; ++c) {
+      h.shear_force[c] = 3.0 * k * (0.6 * e1[c] + 0.8 * e2[c]);
+      h.bend_moment[c] = 1e-3 * k * (0.8 * e1[c] - 0.6 * e2[c]);
+    }
+  }
+  compute_bond_forces(bonds, s, motion.data(), Box{}, 0.0, true);
+}
+
+// The spheres of `s` turned rigidly by `angle` about `axis` through `centre` in `steps` steps at
+// a steady spin ω: each step the positions on the exact turn, v = ω × (x - c) and the spin ω for
+// every sphere (what a rigid body's integrator leaves), the bond forces evaluated, their dampers
+// fed the same motion.
+void turn_rigidly(BondSet& bonds, SphereState& s, const Vec& axis, const Vec& centre, double angle,
+                  int steps) {
+  const double dt = 1e-6, rate = angle / (steps * dt);
+  const Vec spin = {rate * axis[0], rate * axis[1], rate * axis[2]};
+  std::vector<Vec> start(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i)
+    start[i] = {position(s, i)[0] - centre[0], position(s, i)[1] - centre[1],
+                position(s, i)[2] - centre[2]};
+  std::vector<double> motion(8 * s.size(), 0.0);
+  for (int k = 1; k <= steps; ++k) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const Vec arm = turned(start[i], axis, angle * k / steps);
+      const Vec v = cross(spin, arm);
+      s.position.x[i] = centre[0] + arm[0], s.position.y[i] = centre[1] + arm[1];
+      s.position.z[i] = centre[2] + arm[2];
+      s.velocity.x[i] = v[0], s.velocity.y[i] = v[1], s.velocity.z[i] = v[2];
+      s.angular_velocity.x[i] = spin[0], s.angular_velocity.y[i] = spin[1];
+      s.angular_velocity.z[i] = spin[2];
+      for (int c = 0; c < 3; ++c)
+        motion[8 * i + c] = v[c], motion[8 * i + 3 + c] = spin[c];
+      motion[8 * i + 6] = s.mass[i], motion[8 * i + 7] = s.inverse_inertia[i];
+    }
+    compute_bond_forces(bonds, s, motion.data(), Box{}, dt, false);
+  }
+}
+
+// After a rigid turn R, each bond's normal force and twist moment are unchanged, its shear force
+// and bending moment are R of what they were, and so are the forces and torques it applies.
+// `tolerance` is relative to each vector's length.
+void expect_turned_with_the_bodies(const BondSet& before, const BondSet& after, const Vec& axis,
+                                   double angle, double tolerance) {
+  const auto vec = [](const double v[3]) { return Vec{v[0], v[1], v[2]}; };
+  // Fs and Mb each keep their length to rounding whatever the turn; a sum of them (a torque)
+  // keeps it to the tolerance, which bounds the drift between their directions.
+  const auto expect_near = [&](const Vec& got, const Vec& was, const char* what, std::size_t b,
+                               bool history = false) {
+    const Vec want = turned(was, axis, angle);
+    EXPECT_NEAR(norm(got), norm(was), (history ? 1e-12 : tolerance) * norm(was))
+        << what << " of bond " << b;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(got[c], want[c], tolerance * norm(was)) << what << "[" << c << "] of bond " << b;
+  };
+  for (std::size_t b = 0; b < before.size(); ++b) {
+    const BondSet::History &h0 = before.history[b], &h = after.history[b];
+    EXPECT_NEAR(h.normal_force, h0.normal_force, 1e-9 * std::fabs(h0.normal_force));
+    EXPECT_DOUBLE_EQ(h.twist_moment, h0.twist_moment);
+    expect_near(vec(h.shear_force), vec(h0.shear_force), "shear force", b, true);
+    expect_near(vec(h.bend_moment), vec(h0.bend_moment), "bending moment", b, true);
+    const BondSet::Result &r0 = before.result[b], &r = after.result[b];
+    expect_near(vec(r.force), vec(r0.force), "force", b);
+    expect_near(vec(r.torque_first), vec(r0.torque_first), "torque on first", b);
+    expect_near(vec(r.torque_second), vec(r0.torque_second), "torque on second", b);
+  }
+}
+
+BondParameters damped() {
+  BondParameters p = stiff();
+  p.damping_ratio = 0.2;  // a damper must not see a rigid turn either
+  return p;
+}
+
+TEST(BondRotation, APairSpinningAboutItsBondKeepsItsForcesInTheBodies) {
+  // The turn about the bond's own axis: n stays put, so only the spin term turns the history.
+  // Without it the shear force would stay fixed in space and, seen from the bodies, turn by -φ:
+  // a spurious shear of 2 |Fs| sin(φ/2). The turn's angle error, 2θ⁵/15 per step, is far below
+  // the tolerance.
+  SphereState s = pair_state();
+  BondSet bonds = create_bonds(s, 1.15, damped());
+  load_bonds(bonds, s, still_motion(s));
+  const BondSet before = bonds;
+  const double angle = 0.5 * std::numbers::pi;
+  turn_rigidly(bonds, s, {1, 0, 0}, {r, 0, 0}, angle, 500);
+  expect_turned_with_the_bodies(before, bonds, {1, 0, 0}, angle, 1e-9);
+}
+
+TEST(BondRotation, APairTurningAboutANormalAxisKeepsItsForcesInTheBodies) {
+  // The bond's axis turns: the history is carried into the new plane each step. That first-order
+  // carry keeps lengths exactly but drifts a vector's direction by at most α²/2 per step of
+  // angle α (towards the turn's axis), at most φ α/2 over the turn: the tolerance is 2 φ α.
+  SphereState s = pair_state();
+  BondSet bonds = create_bonds(s, 1.15, damped());
+  load_bonds(bonds, s, still_motion(s));
+  const BondSet before = bonds;
+  const double angle = 1.0;
+  const int steps = 2000;
+  turn_rigidly(bonds, s, {0, 0, 1}, {r, 0, 0}, angle, steps);
+  expect_turned_with_the_bodies(before, bonds, {0, 0, 1}, angle, 2 * angle * angle / steps);
+}
+
+TEST(BondRotation, ASmallBondedBodyTurningAboutAnyAxisKeepsItsBondForces) {
+  // A tetrahedron of four touching sub-spheres, six loaded bonds at different angles to the
+  // turn's axis: each sees a tilt of its axis and a spin about it at once.
+  SphereState s;
+  const double h = 2 * r * std::sqrt(2.0 / 3.0);
+  s.add_sphere(0.0, 0.0, 0.0, r, rho, 0);
+  s.add_sphere(2 * r, 0.0, 0.0, r, rho, 0);
+  s.add_sphere(r, std::sqrt(3.0) * r, 0.0, r, rho, 0);
+  s.add_sphere(r, r / std::sqrt(3.0), h, r, rho, 0);
+  s.body = {0, 0, 0, 0};
+  BondSet bonds = create_bonds(s, 1.15, damped());
+  ASSERT_EQ(bonds.size(), 6u);
+  load_bonds(bonds, s, still_motion(s));
+  const BondSet before = bonds;
+  const Vec axis = unit({1, 2, 3});
+  const double angle = 1.0;
+  const int steps = 2000;
+  turn_rigidly(bonds, s, axis, {r, r / std::sqrt(3.0), h / 4}, angle, steps);
+  expect_turned_with_the_bodies(before, bonds, axis, angle, 2 * angle * angle / steps);
 }
 
 }  // namespace

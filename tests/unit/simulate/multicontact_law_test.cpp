@@ -156,8 +156,9 @@ TEST(MulticontactLaw, MultiContactTermAddsBetaNuAreaPressure) {
       multicontact_normal(with, d, r, 1e-6, std::sqrt(r * d), 0.0, 0.0, pressure, xp).force;
   const double f0 =
       multicontact_normal(without, d, r, 1e-6, std::sqrt(r * d), 0.0, 0.0, pressure, xq).force;
-  // β ν A P with A = π a², a² = R* δ (models.md).
-  const double expected = 1.71 * poisson * std::numbers::pi * r * d * pressure;
+  // β ν A_ij P_ij with A_ij = π a², a² = R* δ, and P_ij the mean trace 3p̄ of the pair's mean
+  // pressure p̄ (models.md, "Which reading of Eq. 6").
+  const double expected = 1.71 * poisson * std::numbers::pi * r * d * 3.0 * pressure;
   EXPECT_LE(relative(f1 - f0, expected), 1e-12);
   // Tension does not pull: P < 0 adds nothing.
   const double f_tension =

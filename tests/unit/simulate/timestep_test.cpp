@@ -51,10 +51,11 @@ TEST(TimeStep, StatedLoadingStiffnessAndPrefactorCount) {
   MulticontactParameters p;
   p.loading_stiffness = 3.0 * 4.0 / 3.0 * e_star * std::sqrt(0.5 * radius);
   EXPECT_NEAR(step_with(MulticontactLaw{p}) / hertz, 1.0 / std::sqrt(3.0), 1e-12);
-  // β ν adds β ν s1 to the ratio (multicontact_law.hpp): β = 2, ν = 0.3, s1 = 1 → 1.6.
+  // β ν adds 3 β ν s1 to the ratio (multicontact_law.hpp, P_ij the trace 3p): β = 2, ν = 0.3,
+  // s1 = 1 → 2.8.
   MulticontactParameters q;
   q.prefactor = 2.0;
-  EXPECT_NEAR(step_with(MulticontactLaw{q}) / hertz, 1.0 / std::sqrt(1.6), 1e-12);
+  EXPECT_NEAR(step_with(MulticontactLaw{q}) / hertz, 1.0 / std::sqrt(2.8), 1e-12);
 }
 
 TEST(TimeStep, FractionAboveTheBondLimitIsRefusedByName) {
