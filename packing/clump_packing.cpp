@@ -36,9 +36,6 @@ std::vector<ClumpTemplate> read_clump_templates(const std::filesystem::path& pat
   return out;
 }
 
-namespace {
-
-// A uniformly random rotation (Shoemake 1992: a uniform point on the unit 3-sphere).
 Quaternion random_rotation(std::mt19937_64& random) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double u1 = unit(random), u2 = unit(random), u3 = unit(random);
@@ -47,6 +44,8 @@ Quaternion random_rotation(std::mt19937_64& random) {
   return {a * std::sin(two_pi * u2), a * std::cos(two_pi * u2), b * std::sin(two_pi * u3),
           b * std::cos(two_pi * u3)};
 }
+
+namespace {
 
 struct Bound {
   double x, y, z, r;

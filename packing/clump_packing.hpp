@@ -5,6 +5,7 @@
 // bounding spheres), then settled and compacted with the rest of the bed (compact_setup.cpp).
 #include <cstdint>
 #include <filesystem>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct ClumpTemplate {
 // in `names` (InputError naming the file and the missing name, or when there is none).
 std::vector<ClumpTemplate> read_clump_templates(const std::filesystem::path& path,
                                                 const std::vector<std::string>& names = {});
+
+// A uniformly random rotation (Shoemake 1992: a uniform point on the unit 3-sphere).
+Quaternion random_rotation(std::mt19937_64& random);
 
 struct ClumpInsertion {
   std::vector<ClumpTemplate> templates;  // used in turn

@@ -94,23 +94,40 @@ void SizeQuantiles::check() const {
   }
 }
 
-SizeTable size_table(const SizeQuantiles& q, double diameter_min, double diameter_max) {
-  q.check();
-  if (!(diameter_min > 0.0 && diameter_max > diameter_min))
-    throw InputError("size distribution: need 0 < diameter_min < diameter_max (the truncation)");
+namespace {
+
+// Q of the stated weighting at a diameter: linear in (ln x, probit Q) between the quantiles.
+struct GivenQ {
   std::vector<double> log_x, z;
-  for (std::size_t k = 0; k < q.diameters.size(); ++k) {
-    log_x.push_back(std::log(q.diameters[k]));
-    z.push_back(probit(q.levels[k]));
+  explicit GivenQ(const SizeQuantiles& q) {
+    for (std::size_t k = 0; k < q.diameters.size(); ++k) {
+      log_x.push_back(std::log(q.diameters[k]));
+      z.push_back(probit(q.levels[k]));
+    }
   }
-  const auto given_q = [&](double x) {  // Q of the stated weighting at diameter x
+  double operator()(double x) const {
     const double lx = std::log(x);
     std::size_t k = 1;
     while (k + 1 < log_x.size() && lx > log_x[k])
       ++k;
     const double t = (lx - log_x[k - 1]) / (log_x[k] - log_x[k - 1]);
     return normal_cdf(z[k - 1] + t * (z[k] - z[k - 1]));
-  };
+  }
+};
+
+}  // namespace
+
+double retained_fraction(const SizeQuantiles& q, double diameter_min, double diameter_max) {
+  q.check();
+  const GivenQ given_q(q);
+  return given_q(diameter_max) - given_q(diameter_min);
+}
+
+SizeTable size_table(const SizeQuantiles& q, double diameter_min, double diameter_max) {
+  q.check();
+  if (!(diameter_min > 0.0 && diameter_max > diameter_min))
+    throw InputError("size distribution: need 0 < diameter_min < diameter_max (the truncation)");
+  const GivenQ given_q(q);
   // Number density q0 ∝ q3 / x³ (a sphere's volume), accumulated on a fine log grid.
   constexpr int points = 4001;
   SizeTable table;

@@ -45,6 +45,9 @@ struct SizeTable {
   double sample(double u) const;   // the diameter at Q0 = u
 };
 SizeTable size_table(const SizeQuantiles& quantiles, double diameter_min, double diameter_max);
+// The fraction of the stated weighting's distribution between diameter_min and diameter_max
+// (Q(max) - Q(min)), to refuse a truncation that keeps (almost) nothing.
+double retained_fraction(const SizeQuantiles& quantiles, double diameter_min, double diameter_max);
 
 struct InsertionRequest {
   std::int64_t count = 0;

@@ -5,6 +5,7 @@
 #include "analysis/cli.hpp"
 #include "geometry/cli.hpp"
 #include "imaging/cli.hpp"
+#include "packing/cli.hpp"
 #include "scenarios/cli.hpp"
 
 // Each stage library declares its setup function in its cli.hpp.
@@ -26,6 +27,8 @@ std::span<const Stage> registered_stages() {
             scenarios::setup_plate_cli, scenarios::plate_options},
       Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve",
             scenarios::setup_calibrate_cli, scenarios::calibrate_options},
+      Stage{"pack", "pack bodies (spheres, BMS, CMS) into a die: settle and pre-compress",
+            packing::setup_pack_cli, packing::pack_options},
       Stage{"compact", "compact a sphere packing with a punch program",
             scenarios::setup_compact_cli, scenarios::compact_options},
       Stage{"report", "charts, metrics.json and report.html of compaction and plate runs",

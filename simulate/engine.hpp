@@ -120,6 +120,9 @@ class Engine {
   // energy check must not count that change as energy from nowhere, and the packed copies of
   // radius, mass and inertia the force loops read are refreshed there.
   SphereState& mutable_state() { return state_; }
+  // The bodies' motion, for scenario set-up and drags applied between steps (pack's settle);
+  // the sub-spheres follow at the next step.
+  ClumpSet& mutable_clumps() { return clumps_; }
   void rebase_energy();
   const Box& box() const { return box_; }
   const MaterialTable& materials() const { return materials_; }

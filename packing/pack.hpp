@@ -1,0 +1,135 @@
+#pragma once
+// The `pack` stage's algorithm: a bed of bodies (spheres, BMS, CMS templates of `fill`) drawn
+// from a size distribution, turned uniformly on SO(3), inserted without overlap into a periodic
+// x/y box above the die floor, settled under gravity, optionally pre-compressed by the punch to
+// a solid fraction and released, and measured (body_packing.hpp PackMeasures).
+//
+// During pack every body moves as one rigid body (the engine's ClumpSet; a plain sphere as a
+// sphere) with the mass and inertia of its template's sub-spheres scaled (volume × s³, inertia
+// × s⁵): sub-spheres of one body never interact, contacts between bodies are Hertz–Mindlin of
+// the [material] section. The bonds of BMS bodies carry no force in pack; they are written at
+// rest in the packed geometry (rest length = the distance then), so `compact` starts from
+// force-free bonds. This is the LIGGGHTS multisphere way of filling a die with BMS particles and
+// costs a rigid-body step per body instead of a bonded network's stiff step.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "packing/body_packing.hpp"
+#include "packing/packing.hpp"
+
+namespace shapepress::packing {
+
+// How a body's template is chosen: by number (each body independently, P(t) ∝ weight) or by
+// volume (each body takes the template whose share of the drawn volume lags furthest behind its
+// weight, so the volume shares match the weights, not only on average).
+enum class TemplateWeighting { number, volume };
+
+struct TemplateChoice {
+  std::string name;  // "sphere", "bms/<name>", "cms/<name>"
+  double weight = 1.0;
+};
+
+// How far the sub-spheres of a BMS template may overlap: a bonded template's sub-spheres touch
+// (fill's random packings jam them to contact), and an overlap counted twice in mass and in the
+// contact law is no BMS particle. Relative to the smaller radius of the pair.
+inline constexpr double bms_overlap_tolerance = 0.02;
+
+struct PackRequest {
+  std::vector<TemplateChoice> templates;
+  TemplateWeighting weighting = TemplateWeighting::number;
+  std::int64_t count = 0;                         // bodies; 0: draw until target_mass
+  std::optional<double> target_mass;              // kg of shape volume × density
+  SizeQuantiles sizes;                            // of the volume-equivalent diameter
+  double diameter_min = 0.0, diameter_max = 0.0;  // m, truncation
+  double box_x = 1e-3, box_y = 1e-3;              // m, periodic cross-section
+  double floor = 0.0;                             // m, the die floor's z
+  std::uint64_t seed = 1;
+
+  // Material of the bodies during pack (Hertz–Mindlin) and of the die walls.
+  double density = 1500.0;      // kg/m³
+  double youngs_modulus = 5e6;  // Pa, reduced from the solid's for a larger time step
+  double poisson_ratio = 0.3;
+  double restitution = 0.1;    // low: a clump's contacts damp with M/n (clumps.hpp)
+  double friction = 0.3;       // body–body sliding
+  double wall_friction = 0.3;  // body–wall sliding
+  double rolling_friction = 0.0;
+
+  // Insertion and settle.
+  double insertion_fraction = 0.2;  // of the bounding spheres in the insertion region
+  int attempts_per_body = 2000;
+  double gravity = 9.81;               // m/s², down
+  double kinetic_energy_ratio = 1e-5;  // at rest: KE below this × Σ m g d of the bodies
+  // Viscous drag on every body's velocity and spin, v → v e^(-dt/τ): a clump's contacts damp
+  // with M/n (clumps.hpp), too little to bring a bed to rest; the drag is what LIGGGHTS users add
+  // to fill a die. It slows the fall to ≈ g τ, so it is kept long against the contacts' periods.
+  double damping_time = 0.01;       // s, τ; 0: none
+  double max_settle_time = 0.5;     // s, per phase (settle, press, relax)
+  std::optional<double> time_step;  // s, fixed; else time_step_fraction × the engine's bound
+  double time_step_fraction = 0.2;
+
+  // Pre-compression: the punch moves down at punch_speed until the solid fraction by shape
+  // volume reaches this, then back up and the bed relaxes.
+  std::optional<double> target_solid_fraction;
+  double press_friction = 0.0;           // sliding friction of every contact while pressing
+  double punch_speed = 0.05;             // m/s
+  double solid_fraction_ceiling = 0.74;  // a target above it is refused
+
+  void check() const;  // InputError naming the bad value
+};
+
+// The named templates from the templates files: "sphere" (a unit sphere), "bms/<name>",
+// "cms/<name>", searched in the files in order. InputError naming the files and the name when
+// missing, and for a BMS template whose sub-spheres overlap by more than bms_overlap_tolerance.
+std::vector<BodyTemplate> load_body_templates(const std::vector<std::filesystem::path>& files,
+                                              const std::vector<TemplateChoice>& choices);
+// InputError naming the template and the pair when two sub-spheres overlap beyond the tolerance.
+void check_bms_template(const BodyTemplate& shape);
+
+// The x at Q = level of the table's distribution, number-weighted (Q0) or volume-weighted (Q3).
+double size_quantile(const SizeTable& table, double level, bool volume_weighted);
+// The same of a sample of diameters.
+double sample_quantile(std::vector<double> diameters, double level, bool volume_weighted);
+
+// Bodies drawn from the request: template, scale (to a volume-equivalent diameter from the
+// size distribution), a uniform orientation, volumes; centres at the origin. Deterministic in
+// request.seed. InputError when the truncation leaves no size.
+std::vector<PackedBody> draw_bodies(const PackRequest& request,
+                                    const std::vector<BodyTemplate>& templates);
+
+// A body's sub-spheres' reach from its centre of mass at scale 1.
+double bounding_radius(const BodyTemplate& shape);
+// Centres by random sequential insertion of bounding spheres (largest first) in the periodic
+// box, the insertion region's height set by request.insertion_fraction; returns the region's
+// top. InputError when a body is wider than the box or finds no place.
+double insert_bodies(const PackRequest& request, const std::vector<BodyTemplate>& templates,
+                     std::vector<PackedBody>& bodies);
+
+struct PackProgress {
+  std::function<void(const std::string& phase, double time, double max_time)> update;
+};
+
+struct PackRun {
+  BodyPacking packing;
+  double time_step = 0.0;  // s
+  std::int64_t steps = 0;
+  bool settled = true;                  // every phase ended below the kinetic-energy threshold
+  double settled_solid_fraction = 0.0;  // by shape volume after the gravity settle
+  double precompression_solid_fraction = 0.0;  // reached by the punch (0: no press)
+  double loop_seconds = 0.0;
+};
+
+// Draws, inserts, settles (and presses), and measures. ComputationError on divergence.
+PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
+             const PackProgress& progress = {});
+
+// The measures of a placed packing (place_bodies done): solid fractions, bed height,
+// body–body contacts, sizes of the weighting against `target`, ⟨P2⟩ of the long axes, overlaps.
+PackMeasures measure_packing(const BodyPacking& packing, const SizeTable& target,
+                             bool volume_weighted);
+
+}  // namespace shapepress::packing
