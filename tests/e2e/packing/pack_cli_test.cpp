@@ -20,12 +20,12 @@ using shapepress::testing::run_shapepress;
 using shapepress::testing::write_text;
 namespace fs = std::filesystem;
 
-// A small bed: Table 2's Avicel distribution (Q3 x10/x50/x90 = 71/198/350 um) cut to
+// A small bed: Table 2's Avicel distribution (Q3 x10/x50/x90 = 82.9/224.6/379.3 um) cut to
 // [250, 350] um, in a box of 0.8 mm.
 std::string config(const std::string& templates, const std::string& extra = "",
                    const std::string& sizes = "diameter_min = 250e-6\ndiameter_max = 350e-6\n") {
   return "[pack]\ncount = 16\nseed = 3\nbox_x = 0.8e-3\nbox_y = 0.8e-3\n" + templates +
-         "[sizes]\nsize_quantiles = [71e-6, 198e-6, 350e-6]\n"
+         "[sizes]\nsize_quantiles = [82.9e-6, 224.6e-6, 379.3e-6]\n"
          "size_quantile_levels = [0.1, 0.5, 0.9]\n" +
          sizes + "[settle]\nkinetic_energy_ratio = 1e-4\n" + extra;
 }
@@ -121,7 +121,7 @@ TEST(PackCli, BadInputExitsTwoNamingTheCauseAndLeavesNoFile) {
              config(two_templates, "", "diameter_min = 5e-3\ndiameter_max = 6e-3\n"));
   expect_refused(dir, t, "size cutoff");
   write_text(dir / "c.toml", "[pack]\ncount = 4\nbox_x = 3e-4\nbox_y = 3e-4\n" + two_templates +
-                                 "[sizes]\nsize_quantiles = [71e-6, 198e-6, 350e-6]\n"
+                                 "[sizes]\nsize_quantiles = [82.9e-6, 224.6e-6, 379.3e-6]\n"
                                  "size_quantile_levels = [0.1, 0.5, 0.9]\ndiameter_min = "
                                  "250e-6\ndiameter_max = 350e-6\n");
   expect_refused(dir, t, "not less than the box");

@@ -67,12 +67,12 @@ BodyTemplate sphere_template() {
   return t;
 }
 
-// Table 2 of Giannis et al. 2023 (Avicel PH 200, Q3): x10 = 71, x50 = 198, x90 = 350 um.
+// Table 2 of Giannis et al. 2023 (Avicel PH 200, Q3): x10 = 82.9, x50 = 224.6, x90 = 379.3 um.
 PackRequest avicel_request(std::int64_t count) {
   PackRequest r;
   r.templates = {{"sphere", 1.0}, {"bms/chain", 1.0}};
   r.count = count;
-  r.sizes.diameters = {71e-6, 198e-6, 350e-6};
+  r.sizes.diameters = {82.9e-6, 224.6e-6, 379.3e-6};
   r.sizes.levels = {0.1, 0.5, 0.9};
   r.sizes.volume_weighted = true;
   r.diameter_min = 180e-6;
@@ -118,7 +118,7 @@ TEST(Pack, SizesOf500BodiesMatchTheirTargetsWithinSamplingError) {
 TEST(Pack, TruncationMovesTheTargetQuantilesAndACutoffOfNothingIsRefused) {
   PackRequest r = avicel_request(10);
   const SizeTable table = size_table(r.sizes, r.diameter_min, r.diameter_max);
-  EXPECT_GT(size_quantile(table, 0.1, true), r.diameter_min);  // not Table 2's 71 um any more
+  EXPECT_GT(size_quantile(table, 0.1, true), r.diameter_min);  // not Table 2's 82.9 um any more
   EXPECT_LT(size_quantile(table, 0.9, true), r.diameter_max);
   r.diameter_min = 5e-3, r.diameter_max = 6e-3;  // 14 x90 away: no particle that size
   try {
