@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages shapepress needs to build, test and run — only those missing.
 # Quiet and fast when everything is there; idempotent; needs root only when something is missing.
 #   scripts/install-deps.sh            build + test + run dependencies
-#   scripts/install-deps.sh --peers    also the peer engines for benchmarks (LIGGGHTS, MPI)
+#   scripts/install-deps.sh --peers    also the peer engines for benchmarks (LIGGGHTS, LAMMPS, MPI)
 set -euo pipefail
 
 packages=(
@@ -16,7 +16,7 @@ packages+=(libgif-dev)  # imaging: GIF input (ImageJ's samples; OpenCV 4.6 reads
 # root and without them, that one test skips and nothing else needs them.
 optional=(slurmctld slurmd slurm-client munge)
 if [[ "${1:-}" == "--peers" ]]; then
-  packages+=(liggghts openmpi-bin python3 time valgrind)
+  packages+=(liggghts lammps openmpi-bin python3 time valgrind)
 elif [[ -n "${1:-}" ]]; then
   echo "install-deps.sh: unknown option '$1' (only --peers)" >&2
   exit 2
