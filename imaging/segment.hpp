@@ -42,6 +42,9 @@ struct SegmentOptions {
   // ImageJ's tolerance is 0.5, but on the three real images of tests/data/imaging this
   // flooding matches ImageJ's counts best at 0.6 (0.5 splits 2–7 % more; docs/imaging.md).
   double split_prominence_px = 0.6;
+  // A piece the split cuts off whose area is below this fraction of the median piece is joined
+  // back to its neighbour (a sliver shaved off a large particle, not a particle; 0: never).
+  double split_fragment_fraction = 0.1;
   // Clear a line between split particles so that no two touch, even diagonally (ImageJ's
   // watershed draws such lines; its areas leave them out).
   bool split_lines = true;
