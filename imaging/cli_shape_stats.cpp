@@ -215,6 +215,10 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
                  "a piece the split cuts off below this fraction of the median area is joined "
                  "back to its neighbour (0: never)")
       ->capture_default_str();
+  app.add_option("--relief-solidity", cli->segment.relief_solidity,
+                 "holes are filled before the split in blobs at least this convex (area / hull "
+                 "area), else split along (0: always filled first)")
+      ->capture_default_str();
   app.add_flag("--keep-edge-particles", cli->keep_edges, "keep particles touching the image edge");
   app.add_option("--min-area", cli->segment.min_area_px, "px")->capture_default_str();
   app.add_option("--max-area", cli->segment.max_area_px, "px (0: no limit)")->capture_default_str();

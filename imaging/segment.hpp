@@ -51,6 +51,10 @@ struct SegmentOptions {
   // Split the mask as thresholded and fill each piece's holes afterwards, as ImageJ's
   // Watershed then Analyze Particles' "include holes" do (else holes are filled first).
   bool fill_holes_after_split = false;
+  // With fill_holes and the default order, holes are filled before the split only in blobs at
+  // least this convex (area / convex hull area): in them a hole is the particle's own relief;
+  // in more concave blobs (touching particles) it is a gap between them, split along first.
+  double relief_solidity = 0.75;
   bool exclude_edges = true;  // like ImageJ's "exclude on edges"
   int min_area_px = 20;
   int max_area_px = 0;  // 0: no upper limit
