@@ -69,6 +69,7 @@ void apply_imagej_preset(ShapeStatsCli& cli, const CLI::App& app) {
   if (!given("--background")) cli.background = "none";
   if (!given("--threshold")) cli.threshold = "isodata";
   if (!given("--split") && !given("--no-split")) cli.split = "none";
+  if (!given("--split-fragment")) cli.segment.split_fragment_fraction = 0.0;
 }
 
 const std::map<std::string, std::string> split_choices = {
@@ -209,6 +210,14 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--split-prominence", cli->segment.split_prominence_px,
                  "px; --split prominence|imagej keep distance-map maxima standing out by more")
+      ->capture_default_str();
+  app.add_option("--split-fragment", cli->segment.split_fragment_fraction,
+                 "a piece the split cuts off below this fraction of the median area is joined "
+                 "back to its neighbour (0: never)")
+      ->capture_default_str();
+  app.add_option("--relief-solidity", cli->segment.relief_solidity,
+                 "holes are filled before the split in blobs at least this convex (area / hull "
+                 "area), else split along (0: always filled first)")
       ->capture_default_str();
   app.add_flag("--keep-edge-particles", cli->keep_edges, "keep particles touching the image edge");
   app.add_option("--min-area", cli->segment.min_area_px, "px")->capture_default_str();

@@ -42,12 +42,19 @@ struct SegmentOptions {
   // ImageJ's tolerance is 0.5, but on the three real images of tests/data/imaging this
   // flooding matches ImageJ's counts best at 0.6 (0.5 splits 2–7 % more; docs/imaging.md).
   double split_prominence_px = 0.6;
+  // A piece the split cuts off whose area is below this fraction of the median piece is joined
+  // back to its neighbour (a sliver shaved off a large particle, not a particle; 0: never).
+  double split_fragment_fraction = 0.1;
   // Clear a line between split particles so that no two touch, even diagonally (ImageJ's
   // watershed draws such lines; its areas leave them out).
   bool split_lines = true;
   // Split the mask as thresholded and fill each piece's holes afterwards, as ImageJ's
   // Watershed then Analyze Particles' "include holes" do (else holes are filled first).
   bool fill_holes_after_split = false;
+  // With fill_holes and the default order, holes are filled before the split only in blobs at
+  // least this convex (area / convex hull area): in them a hole is the particle's own relief;
+  // in more concave blobs (touching particles) it is a gap between them, split along first.
+  double relief_solidity = 0.75;
   bool exclude_edges = true;  // like ImageJ's "exclude on edges"
   int min_area_px = 20;
   int max_area_px = 0;  // 0: no upper limit
