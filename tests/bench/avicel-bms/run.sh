@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# The Avicel PH 200 BMS bench (issue 18 point 7): COUNT bodies of about SUB sub-spheres each
+# (three generated Avicel-like shapes, Table 2's sizes above 180 um, packed and pre-compressed to
+# 0.59 by `pack`), pressed by `compact` with Table 4's parameters (multi-contact law, beta = 1.3,
+# Table 4's bonds), beside the spherical Avicel bed (150 spheres) for the cost per sphere-step.
+#   tests/bench/avicel-bms/run.sh [THREADS]        COUNT=150 SUB=350 STEPS=0 (0: the whole run)
+# A reduced run for a noisy machine: COUNT=50 SUB=120 STEPS=20000.
+# Prints wall and CPU seconds and peak memory of each stage, sub-sphere-steps and bond-steps per
+# second, and the ratio to the spheres' particle-steps per second.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+repo=$(cd "$here/../../.." && pwd)
+bin=${SHAPEPRESS:-$repo/build/pipelines/shapepress}
+threads=${1:-2}
+count=${COUNT:-150}
+sub=${SUB:-350}
+steps=${STEPS:-0}
+work=${WORK:-$(mktemp -d)}
+echo "avicel-bms bench: $count bodies x ~$sub sub-spheres, $threads threads, steps ${steps} in $work"
+cd "$work"
+timed() {  # label command...: wall/CPU seconds and peak memory of one stage
+  local label=$1; shift
+  /usr/bin/time -f "$label wall_s=%e cpu_s=%U+%S max_rss_kB=%M" "$@" 2> >(grep -E "wall_s=|error|warning" >&2)
+}
+[[ -f shapes/shapes.csv ]] || timed generate "$bin" --quiet generate \
+  --targets "$repo/tests/data/geometry/avicel_ph200_projected.toml" --count 3 --seed 7 --out shapes
+[[ -f templates.h5 ]] || timed fill "$bin" --quiet fill shapes/*.stl --kind bms --count "$sub" \
+  --lattice random --out templates.h5
+sed "s/^count = .*/count = $count/" "$repo/pipelines/configs/pack-avicel-bms.toml" > pack.toml
+[[ -f packed.h5 ]] || timed pack "$bin" --quiet --threads "$threads" pack templates.h5 \
+  --config pack.toml --out packed.h5
+step_args=()
+[[ "$steps" != 0 ]] && step_args=(--steps "$steps")
+timed compact-bms "$bin" --quiet --threads "$threads" compact \
+  --config "$repo/pipelines/configs/avicel-ph200-bms.toml" --packing packed.h5 --out bms \
+  "${step_args[@]}" | tee bms.summary
+timed compact-spheres "$bin" --quiet --threads "$threads" compact \
+  --config "$repo/pipelines/configs/avicel-ph200-spheres.toml" --out spheres "${step_args[@]}" \
+  | tee spheres.summary
+python3 - "$work" <<'PY'
+import json, re, sys, pathlib
+w = pathlib.Path(sys.argv[1])
+def summary(name):
+    line = (w / f"{name}.summary").read_text()
+    return {k: float(v) for k, v in re.findall(r"(\w+)=([-0-9.e+]+)", line)}
+def facts(name):
+    d = json.loads((w / name / "run.json").read_text())
+    return d.get("facts", d)
+b, s = summary("bms"), summary("spheres")
+fb = facts("bms")
+bond_rate = fb["bonds"] * b["steps"] / b["loop_s"]
+print(f"bms: {fb['spheres']} sub-spheres, {fb['bonds']} bonds, time step {fb['time_step_s']:.3g} s, "
+      f"{b['steps']:.0f} steps in {b['loop_s']:.1f} s: {b['particle_steps_per_s']:.3g} "
+      f"sub-sphere-steps/s, {bond_rate:.3g} bond-steps/s, contacts/particle "
+      f"{b['contacts_per_particle']:.3g}, quasi-static {fb['quasi_static']} "
+      f"(KE/W {fb['max_kinetic_to_work']:.3g}, imbalance {fb['mean_force_imbalance']:.3g})")
+print(f"spheres: {s['particle_steps_per_s']:.3g} particle-steps/s, contacts/particle "
+      f"{s['contacts_per_particle']:.3g}")
+print(f"cost per sub-sphere-step / per sphere-step: "
+      f"{s['particle_steps_per_s'] / b['particle_steps_per_s']:.2f}")
+PY
