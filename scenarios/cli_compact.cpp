@@ -270,7 +270,7 @@ int run(const CompactCli& given, const RunContext& context) {
       "list_builds=%lld h0_m=%.10g\n",
       static_cast<long long>(summary.steps), summary.loop_seconds,
       summary.loop_seconds > 0 ? static_cast<double>(engine.state().size()) *
-                                     static_cast<double>(summary.steps) / summary.loop_seconds
+                                     static_cast<double>(summary.loop_steps) / summary.loop_seconds
                                : 0.0,
       last.top_force, last.bottom_force, summary.max_stress, last.contacts_per_particle,
       last.kinetic_energy, static_cast<long long>(engine.list_builds()), h0);

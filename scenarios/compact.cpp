@@ -81,6 +81,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     // The punch moves down at -velocity against the bed's load on it.
     punch.work -= engine.wall_load(setup.punch_wall) * velocity * engine.settings().time_step;
     ++history.steps;
+    ++summary.loop_steps;
     const std::int64_t step = engine.step_index();
     if (setup.record_every > 0 && step % setup.record_every == 0)
       emit(punch_record(engine, setup, punch));

@@ -94,9 +94,10 @@ struct CompactionSummary {
   PunchRecord last;
   double max_stress = 0.0;
   QuasiStaticCheck quasi_static;
-  std::int64_t steps = 0;     // steps taken, those before a resumed checkpoint included
-  double loop_seconds = 0.0;  // wall time of the stepping loop
-  bool interrupted = false;   // CompactionHooks::after_step stopped the run
+  std::int64_t steps = 0;       // steps taken, those before a resumed checkpoint included
+  double loop_seconds = 0.0;    // wall time of the stepping loop
+  std::int64_t loop_steps = 0;  // steps taken in it (after the checkpoint when resumed)
+  bool interrupted = false;     // CompactionHooks::after_step stopped the run
 };
 
 // What a compaction snapshot keeps beyond the engine: the punch controller's state and the bed's
