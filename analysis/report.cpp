@@ -248,7 +248,7 @@ std::optional<StressSpread> stress_spread(const std::vector<LoadedRun>& runs) {
 ReportResult write_report(const ReportOptions& options) {
   options.windows.check();
   const std::vector<LoadedRun> runs = load_runs(options);
-  std::filesystem::create_directories(options.out);
+  ensure_output_folder(options.out);
   ReportResult result;
   std::vector<std::pair<std::string, std::filesystem::path>> charts;  // (title, svg)
   for (const LoadedRun& run : runs)

@@ -28,6 +28,17 @@ void ensure_parent_directory(const std::filesystem::path& path) {
         fmt::format("{}: cannot create the output folder: {}", parent.string(), ec.message()));
 }
 
+void ensure_output_folder(const std::filesystem::path& folder) {
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec)
+    throw InputError(
+        fmt::format("{}: cannot create the output folder: {}", folder.string(), ec.message()));
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    throw InputError(fmt::format("{}: the output folder is not writable ({})", folder.string(),
+                                 std::strerror(errno)));
+}
+
 AtomicOutputFile::AtomicOutputFile(std::filesystem::path final_path)
     : final_path_(std::move(final_path)), temporary_path_(temporary_path_for(final_path_)) {
   ensure_parent_directory(final_path_);

@@ -14,6 +14,10 @@ std::filesystem::path temporary_path_for(const std::filesystem::path& final_path
 // Creates the parent folders of `path`; InputError naming the folder if that is not possible.
 void ensure_parent_directory(const std::filesystem::path& path);
 
+// Creates an output folder (--out) and checks it can be written to; InputError naming the folder
+// if not (a usage error, exit 2, not a raw filesystem message).
+void ensure_output_folder(const std::filesystem::path& folder);
+
 class AtomicOutputFile {
  public:
   // Opens the temporary file; InputError naming the path if the folder is not writable.

@@ -43,7 +43,7 @@ int run(const GenerateCli& cli, const RunContext& context) {
       targets, cli.options, [&](int done) { progress.update(static_cast<double>(done)); });
   progress.finish();
   const std::filesystem::path out(cli.out);
-  std::filesystem::create_directories(out);
+  ensure_output_folder(out);
   // The targets the run used, as TOML (`generate --targets effective.toml` reads them back).
   write_file_atomically(
       out / "effective.toml",

@@ -113,7 +113,7 @@ int run(const ShapeStatsCli& cli, const RunContext& context) {
                                  batch.skipped.size(), batch.skipped.front().reason));
 
   const std::filesystem::path out(cli.out);
-  std::filesystem::create_directories(out);
+  ensure_output_folder(out);
   ShapeSummary summary = summarize(particle_samples(batch.images), options.min_fourier_diameter_px);
   std::vector<ImageReport> reports;
   for (const ImageResult& image : batch.images)
@@ -125,13 +125,13 @@ int run(const ShapeStatsCli& cli, const RunContext& context) {
   write_file_atomically(out / "summary.json",
                         summary_to_json(summary, reports, skipped, context.command_line));
   if (!cli.no_overlays) {
-    std::filesystem::create_directories(out / "overlays");
+    ensure_output_folder(out / "overlays");
     for (const ImageResult& image : batch.images)
       write_overlay_png(
           out / "overlays" /
               (std::filesystem::path(image.report.file).stem().string() + "_overlay.png"),
           image);
-    std::filesystem::create_directories(out / "plots");
+    ensure_output_folder(out / "plots");
     write_plots(out / "plots", summary);
   }
   RunMetadata meta("shape-stats", context.command_line);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "common/run_metadata.hpp"
 #include "common/units.hpp"
@@ -42,7 +43,7 @@ int run(const SynthCli& cli, const RunContext& context) {
   options.shape = parse_synth_shape(cli.shape);
   options.check();
   const std::filesystem::path out(cli.out);
-  std::filesystem::create_directories(out);
+  ensure_output_folder(out);
   int total = 0;
   for (int i = 0; i < cli.images; ++i) {
     SynthOptions o = options;

@@ -75,7 +75,7 @@ int run(const CalibrateCli& cli, const RunContext& context) {
   options.max_evaluations = cli.max_evaluations;
   options.initial_factor = cli.initial_factor;
   const std::filesystem::path out(cli.out);
-  std::filesystem::create_directories(out);
+  ensure_output_folder(out);
   std::vector<std::string> columns = {"evaluation"};
   for (const std::string& name : options.parameters)
     columns.push_back(name);

@@ -2,7 +2,9 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -12,7 +14,9 @@
 #include "common/csv.hpp"
 #include "common/progress.hpp"
 #include "common/provenance.hpp"
+#include "common/sha256.hpp"
 #include "scenarios/cli.hpp"
+#include "scenarios/compact_checkpoint.hpp"
 #include "scenarios/compact_setup.hpp"
 #include "scenarios/run_facts.hpp"
 
@@ -24,19 +28,109 @@ struct CompactCli {
   std::string packing;
   std::string restart;
   std::string out;
+  std::string resume;
   std::int64_t steps = -1;
 };
 
-int run(const CompactCli& cli, const RunContext& context) {
-  RunMetadata meta("compact", context.command_line);
+// The signal SIGINT or SIGTERM delivered, 0 before one is. The program's one global: a signal
+// handler can reach nothing else safely (C++ [support.signal]: a lock-free volatile
+// sig_atomic_t of static storage), and the stepping loop polls it to write a checkpoint and
+// stop (docs/stages.md, "Checkpoints and --resume").
+volatile std::sig_atomic_t received_signal = 0;
+
+extern "C" void note_signal(int signal) {
+  received_signal = signal;
+  std::signal(signal, SIG_DFL);  // a second one stops the run at once
+}
+
+// Installs note_signal for SIGINT and SIGTERM while a compaction runs.
+class SignalCheckpoints {
+ public:
+  SignalCheckpoints()
+      : interrupt_(std::signal(SIGINT, note_signal)),
+        terminate_(std::signal(SIGTERM, note_signal)) {}
+  SignalCheckpoints(const SignalCheckpoints&) = delete;
+  SignalCheckpoints& operator=(const SignalCheckpoints&) = delete;
+  ~SignalCheckpoints() {
+    std::signal(SIGINT, interrupt_);
+    std::signal(SIGTERM, terminate_);
+  }
+
+ private:
+  void (*interrupt_)(int);
+  void (*terminate_)(int);
+};
+
+// --resume OUT: the arguments the run was started with, from the working directory it was
+// started in (relative paths in them and in the config mean what they meant then).
+CompactCli resumed_arguments(const std::string& folder, std::string& command_line) {
+  const std::filesystem::path out = std::filesystem::absolute(folder);
+  const CompactInvocation invocation = read_invocation(out);
+  std::error_code ec;
+  std::filesystem::current_path(invocation.working_directory, ec);
+  if (ec)
+    throw InputError(fmt::format("{}: the run was started in {}, which is gone ({})", folder,
+                                 invocation.working_directory.string(), ec.message()));
+  if (!std::filesystem::is_regular_file(invocation.config) ||
+      sha256_file(invocation.config) != invocation.config_sha256)
+    throw InputError(fmt::format(
+        "{}: the config {} is missing or changed since the run started; a resumed run needs "
+        "the same one",
+        folder, invocation.config));
+  command_line = invocation.command_line;
+  CompactCli cli;
+  cli.config = invocation.config;
+  cli.packing = invocation.packing;
+  cli.restart = invocation.restart;
+  cli.steps = invocation.steps;
+  cli.out = out.string();
+  return cli;
+}
+
+int run(const CompactCli& given, const RunContext& context) {
+  std::string command_line = context.command_line;
+  const CompactCli cli =
+      given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
+  if (cli.config.empty()) throw InputError("compact: give --config FILE (or --resume OUT)");
+  if (cli.out.empty()) throw InputError("compact: give --out FOLDER (or --resume OUT)");
+  const std::filesystem::path out(cli.out);
+  std::optional<CheckpointFiles> checkpoint;
+  if (!given.resume.empty()) {
+    checkpoint = latest_checkpoint(out);
+    if (checkpoint)
+      spdlog::info("compact: resuming {} from the checkpoint at step {}", out.string(),
+                   checkpoint->step);
+    else
+      spdlog::info("compact: {} has no checkpoint yet: starting the run again", out.string());
+    for (const auto* sub : {"", "snapshots", "checkpoints"})
+      remove_stale_temporaries(out / sub);
+  }
+  RunMetadata meta("compact", command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
   // Hashed once each reader has accepted the file, so a missing file keeps the reader's message.
   meta.input("config", cli.config);
   CompactConfig config = read_compact_config(root);
   root.check_unknown_keys();
   if (cli.steps >= 0) config.setup.max_steps = cli.steps;
+  ensure_output_folder(out / "snapshots");
+  // A fresh start must not be resumed from another run's checkpoints.
+  if (!checkpoint) std::filesystem::remove_all(out / std::string(checkpoint_folder));
+  ensure_output_folder(out / std::string(checkpoint_folder));
+  // Before the settle, so --resume can start a run killed before its first checkpoint again.
+  if (!checkpoint)
+    write_invocation(out, {command_line, std::filesystem::current_path(), cli.config, cli.packing,
+                           cli.restart, cli.steps, sha256_file(cli.config)});
   PreparedCompaction prepared;
-  if (!cli.restart.empty()) {
+  CheckpointHistory history;
+  if (checkpoint) {
+    history = read_checkpoint_history(checkpoint->history);
+    prepared = resume_compaction(config, read_snapshot(checkpoint->snapshot));
+    // The inputs the run started from, so run.json is the uninterrupted run's.
+    if (!cli.restart.empty()) meta.input("restart", cli.restart);
+    if (!cli.packing.empty()) meta.input("packing", cli.packing);
+    if (cli.restart.empty() && config.clumps && !config.clumps->templates.empty())
+      meta.input("templates", config.clumps->templates);
+  } else if (!cli.restart.empty()) {
     prepared = resume_compaction(config, read_snapshot(cli.restart));
     meta.input("restart", cli.restart);
   } else {
@@ -61,15 +155,16 @@ int run(const CompactCli& cli, const RunContext& context) {
       prepared.time_step.time_step / prepared.time_step.rayleigh_time,
       prepared.time_step.collision_time / prepared.time_step.time_step);
 
-  const std::filesystem::path out(cli.out);
-  std::filesystem::create_directories(out / "snapshots");
-  // What the run used, every key with its value (defaults and --steps included).
-  write_file_atomically(
-      out / "effective.toml",
-      fmt::format("# {}\n# the effective config of this compact run\n", context.command_line) +
-          compact_config_toml(config));
+  // What the run used, every key with its value (defaults and --steps included); a resumed run
+  // has it from its start (where the punch started is no longer in the engine).
+  if (!checkpoint) {
+    write_file_atomically(
+        out / "effective.toml",
+        fmt::format("# {}\n# the effective config of this compact run\n", command_line) +
+            compact_config_toml(config));
+  }
   const Provenance provenance{
-      context.command_line, root.text(),
+      command_line, root.text(),
       config.generate ? std::optional(config.generate->seed) : std::nullopt};
   CsvWriter csv(
       out / "punch.csv",
@@ -99,7 +194,7 @@ int run(const CompactCli& cli, const RunContext& context) {
         setup.max_solid_fraction, *setup.program.min_gap,
         1.0 - *setup.program.min_gap / prepared.punch.reference_gap, *setup.program.target_gap));
   csv.comment("phase: 0 load, 1 hold, 2 unload, 3 done");
-  std::vector<SnapshotIndexEntry> index;
+  std::vector<SnapshotIndexEntry>& index = history.snapshots;
   CompactionHooks hooks;
   hooks.record = [&](const PunchRecord& r) {
     csv.row({r.time, static_cast<double>(r.step), r.gap, r.strain, r.top_force, r.bottom_force,
@@ -117,14 +212,39 @@ int run(const CompactCli& cli, const RunContext& context) {
                      e.clumps().size()});
     write_xdmf(out / "snapshots.xdmf", index);
   };
+  // The rows before the checkpoint, as the run wrote them (the same numbers, the same text).
+  for (const PunchRecord& r : history.compaction.records)
+    hooks.record(r);
+  auto last_checkpoint = std::chrono::steady_clock::now();
+  const std::chrono::duration<double> checkpoint_interval(60.0 * config.checkpoint_minutes);
+  hooks.after_step = [&](const Engine& e, const PunchState& punch, const CompactionHistory& h) {
+    const int signal = received_signal;
+    const auto now = std::chrono::steady_clock::now();
+    if (signal != 0 ||
+        (config.checkpoint_every > 0 && e.step_index() % config.checkpoint_every == 0) ||
+        (config.checkpoint_minutes > 0.0 && now - last_checkpoint >= checkpoint_interval)) {
+      write_checkpoint(out, e, compaction_scenario_state(punch, setup), provenance, {h, index});
+      last_checkpoint = now;
+    }
+    return signal == 0;
+  };
+  const SignalCheckpoints signals;
   const double total =
       config.setup.max_steps > 0 ? static_cast<double>(config.setup.max_steps) : 0.0;
   ProgressReporter progress("compact", total, {.quiet = context.quiet});
   if (total > 0)
     hooks.progress = [&](std::int64_t step) { progress.update(static_cast<double>(step)); };
   const double h0 = prepared.punch.reference_gap;
-  const CompactionSummary summary = run_compaction(engine, prepared.setup, prepared.punch, hooks);
+  const CompactionSummary summary =
+      run_compaction(engine, prepared.setup, prepared.punch, hooks, std::move(history.compaction));
   progress.finish();
+  if (summary.interrupted) {
+    spdlog::warn(
+        "compact: stopped by signal {} at step {}; checkpoint written: continue with "
+        "`shapepress compact --resume {}`",
+        static_cast<int>(received_signal), engine.step_index(), out.string());
+    return 128 + received_signal;
+  }
   const QuasiStaticCheck& qs = summary.quasi_static;
   if (qs.records > 0 && !qs.quasi_static())
     spdlog::warn(
@@ -139,6 +259,9 @@ int run(const CompactCli& cli, const RunContext& context) {
   add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, prepared.time_step,
                        engine, summary);
   meta.write(out / run_metadata_name);
+  // The run is whole: its checkpoints have done their work.
+  std::error_code ignored;
+  std::filesystem::remove_all(out / std::string(checkpoint_folder), ignored);
   const PunchRecord& last = summary.last;
   // One machine-readable line for scripts (tests/bench/hertz-compaction/run.sh).
   std::printf(
@@ -147,7 +270,7 @@ int run(const CompactCli& cli, const RunContext& context) {
       "list_builds=%lld h0_m=%.10g\n",
       static_cast<long long>(summary.steps), summary.loop_seconds,
       summary.loop_seconds > 0 ? static_cast<double>(engine.state().size()) *
-                                     static_cast<double>(summary.steps) / summary.loop_seconds
+                                     static_cast<double>(summary.loop_steps) / summary.loop_seconds
                                : 0.0,
       last.top_force, last.bottom_force, summary.max_stress, last.contacts_per_particle,
       last.kinetic_energy, static_cast<long long>(engine.list_builds()), h0);
@@ -162,18 +285,27 @@ StageOptions compact_options() {
 
 StageRunner setup_compact_cli(CLI::App& app) {
   auto cli = std::make_shared<CompactCli>();
-  app.add_option("--config", cli->config, "compact config TOML (materials, box, punch, run)")
-      ->required();
+  auto* config =
+      app.add_option("--config", cli->config, "compact config TOML (materials, box, punch, run)");
   auto* packing =
       app.add_option("--packing", cli->packing,
                      "spheres: 'x y z r' text (m) or HDF5 /particles/{position,radius}; "
                      "without it the config's [generate] makes a bed");
-  app.add_option("--restart", cli->restart, "continue from a snapshot written by compact")
-      ->excludes(packing);
-  app.add_option("--steps", cli->steps, "stop at this total step count (overrides run.steps)");
-  app.add_option("--out", cli->out,
-                 "output folder (punch.csv, snapshots/, snapshots.xdmf, effective.toml)")
-      ->required();
+  auto* restart =
+      app.add_option("--restart", cli->restart, "continue from a snapshot written by compact")
+          ->excludes(packing);
+  auto* steps =
+      app.add_option("--steps", cli->steps, "stop at this total step count (overrides run.steps)");
+  auto* out = app.add_option(
+      "--out", cli->out, "output folder (punch.csv, snapshots/, snapshots.xdmf, effective.toml)");
+  app.add_option("--resume", cli->resume,
+                 "continue the killed run in this output folder from its last checkpoint, with "
+                 "the arguments it was started with")
+      ->excludes(config)
+      ->excludes(packing)
+      ->excludes(restart)
+      ->excludes(steps)
+      ->excludes(out);
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -67,7 +67,7 @@ int run(const PlateCli& cli, const RunContext& context) {
     config.cms->count = cli.spheres;
   }
   const std::filesystem::path out(cli.out);
-  std::filesystem::create_directories(out);
+  ensure_output_folder(out);
   // What the run used, every key with its value (defaults and command-line overrides included):
   // `plate --config effective.toml` with the same --particle runs it again.
   write_file_atomically(out / "effective.toml",

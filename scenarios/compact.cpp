@@ -60,16 +60,15 @@ QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& loading) {
 }
 
 CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, PunchState& punch,
-                                 const CompactionHooks& hooks) {
+                                 const CompactionHooks& hooks, CompactionHistory history) {
   CompactionSummary summary;
-  std::vector<PunchRecord> loading;  // judged for the quasi-static check at the end
   const auto emit = [&](PunchRecord record) {
-    summary.max_stress = std::max(summary.max_stress, record.stress);
-    if (record.phase == PunchPhase::load) loading.push_back(record);
     if (hooks.record) hooks.record(record);
-    summary.last = record;
+    history.records.push_back(record);
   };
-  emit(punch_record(engine, setup, punch));
+  // A resumed run's first record is the checkpoint's; recomputed here it would miss the contact
+  // counts, which only a force evaluation sets.
+  if (history.records.empty()) emit(punch_record(engine, setup, punch));
   const auto start = std::chrono::steady_clock::now();
   auto& walls = engine.walls();
   while (punch.phase != PunchPhase::done &&
@@ -81,17 +80,30 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     engine.step();
     // The punch moves down at -velocity against the bed's load on it.
     punch.work -= engine.wall_load(setup.punch_wall) * velocity * engine.settings().time_step;
-    ++summary.steps;
+    ++history.steps;
+    ++summary.loop_steps;
     const std::int64_t step = engine.step_index();
     if (setup.record_every > 0 && step % setup.record_every == 0)
       emit(punch_record(engine, setup, punch));
     if (setup.snapshot_every > 0 && step % setup.snapshot_every == 0 && hooks.snapshot)
       hooks.snapshot(engine, punch);
     if (hooks.progress) hooks.progress(step);
+    if (hooks.after_step && !hooks.after_step(engine, punch, history)) {
+      summary.interrupted = true;
+      break;
+    }
   }
   summary.loop_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (summary.last.step != engine.step_index()) emit(punch_record(engine, setup, punch));
+  if (!summary.interrupted && history.records.back().step != engine.step_index())
+    emit(punch_record(engine, setup, punch));
+  std::vector<PunchRecord> loading;
+  for (const PunchRecord& r : history.records) {
+    summary.max_stress = std::max(summary.max_stress, r.stress);
+    if (r.phase == PunchPhase::load) loading.push_back(r);
+  }
+  summary.last = history.records.back();
+  summary.steps = history.steps;
   summary.quasi_static = quasi_static_check(loading);
   return summary;
 }

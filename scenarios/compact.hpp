@@ -55,10 +55,21 @@ struct PunchRecord {
   std::int64_t intact_bonds = 0;       // BMS bonds not broken
 };
 
+// What a run has produced so far beyond the engine and the punch: every record (the rows of
+// punch.csv at full precision, which the summary is judged over) and the steps taken. A
+// checkpoint keeps it, so a resumed run ends with the summary of the uninterrupted one.
+struct CompactionHistory {
+  std::vector<PunchRecord> records;
+  std::int64_t steps = 0;
+};
+
 struct CompactionHooks {
   std::function<void(const PunchRecord&)> record;
   std::function<void(const Engine&, const PunchState&)> snapshot;
   std::function<void(std::int64_t step)> progress;
+  // After every step, once its record and snapshot are out: a checkpoint may be taken here.
+  // Returning false stops the run there (a signal asked for it); the summary says so.
+  std::function<bool(const Engine&, const PunchState&, const CompactionHistory&)> after_step;
 };
 
 // Whether a compaction was quasi-static: the bed's kinetic energy small against the work of the
@@ -83,8 +94,10 @@ struct CompactionSummary {
   PunchRecord last;
   double max_stress = 0.0;
   QuasiStaticCheck quasi_static;
-  std::int64_t steps = 0;     // steps taken by this call
-  double loop_seconds = 0.0;  // wall time of the stepping loop
+  std::int64_t steps = 0;       // steps taken, those before a resumed checkpoint included
+  double loop_seconds = 0.0;    // wall time of the stepping loop
+  std::int64_t loop_steps = 0;  // steps taken in it (after the checkpoint when resumed)
+  bool interrupted = false;     // CompactionHooks::after_step stopped the run
 };
 
 // What a compaction snapshot keeps beyond the engine: the punch controller's state and the bed's
@@ -98,8 +111,9 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
 QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& loading);
 
 // Steps until the program is done or max_steps is reached. Throws ComputationError on
-// divergence (from Engine::step).
+// divergence (from Engine::step). `resumed`: the history a checkpoint kept, the engine and punch
+// restored from the same checkpoint; its records are not emitted again.
 CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, PunchState& punch,
-                                 const CompactionHooks& hooks);
+                                 const CompactionHooks& hooks, CompactionHistory resumed = {});
 
 }  // namespace shapepress::scenarios

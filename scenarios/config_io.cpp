@@ -412,6 +412,10 @@ const OptionTable<CompactConfig>& compact_run_table() {
         .integer(
             "snapshot_every", [setup](auto& c) -> auto& { return setup(c).snapshot_every; },
             Range::non_negative(), "steps between snapshots (0: none)")
+        .integer("checkpoint_every", &CompactConfig::checkpoint_every, Range::non_negative(),
+                 "steps between checkpoints for --resume (0: by wall time only)")
+        .number("checkpoint_minutes", &CompactConfig::checkpoint_minutes, Range::non_negative(),
+                "minutes of wall time between checkpoints for --resume (0: by steps only)")
         .numbers(
             "gravity", [](auto& c) -> auto& { return c.run.engine.gravity; }, dim::acceleration,
             Range::any(), "[gx, gy, gz]")

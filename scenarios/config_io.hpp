@@ -63,6 +63,10 @@ struct CompactConfig {
   // Mass scaling: every particle's density × this (the time step grows as its square root). Only
   // for quasi-static runs, whose curve must not move with it (docs/models.md, "Mass scaling").
   double density_scale = 1.0;
+  // Checkpoints for `compact --resume` (docs/stages.md, "Checkpoints and --resume"): every this
+  // many steps (0: none by steps) and every this many minutes of wall time (0: none by time).
+  std::int64_t checkpoint_every = 0;
+  double checkpoint_minutes = 10.0;
   std::string particle_material, wall_material;
   // The compaction as the config gives it ([punch], [run] steps, record_every, snapshot_every);
   // prepare_compaction completes it with what the bed decides (H0, solid volume, ceiling).
