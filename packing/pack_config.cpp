@@ -75,21 +75,9 @@ const OptionTable<Sizes>& sizes_table() {
 }
 
 const OptionTable<SizeQuantiles>& quantiles_table() {
-  static const OptionTable<SizeQuantiles> t = [] {
-    OptionTable<SizeQuantiles> q("sizes");
-    q.numbers("size_quantiles", &SizeQuantiles::diameters, dim::length, Range::positive(),
-              "diameters at size_quantile_levels (Table 2's x10, x50, x90)")
-        .required()
-        .default_text("none (summary)")
-        .numbers("size_quantile_levels", &SizeQuantiles::levels, dim::dimensionless,
-                 Range{0.0, 1.0, false, false}, "cumulative fraction at each of size_quantiles")
-        .required()
-        .default_text("with size_quantiles")
-        .choice("size_weighting", &SizeQuantiles::volume_weighted,
-                std::vector<std::pair<std::string, bool>>{{"volume", true}, {"number", false}},
-                "the levels' weighting (Q3 or Q0); the measured x10/x50/x90 use the same");
-    return q;
-  }();
+  static const OptionTable<SizeQuantiles> t = size_quantile_table(
+      "sizes", "diameters at size_quantile_levels (Table 2's x10, x50, x90)", "none (summary)",
+      "the levels' weighting (Q3 or Q0); the measured x10/x50/x90 use the same");
   return t;
 }
 
@@ -194,6 +182,24 @@ SizeQuantiles read_summary_sizes(const std::filesystem::path& path) {
   } catch (const InputError& e) {
     throw InputError(fmt::format("'{}': {}", path.string(), e.what()));
   }
+  return q;
+}
+
+OptionTable<SizeQuantiles> size_quantile_table(std::string section, std::string diameters_help,
+                                               std::string absent_text,
+                                               std::string weighting_help) {
+  OptionTable<SizeQuantiles> q(std::move(section));
+  q.numbers("size_quantiles", &SizeQuantiles::diameters, dim::length, Range::positive(),
+            std::move(diameters_help))
+      .required()
+      .default_text(std::move(absent_text))
+      .numbers("size_quantile_levels", &SizeQuantiles::levels, dim::dimensionless,
+               Range{0.0, 1.0, false, false}, "cumulative fraction at each of size_quantiles")
+      .required()
+      .default_text("with size_quantiles")
+      .choice("size_weighting", &SizeQuantiles::volume_weighted,
+              std::vector<std::pair<std::string, bool>>{{"volume", true}, {"number", false}},
+              std::move(weighting_help));
   return q;
 }
 

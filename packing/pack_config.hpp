@@ -23,6 +23,11 @@ StageOptions pack_config_options();
 
 // The volume-weighted x10/x50/x90 of a `shape-stats` summary.json (its Q3 of the equivalent
 // circle diameter). InputError naming the file when it is not such a summary.
+// The keys of a size distribution given by quantiles (size_quantiles, size_quantile_levels,
+// size_weighting) in config section `section`, shared by [sizes] here and compact's [generate].
+OptionTable<SizeQuantiles> size_quantile_table(std::string section, std::string diameters_help,
+                                               std::string absent_text, std::string weighting_help);
+
 SizeQuantiles read_summary_sizes(const std::filesystem::path& path);
 
 }  // namespace shapepress::packing

@@ -1,5 +1,4 @@
 #include "scenarios/config_io.hpp"
-
 #include <cmath>
 #include <limits>
 
@@ -7,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "geometry/sphere_fill.hpp"
+#include "packing/pack_config.hpp"
 #include "simulate/contact_law_config.hpp"
 
 namespace shapepress::scenarios {
@@ -560,21 +560,9 @@ const OptionTable<CompactConfig>& generate_table() {
 }
 
 const OptionTable<SizeQuantiles>& size_table_options() {
-  static const OptionTable<SizeQuantiles> t = [] {
-    OptionTable<SizeQuantiles> q("generate");
-    q.numbers("size_quantiles", &SizeQuantiles::diameters, dim::length, Range::positive(),
-              "diameters of a size distribution truncated to [diameter_min, diameter_max]")
-        .required()
-        .default_text("none (uniform diameters)")
-        .numbers("size_quantile_levels", &SizeQuantiles::levels, dim::dimensionless,
-                 Range{0.0, 1.0, false, false}, "cumulative fraction at each of size_quantiles")
-        .required()
-        .default_text("with size_quantiles")
-        .choice("size_weighting", &SizeQuantiles::volume_weighted,
-                std::vector<std::pair<std::string, bool>>{{"volume", true}, {"number", false}},
-                "the levels' weighting");
-    return q;
-  }();
+  static const OptionTable<SizeQuantiles> t = size_quantile_table(
+      "generate", "diameters of a size distribution truncated to [diameter_min, diameter_max]",
+      "none (uniform diameters)", "the levels' weighting");
   return t;
 }
 
