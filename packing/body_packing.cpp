@@ -63,38 +63,14 @@ namespace {
 
 constexpr const char* format_name = "shapepress packing 1";
 
-std::vector<double> flatten(const std::vector<Vector3>& v) {
-  std::vector<double> out;
-  out.reserve(3 * v.size());
-  for (const Vector3& x : v)
-    out.insert(out.end(), x.begin(), x.end());
+// Rows of N numbers as one run of numbers, for an (M, N) dataset.
+template <class T, std::size_t N>
+std::vector<T> flatten(const std::vector<std::array<T, N>>& rows) {
+  std::vector<T> out;
+  out.reserve(N * rows.size());
+  for (const std::array<T, N>& row : rows)
+    out.insert(out.end(), row.begin(), row.end());
   return out;
-}
-
-std::vector<std::int32_t> flatten(const std::vector<std::array<std::int32_t, 2>>& v) {
-  std::vector<std::int32_t> out;
-  out.reserve(2 * v.size());
-  for (const auto& p : v)
-    out.insert(out.end(), p.begin(), p.end());
-  return out;
-}
-
-// The measures as (name, unit, value), one table for the writer and the reader.
-template <class Measures, class Visit>
-void each_measure(Measures& m, Visit&& visit) {
-  visit("solid_fraction_shape", "1", m.solid_fraction_shape);
-  visit("solid_fraction_spheres", "1", m.solid_fraction_spheres);
-  visit("bed_height", "m", m.bed_height);
-  visit("coordination", "1", m.coordination);
-  visit("x10", "m", m.x10);
-  visit("x50", "m", m.x50);
-  visit("x90", "m", m.x90);
-  visit("target_x10", "m", m.target_x10);
-  visit("target_x50", "m", m.target_x50);
-  visit("target_x90", "m", m.target_x90);
-  visit("orientation_order", "1", m.orientation_order);
-  visit("largest_overlap", "m", m.largest_overlap);
-  visit("largest_overlap_relative", "1", m.largest_overlap_relative);
 }
 
 std::string xdmf_for(const std::filesystem::path& h5, const BodyPacking& p) {
@@ -197,7 +173,7 @@ void write_packing(const std::filesystem::path& path, const BodyPacking& p,
   file.write("/bonds/pairs", flatten(p.bonds), {p.bonds.size(), 2});
   file.write("/bonds/rest_length", p.bond_rest_length);
   file.unit("/bonds/rest_length", "m");
-  each_measure(p.measures, [&](const char* name, const char* unit, double value) {
+  for_each_measure(p.measures, [&](const char* name, const char* unit, double value) {
     const std::string dataset = fmt::format("/measures/{}", name);
     file.write(dataset, std::vector<double>{value});
     file.unit(dataset, unit);
@@ -363,7 +339,7 @@ BodyPacking read_packing(const std::filesystem::path& path) {
       read.fail(fmt::format("/bonds/rest_length[{}] must be > 0", k));
   }
   if (file.has("/measures"))
-    each_measure(p.measures, [&](const char* name, const char*, double& value) {
+    for_each_measure(p.measures, [&](const char* name, const char*, double& value) {
       const std::string dataset = fmt::format("/measures/{}", name);
       if (file.has(dataset)) value = read.sized(dataset, 1)[0];
     });

@@ -81,6 +81,24 @@ struct PackMeasures {
   double largest_overlap_relative = 0.0;  // the same over the smaller radius
 };
 
+// Each measure as (name, SI unit, value), one table for /measures and run.json.
+template <class Measures, class Visit>
+void for_each_measure(Measures& m, Visit&& visit) {
+  visit("solid_fraction_shape", "1", m.solid_fraction_shape);
+  visit("solid_fraction_spheres", "1", m.solid_fraction_spheres);
+  visit("bed_height", "m", m.bed_height);
+  visit("coordination", "1", m.coordination);
+  visit("x10", "m", m.x10);
+  visit("x50", "m", m.x50);
+  visit("x90", "m", m.x90);
+  visit("target_x10", "m", m.target_x10);
+  visit("target_x50", "m", m.target_x50);
+  visit("target_x90", "m", m.target_x90);
+  visit("orientation_order", "1", m.orientation_order);
+  visit("largest_overlap", "m", m.largest_overlap);
+  visit("largest_overlap_relative", "1", m.largest_overlap_relative);
+}
+
 struct BodyPacking {
   std::vector<BodyTemplate> templates;
   std::vector<PackedBody> bodies;

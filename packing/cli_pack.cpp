@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
+#include <string_view>
 
 #include "common/atomic_file.hpp"
 #include "common/config.hpp"
@@ -26,20 +28,11 @@ struct PackCli {
   std::optional<std::uint64_t> seed;
 };
 
+// run.json names a length's fact with its unit, as the other stages do (bed_height_m).
 void add_measures(RunMetadata& meta, const PackMeasures& m) {
-  meta.fact("solid_fraction_shape", m.solid_fraction_shape)
-      .fact("solid_fraction_spheres", m.solid_fraction_spheres)
-      .fact("bed_height_m", m.bed_height)
-      .fact("coordination", m.coordination)
-      .fact("x10_m", m.x10)
-      .fact("x50_m", m.x50)
-      .fact("x90_m", m.x90)
-      .fact("target_x10_m", m.target_x10)
-      .fact("target_x50_m", m.target_x50)
-      .fact("target_x90_m", m.target_x90)
-      .fact("orientation_order", m.orientation_order)
-      .fact("largest_overlap_m", m.largest_overlap)
-      .fact("largest_overlap_relative", m.largest_overlap_relative);
+  for_each_measure(m, [&](const char* name, std::string_view unit, double value) {
+    meta.fact(unit == "m" ? std::string(name) + "_m" : std::string(name), value);
+  });
 }
 
 int run(const PackCli& cli, const RunContext& context) {
@@ -57,7 +50,7 @@ int run(const PackCli& cli, const RunContext& context) {
     meta.input("summary", std::filesystem::path(cli.config).parent_path() / config.summary);
 
   const std::filesystem::path out(cli.out);
-  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+  if (out.has_parent_path()) ensure_output_folder(out.parent_path());
   std::optional<ProgressReporter> progress;
   std::string phase;
   PackProgress hooks;

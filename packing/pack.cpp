@@ -14,6 +14,7 @@
 
 #include "common/error.hpp"
 #include "geometry/templates_file.hpp"
+#include "packing/bed_state.hpp"
 #include "packing/clump_packing.hpp"
 #include "packing/settle.hpp"
 #include "simulate/engine.hpp"
@@ -332,47 +333,6 @@ std::unique_ptr<Engine> with_friction(const Engine& e, const PackRequest& r, dou
                                   e.settings(), e.checkpoint());
 }
 
-// Every body in the engine: a sphere body as a sphere, others as rigid clumps of the scaled
-// template's mass properties. sphere_of[b]: the state index of body b's first sub-sphere.
-struct EngineBed {
-  SphereState state;
-  ClumpSet clumps;
-  std::vector<std::int32_t> clump_of_body;  // -1 for a sphere body
-  std::vector<std::int32_t> sphere_of_body;
-};
-
-EngineBed engine_bed(const PackRequest& r, const std::vector<BodyTemplate>& templates,
-                     const std::vector<PackedBody>& bodies) {
-  EngineBed bed;
-  std::vector<Vector3> offsets;
-  std::vector<double> radii;
-  for (const PackedBody& body : bodies) {
-    const BodyTemplate& t = templates[static_cast<std::size_t>(body.template_index)];
-    const double s = body.scale;
-    bed.sphere_of_body.push_back(static_cast<std::int32_t>(bed.state.size()));
-    if (t.kind == BodyKind::sphere) {
-      bed.state.add_sphere(body.centre[0], body.centre[1], body.centre[2], s * t.radii[0],
-                           r.density, 0);
-      bed.clump_of_body.push_back(-1);
-      continue;
-    }
-    offsets.clear(), radii.clear();
-    for (std::size_t i = 0; i < t.radii.size(); ++i) {
-      offsets.push_back({s * t.centres[i][0], s * t.centres[i][1], s * t.centres[i][2]});
-      radii.push_back(s * t.radii[i]);
-    }
-    // Mass × s³, inertia × s⁵ of the template's stored properties (not integrated again).
-    const double s3 = s * s * s, s5 = s3 * s * s;
-    const Vector3 inertia = {r.density * s5 * t.principal_inertia[0],
-                             r.density * s5 * t.principal_inertia[1],
-                             r.density * s5 * t.principal_inertia[2]};
-    bed.clump_of_body.push_back(static_cast<std::int32_t>(add_rigid_clump(
-        bed.state, bed.clumps, offsets, radii, body.centre, body.orientation,
-        r.density * s3 * t.sphere_volume, s3 * t.sphere_volume, inertia, 0, t.name)));
-  }
-  return bed;
-}
-
 // The rigid-clump period bound (simulate/timestep.hpp clump_contact_period) for a body in a
 // packed bed: at most contacts_per_body of its sub-spheres touch at once, taken as its outermost
 // ones (the longest lever arms) at 0.1 of their radius. The engine's generic bound lets every
@@ -471,7 +431,13 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   std::vector<PackedBody> bodies = draw_bodies(request, templates);
   const double region_top = insert_bodies(request, templates, bodies);
   spdlog::info("pack: {} bodies inserted below {:.4g} m", bodies.size(), region_top);
-  EngineBed bed = engine_bed(request, templates, bodies);
+  // Every body rigid while it is packed: a sphere body a sphere, the others clumps of their scaled
+  // template's mass properties. Sub-sphere i of the engine is particle i of `placed`.
+  BodyPacking placed;
+  placed.templates = templates;
+  placed.bodies = bodies;
+  place_bodies(placed);
+  Bed bed = bed_from_packing(placed, {request.density, 0, std::nullopt, true});
   const MaterialTable table = pack_materials(request, request.friction, request.wall_friction);
   std::vector<PlaneWall> walls = {
       PlaneWall{request.floor, 1, 0.0, 1},
@@ -550,12 +516,12 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   const SphereState& s = engine->state();
   const ClumpSet& clumps = engine->clumps();
   for (std::size_t b = 0; b < bodies.size(); ++b) {
-    if (bed.clump_of_body[b] < 0) {
-      const auto i = static_cast<std::size_t>(bed.sphere_of_body[b]);
+    const auto i = static_cast<std::size_t>(placed.first_particle[b]);
+    if (clumps.empty() || clumps.clump_of[i] < 0) {
       bodies[b].centre = {s.position.x[i], s.position.y[i], s.position.z[i]};
       continue;
     }
-    const auto c = static_cast<std::size_t>(bed.clump_of_body[b]);
+    const auto c = static_cast<std::size_t>(clumps.clump_of[i]);
     bodies[b].centre = {clumps.centre.x[c], clumps.centre.y[c], clumps.centre.z[c]};
     bodies[b].orientation = clumps.rotation[c].orientation;
   }

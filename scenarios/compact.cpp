@@ -39,14 +39,16 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   return r;
 }
 
-QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& loading) {
+QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& records) {
   QuasiStaticCheck check;
   double peak = 0.0;
-  for (const PunchRecord& r : loading)
-    peak = std::max(peak, r.stress);
+  for (const PunchRecord& r : records)
+    if (r.phase == PunchPhase::load) peak = std::max(peak, r.stress);
   double imbalance_sum = 0.0;
-  for (const PunchRecord& r : loading) {
-    if (!(peak > 0.0) || r.stress < 0.1 * peak || !(r.punch_work > 0.0)) continue;
+  for (const PunchRecord& r : records) {
+    if (r.phase != PunchPhase::load || !(peak > 0.0) || r.stress < 0.1 * peak ||
+        !(r.punch_work > 0.0))
+      continue;
     ++check.records;
     check.max_kinetic_to_work =
         std::max(check.max_kinetic_to_work, r.kinetic_energy / r.punch_work);
@@ -97,14 +99,11 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!summary.interrupted && history.records.back().step != engine.step_index())
     emit(punch_record(engine, setup, punch));
-  std::vector<PunchRecord> loading;
-  for (const PunchRecord& r : history.records) {
+  for (const PunchRecord& r : history.records)
     summary.max_stress = std::max(summary.max_stress, r.stress);
-    if (r.phase == PunchPhase::load) loading.push_back(r);
-  }
   summary.last = history.records.back();
   summary.steps = history.steps;
-  summary.quasi_static = quasi_static_check(loading);
+  summary.quasi_static = quasi_static_check(history.records);
   return summary;
 }
 

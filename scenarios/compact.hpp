@@ -107,8 +107,8 @@ ScenarioState compaction_scenario_state(const PunchState& punch, const Compactio
 PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
                          const PunchState& punch);
 
-// The check over the loading records of a run (PunchRecord::phase load).
-QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& loading);
+// The check over a run's records; only those of the loading phase are judged.
+QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& records);
 
 // Steps until the program is done or max_steps is reached. Throws ComputationError on
 // divergence (from Engine::step). `resumed`: the history a checkpoint kept, the engine and punch
