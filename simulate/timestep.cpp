@@ -175,6 +175,9 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
       overlap[static_cast<std::size_t>(i)] = assumed_clump_overlap * state.radius[i];
       partners.push_back(state.material[i]);
     }
+  // One entry per material: clump_contact_period visits every partner for every sub-sphere.
+  std::sort(partners.begin(), partners.end());
+  partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
   TimeStepChoice choice = with_bond_period(
       select_with_masses(state, materials, wall_materials, fixed, fraction, speed, mass), fixed,
       fraction, bonds, state);
