@@ -26,6 +26,9 @@ struct PackCli {
   std::string config;
   std::string out;
   std::optional<std::uint64_t> seed;
+  std::optional<std::int64_t> count;
+  std::string summary;
+  std::vector<std::string> template_names;
 };
 
 // run.json names a length's fact with its unit, as the other stages do (bed_height_m).
@@ -39,14 +42,27 @@ int run(const PackCli& cli, const RunContext& context) {
   RunMetadata meta("pack", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
   meta.input("config", cli.config);
-  PackConfig config = read_pack_config(root, cli.config);
+  PackConfig config = read_pack_config(root, cli.config, cli.summary);
   root.check_unknown_keys();
   if (cli.seed) config.request.seed = *cli.seed;
+  // A study packs one config at several sizes and with several shapes without copying it.
+  if (cli.count) {
+    if (*cli.count <= 0) throw InputError(fmt::format("pack: --count {} must be > 0", *cli.count));
+    config.request.count = *cli.count;
+    config.request.target_mass.reset();
+  }
+  if (!cli.template_names.empty()) {
+    config.request.templates.clear();
+    for (const std::string& name : cli.template_names)
+      config.request.templates.push_back({name, 1.0});
+  }
   std::vector<std::filesystem::path> files(cli.templates.begin(), cli.templates.end());
   const std::vector<BodyTemplate> templates = load_body_templates(files, config.request.templates);
   for (const std::filesystem::path& f : files)
     meta.input("templates", f);
-  if (!config.summary.empty())
+  if (!cli.summary.empty())
+    meta.input("summary", cli.summary);
+  else if (!config.summary.empty())
     meta.input("summary", std::filesystem::path(cli.config).parent_path() / config.summary);
 
   const std::filesystem::path out(cli.out);
@@ -121,6 +137,13 @@ StageRunner setup_pack_cli(CLI::App& app) {
   app.add_option("--out", cli->out, "packed.h5 (packed.xmf and packed.h5.run.json beside it)")
       ->required();
   app.add_option("--seed", cli->seed, "random seed (overrides pack.seed)");
+  app.add_option("--summary", cli->summary,
+                 "sizes from this shape-stats summary.json (its Q3 x10/x50/x90) instead of the "
+                 "config's [sizes] summary or size_quantiles");
+  app.add_option("--count", cli->count, "number of bodies (overrides pack.count and target_mass)");
+  app.add_option("--template", cli->template_names,
+                 "a template to pack, \"bms/<name>\", \"cms/<name>\" or \"sphere\"; repeated: "
+                 "equal weights (replaces the config's [[template]] blocks)");
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -448,7 +448,13 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
                                          request.time_step_fraction, speed, BondSet{}, bed.clumps);
   if (!request.time_step && !bed.clumps.empty()) {
     step.clump_period = packed_clump_period(bed.state, bed.clumps, table);
-    step.time_step = request.time_step_fraction * std::min(step.rayleigh_time, step.clump_period);
+    // A sub-sphere of a rigid body has no motion of its own, so its Rayleigh time (a wave
+    // across it) bounds nothing: the body's contact oscillation does. Free spheres keep theirs.
+    const bool all_rigid = std::all_of(bed.clumps.clump_of.begin(), bed.clumps.clump_of.end(),
+                                       [](std::int32_t c) { return c >= 0; });
+    step.time_step =
+        request.time_step_fraction *
+        (all_rigid ? step.clump_period : std::min(step.rayleigh_time, step.clump_period));
   }
   run.time_step = step.time_step;
   double smallest = std::numeric_limits<double>::infinity();

@@ -203,7 +203,8 @@ OptionTable<SizeQuantiles> size_quantile_table(std::string section, std::string 
   return q;
 }
 
-PackConfig read_pack_config(const ConfigTable& root, const std::filesystem::path& config_path) {
+PackConfig read_pack_config(const ConfigTable& root, const std::filesystem::path& config_path,
+                            const std::filesystem::path& summary_override) {
   PackConfig c;
   PackRequest& r = c.request;
   pack_table().read(root.table("pack"), r);
@@ -215,11 +216,15 @@ PackConfig read_pack_config(const ConfigTable& root, const std::filesystem::path
   if (r.templates.empty()) r.templates.push_back({"sphere", 1.0});
   const ConfigTable s = root.table("sizes");
   const Sizes sizes = sizes_table().read(s);
-  if (s.has("summary") == s.has("size_quantiles"))
+  if (!summary_override.empty()) {
+    if (s.has("size_quantiles")) quantiles_table().read(s);  // read: not an unknown key
+    c.summary = summary_override.string();
+    r.sizes = read_summary_sizes(summary_override);
+  } else if (s.has("summary") == s.has("size_quantiles")) {
     throw InputError(root.source_name() +
                      ": [sizes] needs summary (a shape-stats summary.json) or size_quantiles, "
                      "one of the two");
-  if (s.has("summary")) {
+  } else if (s.has("summary")) {
     c.summary = sizes.summary;
     std::filesystem::path summary = sizes.summary;
     if (summary.is_relative()) summary = config_path.parent_path() / summary;

@@ -15,8 +15,10 @@ struct PackConfig {
 };
 
 // InputError naming the file and key. A `sizes.summary` path is taken relative to the config's
-// folder when it is not absolute.
-PackConfig read_pack_config(const ConfigTable& root, const std::filesystem::path& config_path);
+// folder when it is not absolute. `summary`, when given, is the sizes' source instead of the
+// config's [sizes] summary or size_quantiles (`pack --summary`, a study's measured statistics).
+PackConfig read_pack_config(const ConfigTable& root, const std::filesystem::path& config_path,
+                            const std::filesystem::path& summary = {});
 // The effective config: every key with its value (reads back to the same request).
 std::string pack_config_toml(const PackConfig& config);
 StageOptions pack_config_options();
