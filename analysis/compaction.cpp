@@ -136,6 +136,9 @@ CompactionMetrics analyse_compaction(const PunchCurve& curve, const FitWindows& 
   windows.check();
   CompactionMetrics m;
   m.reference_gap = curve.reference_gap;
+  m.density_scale = curve.density_scale;
+  m.max_kinetic_to_work = curve.max_kinetic_to_work;
+  m.mean_force_imbalance = curve.mean_force_imbalance;
   const std::size_t n = curve.gap.size();
   const std::size_t peak = static_cast<std::size_t>(
       std::max_element(curve.stress.begin(), curve.stress.end()) - curve.stress.begin());

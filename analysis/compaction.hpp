@@ -2,6 +2,7 @@
 // Numbers of a punch (compaction) curve: peak stress, solid fraction at the peak, minimum gap,
 // elastic recovery, Heckel and Kawakita fits, work of compaction and of unloading (models.md,
 // "Compaction analysis"). Plain vectors in, plain structs out; reading punch.csv is in runs.hpp.
+#include <cmath>
 #include <vector>
 
 namespace shapepress::analysis {
@@ -18,7 +19,11 @@ struct PunchCurve {
   std::vector<int> phase;              // PunchPhase
   double reference_gap = 0.0;          // H0 of the strain and of Kawakita's V0 [m]
   double die_area = 0.0;               // m²
-  void check() const;                  // InputError on sizes, H0 ≤ 0, no loading rows
+  // From the run's run.json, where the run states them (compact since mass scaling).
+  double density_scale = 1.0;         // run.density_scale: particle mass × this
+  double max_kinetic_to_work = NAN;   // the quasi-static figures (QuasiStaticCheck)
+  double mean_force_imbalance = NAN;  // mean |top − bottom| / top over the loading
+  void check() const;                 // InputError on sizes, H0 ≤ 0, no loading rows
 };
 
 struct LinearFit {
@@ -69,6 +74,9 @@ struct CompactionMetrics {
   double elastic_recovery = 0.0;        // (H_unloaded − H_min)/H_min
   double work_of_compaction = 0.0;      // ∫F dh over loading (and hold) [J]
   double work_of_unloading = 0.0;       // ∫F dh over unloading [J] (energy given back)
+  double density_scale = 1.0;           // the run's mass scaling
+  double max_kinetic_to_work = NAN;     // the run's quasi-static figures
+  double mean_force_imbalance = NAN;
   HeckelFit heckel;
   KawakitaFit kawakita;
 };

@@ -46,6 +46,11 @@ std::vector<Metric> compaction_metrics(const CompactionMetrics& m) {
       {"kawakita_points", static_cast<double>(m.kawakita.points), "1", ""},
       {"kawakita_stress_lower", m.kawakita.stress_lower, "Pa", "fitted window"},
       {"kawakita_stress_upper", m.kawakita.stress_upper, "Pa", ""},
+      {"density_scale", m.density_scale, "1", "mass scaling: particle density x this"},
+      {"max_kinetic_to_work", m.max_kinetic_to_work, "1",
+       "quasi-static figure: kinetic energy / punch work (<= 0.01)"},
+      {"mean_force_imbalance", m.mean_force_imbalance, "1",
+       "quasi-static figure: mean |top - bottom| / top (<= 0.05)"},
   };
   return rows;
 }

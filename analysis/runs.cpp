@@ -91,6 +91,11 @@ PunchCurve read_punch_curve(const std::filesystem::path& path) {
   const RunRecord record = run_record_of(path, punch_facts);
   curve.reference_gap = record.number("reference_gap_m");
   curve.die_area = record.number("die_area_m2");
+  if (record.has("density_scale")) curve.density_scale = record.number("density_scale");
+  if (record.has("max_kinetic_to_work"))
+    curve.max_kinetic_to_work = record.number("max_kinetic_to_work");
+  if (record.has("mean_force_imbalance"))
+    curve.mean_force_imbalance = record.number("mean_force_imbalance");
   if (!(curve.reference_gap > 0.0) || !(curve.die_area > 0.0))
     throw InputError(fmt::format("{}: reference_gap_m (H0) {} and die_area_m2 {} must be > 0",
                                  record.path().string(), curve.reference_gap, curve.die_area));
