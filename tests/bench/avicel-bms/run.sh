@@ -4,7 +4,10 @@
 # 0.59 by `pack`), pressed by `compact` with Table 4's parameters (multi-contact law, beta = 1.3,
 # Table 4's bonds), beside the spherical Avicel bed (150 spheres) for the cost per sphere-step.
 #   tests/bench/avicel-bms/run.sh [THREADS]        COUNT=150 SUB=350 STEPS=0 (0: the whole run)
+#                                                  DENSITY_SCALE=1000 (run.density_scale)
 # A reduced run for a noisy machine: COUNT=50 SUB=120 STEPS=20000.
+# Both compactions run with the mass scaling DENSITY_SCALE, the largest the spherical Avicel bed
+# stays quasi-static at (docs/measurements.md, "Mass scaling"); 1 is the unscaled run.
 # Prints wall and CPU seconds and peak memory of each stage, sub-sphere-steps and bond-steps per
 # second, and the ratio to the spheres' particle-steps per second.
 set -euo pipefail
@@ -15,8 +18,9 @@ threads=${1:-2}
 count=${COUNT:-150}
 sub=${SUB:-350}
 steps=${STEPS:-0}
+scale=${DENSITY_SCALE:-1000}
 work=${WORK:-$(mktemp -d)}
-echo "avicel-bms bench: $count bodies x ~$sub sub-spheres, $threads threads, steps ${steps} in $work"
+echo "avicel-bms bench: $count bodies x ~$sub sub-spheres, $threads threads, steps ${steps}, density scale $scale in $work"
 cd "$work"
 timed() {  # label command...: wall/CPU seconds and peak memory of one stage
   local label=$1; shift
@@ -29,13 +33,17 @@ timed() {  # label command...: wall/CPU seconds and peak memory of one stage
 sed "s/^count = .*/count = $count/" "$repo/pipelines/configs/pack-avicel-bms.toml" > pack.toml
 [[ -f packed.h5 ]] || timed pack "$bin" --quiet --threads "$threads" pack templates.h5 \
   --config pack.toml --out packed.h5
+for kind in bms spheres; do
+  sed -E "s/^\[run\]$/[run]\ndensity_scale = $scale/" \
+    "$repo/pipelines/configs/avicel-ph200-$kind.toml" > "compact-$kind.toml"
+done
 step_args=()
 [[ "$steps" != 0 ]] && step_args=(--steps "$steps")
 timed compact-bms "$bin" --quiet --threads "$threads" compact \
-  --config "$repo/pipelines/configs/avicel-ph200-bms.toml" --packing packed.h5 --out bms \
+  --config compact-bms.toml --packing packed.h5 --out bms \
   "${step_args[@]}" | tee bms.summary
 timed compact-spheres "$bin" --quiet --threads "$threads" compact \
-  --config "$repo/pipelines/configs/avicel-ph200-spheres.toml" --out spheres "${step_args[@]}" \
+  --config compact-spheres.toml --out spheres "${step_args[@]}" \
   | tee spheres.summary
 python3 - "$work" <<'PY'
 import json, re, sys, pathlib
