@@ -53,7 +53,9 @@ std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
                                       std::optional<double> poisson_ratio, double from, double to) {
   std::vector<const LoadedRun*> members;
   for (const LoadedRun& run : runs)
-    if (run.plate && run.plate->sub_spheres > 0 && run.plate->particle != "cms")
+    // CMS clumps have their own study; an FEM run is a reference curve, not a count of spheres.
+    if (run.plate && run.plate->sub_spheres > 0 && run.plate->particle != "cms" &&
+        run.plate->particle != "fem")
       members.push_back(&run);
   // A study compares sub-sphere counts: it needs two agglomerates (N > 1), not only single
   // spheres (the demo's Hertz and multi-contact spheres are N = 1 each).
