@@ -93,6 +93,44 @@ TEST(FemPlateCli, UnknownKeyExitsTwo) {
   EXPECT_THAT(run.output, HasSubstr("fem.elements"));
 }
 
+// calibrate --reference FEM_RUN: a BMS sphere's bonds fitted to the FEM curve of the same sphere
+// (a coarse mesh and few runs: the mechanics, not the study).
+TEST(FemPlateCli, CalibrateTakesAnFemRunAsItsReference) {
+  const fs::path dir = fresh_directory("fem_cli_calibrate");
+  testing::write_text(dir / "fem.toml", small_sphere(0.4, 8, 1e-4));
+  auto r = run_shapepress("--quiet fem-plate --config " + shell_quoted(dir / "fem.toml") +
+                          " --out " + shell_quoted(dir / "fem"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path bms = testing::repository_root() / "pipelines/configs/rubber-sphere.toml";
+  r = run_shapepress("--quiet calibrate --config " + shell_quoted(bms) + " --reference " +
+                     shell_quoted(dir / "fem") +
+                     " --count 60 --fit modulus --start modulus=1.9e7 --max-evaluations 4 --out " +
+                     shell_quoted(dir / "cal"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const CsvTable evaluations = read_csv(dir / "cal" / "evaluations.csv");
+  EXPECT_GE(evaluations.column("rms_relative").size(), 4u);
+  std::ifstream record(dir / "cal" / "run.json");
+  const nlohmann::json inputs = nlohmann::json::parse(record)["inputs"];
+  EXPECT_THAT(inputs.dump(), HasSubstr("fem/force.csv"));
+
+  // A folder that is not an FEM run, and an FEM sphere of another radius: exit 2.
+  r = run_shapepress("--quiet calibrate --config " + shell_quoted(bms) + " --reference " +
+                     shell_quoted(dir / "cal") + " --count 60 --out " + shell_quoted(dir / "x"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("fem-plate"));
+  std::string other = small_sphere(0.4, 8, 1e-4);
+  other.replace(other.find("10 mm"), 5, "5 mm");
+  testing::write_text(dir / "other.toml", other);
+  ASSERT_EQ(run_shapepress("--quiet fem-plate --config " + shell_quoted(dir / "other.toml") +
+                           " --out " + shell_quoted(dir / "other"))
+                .exit_code,
+            0);
+  r = run_shapepress("--quiet calibrate --config " + shell_quoted(bms) + " --reference " +
+                     shell_quoted(dir / "other") + " --count 60 --out " + shell_quoted(dir / "y"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("radius"));
+}
+
 // From 40 % to 80 % in one increment, with no cut-back allowed (the minimum increment is the
 // increment): Newton does not converge in CalculiX's second increment.
 TEST(FemPlateCli, NonConvergingIncrementExitsOneKeepingTheConvergedCurve) {
@@ -110,6 +148,13 @@ TEST(FemPlateCli, NonConvergingIncrementExitsOneKeepingTheConvergedCurve) {
   EXPECT_FALSE(facts["completed"].get<bool>());
   EXPECT_DOUBLE_EQ(facts["deformation_reached"].get<double>(), 0.4);
   EXPECT_THAT(facts["failure"].get<std::string>(), HasSubstr("ERROR"));
+  // A curve that stops short is no calibration reference.
+  const auto calibrate = run_shapepress(
+      "--quiet calibrate --config " +
+      shell_quoted(testing::repository_root() / "pipelines/configs/rubber-sphere.toml") +
+      " --reference " + shell_quoted(dir / "run") + " --out " + shell_quoted(dir / "cal"));
+  EXPECT_EQ(calibrate.exit_code, 2) << calibrate.output;
+  EXPECT_THAT(calibrate.output, HasSubstr("completed = false"));
 }
 
 }  // namespace
