@@ -124,6 +124,7 @@ PlateCurve read_plate_curve(const std::filesystem::path& path) {
   curve.particle = record.text("particle_kind");
   curve.sub_spheres = static_cast<int>(record.integer("sub_spheres"));
   curve.fills = static_cast<int>(record.integer("fills"));
+  if (curve.particle == "fem") curve.elements = static_cast<int>(record.integer("elements"));
   if (curve.sub_spheres < 1 || curve.fills < 1)
     throw InputError(fmt::format("{}: sub_spheres {} and fills {} must be >= 1",
                                  record.path().string(), curve.sub_spheres, curve.fills));
