@@ -14,6 +14,8 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -65,20 +67,43 @@ class IncrementTracker {
   double attempt_time_ = 0.0;
 };
 
-[[noreturn]] void exec_child(const std::string& program, const std::filesystem::path& folder,
-                             const std::string& job, int threads, int output, int report) {
+// What the child is given, built before fork(): between fork() and exec() a child of a
+// multi-threaded parent may only call async-signal-safe functions (no setenv, no allocation).
+struct ChildCommand {
+  std::vector<std::string> argument_text, environment_text;
+  std::vector<char*> arguments, environment;
+};
+
+ChildCommand child_command(const std::string& program, const std::string& job, int threads) {
+  ChildCommand c;
+  c.argument_text = {program, "-i", job};
   const std::string count = std::to_string(std::max(1, threads));
-  for (const char* name :
-       {"OMP_NUM_THREADS", "CCX_NPROC_STIFFNESS", "CCX_NPROC_EQUATION_SOLVER", "CCX_NPROC_RESULTS"})
-    setenv(name, count.c_str(), 1);
-  if (chdir(folder.c_str()) != 0 || dup2(output, STDOUT_FILENO) < 0 ||
-      dup2(output, STDERR_FILENO) < 0) {
-    const int error = errno;
-    (void)!write(report, &error, sizeof error);
-    _exit(127);
+  const std::vector<std::string> limits = {"OMP_NUM_THREADS", "CCX_NPROC_STIFFNESS",
+                                           "CCX_NPROC_EQUATION_SOLVER", "CCX_NPROC_RESULTS"};
+  for (char** entry = environ; *entry != nullptr; ++entry) {
+    const std::string_view text(*entry);
+    const bool replaced = std::any_of(limits.begin(), limits.end(), [&](const std::string& name) {
+      return text.starts_with(name + "=");
+    });
+    if (!replaced) c.environment_text.emplace_back(text);
   }
-  execlp(program.c_str(), program.c_str(), "-i", job.c_str(), static_cast<char*>(nullptr));
-  const int error = errno;  // exec failed: tell the parent why through the close-on-exec pipe
+  for (const std::string& name : limits)
+    c.environment_text.push_back(name + "=" + count);
+  for (std::string& a : c.argument_text)
+    c.arguments.push_back(a.data());
+  for (std::string& e : c.environment_text)
+    c.environment.push_back(e.data());
+  c.arguments.push_back(nullptr);
+  c.environment.push_back(nullptr);
+  return c;
+}
+
+[[noreturn]] void exec_child(ChildCommand& command, const std::filesystem::path& folder, int output,
+                             int report) {
+  if (chdir(folder.c_str()) == 0 && dup2(output, STDOUT_FILENO) >= 0 &&
+      dup2(output, STDERR_FILENO) >= 0)
+    execvpe(command.arguments[0], command.arguments.data(), command.environment.data());
+  const int error = errno;  // tell the parent why through the close-on-exec pipe
   (void)!write(report, &error, sizeof error);
   _exit(127);
 }
@@ -97,6 +122,7 @@ CcxOutcome run_ccx(const std::string& program, const std::filesystem::path& fold
   if (pipe(output) != 0 || pipe2(report, O_CLOEXEC) != 0)
     throw ComputationError(
         fmt::format("cannot create a pipe for {}: {}", program, std::strerror(errno)));
+  ChildCommand command = child_command(program, job, threads);
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = fork();
   if (pid < 0)
@@ -104,7 +130,7 @@ CcxOutcome run_ccx(const std::string& program, const std::filesystem::path& fold
   if (pid == 0) {
     close(output[0]);
     close(report[0]);
-    exec_child(program, folder, job, threads, output[1], report[1]);
+    exec_child(command, folder, output[1], report[1]);
   }
   close(output[1]);
   close(report[1]);
