@@ -25,23 +25,26 @@ NeoHookeConstants neo_hooke_constants(double youngs_modulus, double poisson_rati
 std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config) {
   const double mm = deck_length_per_m;
   const double radius = mesh.radius * mm;
+  const double polar_radius = mesh.polar_radius * mm;
   const double modulus = config.youngs_modulus * deck_stress_per_pa;
   std::string deck = fmt::format(
-      "** shapepress fem-plate: a sphere of R = {} mm between rigid plates, axisymmetric (CAX4),\n"
-      "** the quarter r, z >= 0 of its meridian section; units mm, N, MPa\n",
-      radius);
+      "** shapepress fem-plate: a sphere of R = {} mm (polar semi-axis {} mm) between rigid "
+      "plates,\n"
+      "** axisymmetric (CAX4), the quarter r, z >= 0 of its meridian section; units mm, N, MPa\n",
+      radius, polar_radius);
   deck += "*NODE\n";
   for (std::size_t i = 0; i < mesh.nodes.size(); ++i)
     deck +=
         fmt::format("{},{:.15g},{:.15g}\n", i + 1, mesh.nodes[i][0] * mm, mesh.nodes[i][1] * mm);
-  // The plate: one row of elements whose lower face, z = R, is the contact's master surface.
+  // The plate: one row of elements whose lower face, z = c (the pole), is the contact's master
+  // surface.
   const int plate_columns = static_cast<int>(mesh.arc_faces.size());
   const int first_plate_node = static_cast<int>(mesh.nodes.size()) + 1;
   for (int row = 0; row < 2; ++row)
     for (int i = 0; i <= plate_columns; ++i)
       deck += fmt::format("{},{:.15g},{:.15g}\n", first_plate_node + row * (plate_columns + 1) + i,
                           plate_half_width * radius * i / plate_columns,
-                          radius * (1.0 + plate_thickness * row));
+                          polar_radius + plate_thickness * radius * row);
   deck += "*ELEMENT,TYPE=CAX4,ELSET=SPHERE\n";
   for (std::size_t e = 0; e < mesh.quads.size(); ++e) {
     const auto& q = mesh.quads[e];
@@ -95,14 +98,14 @@ std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config
   deck += "SPHERE_SURFACE,PLATE_SURFACE\n";
   deck += "*BOUNDARY\nAXIS,1,1,0\nEQUATOR,2,2,0\n";
 
-  // The step: the plate moves down by Δ/2 (the equator plane is the symmetry plane, so the
-  // total approach of two plates is twice it), linearly in step time.
+  // The step: the plate moves down by Δ/2 = max_deformation · c (the equator plane is the symmetry
+  // plane, so the total approach of two plates is twice it), linearly in step time.
   const double increment = 1.0 / config.increments;
   deck += fmt::format("*STEP,{}INC={}\n*STATIC\n{:.10g},1.0,{:.10g},{:.10g}\n",
                       config.nonlinear_geometry ? "NLGEOM," : "", 100 * config.increments + 1000,
                       increment, config.minimum_increment, increment);
   deck += fmt::format("*BOUNDARY\n{0},1,1,0\n{0},2,2,{1:.15g}\n", plate_node_set,
-                      -config.max_deformation * radius);
+                      -config.max_deformation * polar_radius);
   deck += fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", plate_node_set);
   deck += "*NODE PRINT,NSET=POLE\nU\n";
   deck += "*END STEP\n";

@@ -47,8 +47,14 @@ void write_force_csv(const std::filesystem::path& path, const FemPlateRun& run,
       config.poisson_ratio, config.friction, run.elements, run.arc_elements,
       config.nonlinear_geometry ? "nonlinear geometry" : "small-strain geometry"));
   csv.comment("particle = fem; static: time_s is the step's load fraction, kinetic_energy_J 0");
-  csv.comment("deformation = approach / (2R); top_force_N = bottom_force_N (symmetry plane)");
-  csv.comment("hertz_force_N = (sqrt(2)/3) E* sqrt(R) approach^1.5, E* = E/(1-nu^2)");
+  csv.comment(
+      fmt::format("polar radius c = {:.6g} m (the plates' axis); deformation = approach / (2c); "
+                  "top_force_N = bottom_force_N (symmetry plane)",
+                  config.pressed_radius()));
+  csv.comment(
+      fmt::format("hertz_force_N = (sqrt(2)/3) E* sqrt(Rp) approach^1.5, E* = E/(1-nu^2), "
+                  "Rp = R^2/c = {:.6g} m (the pole's radius of curvature)",
+                  config.pole_curvature_radius()));
   csv.comment("contacts: plates touching the sphere; cpu_s, wall_s: CalculiX's when converged");
   for (const FemPlateRow& r : run.rows)
     csv.row({r.step_time, r.deformation, r.approach, r.force, r.force, r.hertz_force,
@@ -74,6 +80,8 @@ void add_run_facts(RunMetadata& meta, const FemPlateConfig& config, const FemPla
       .fact("bonds", 0)
       .fact("fills", 1)
       .fact("radius_m", config.radius)
+      .fact("polar_radius_m", config.pressed_radius())
+      .fact("pole_curvature_radius_m", config.pole_curvature_radius())
       .fact("max_deformation", config.max_deformation)
       .fact("material_model", material_model_name(config.material))
       .fact("nonlinear_geometry", config.nonlinear_geometry)

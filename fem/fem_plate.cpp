@@ -19,7 +19,8 @@ FemPlateRun run_fem_plate(const FemPlateConfig& config, int arc_elements,
                           const FemRunOptions& options) {
   FemPlateConfig at_resolution = config;
   at_resolution.arc_elements = arc_elements;
-  const QuarterDiscMesh mesh = quarter_disc_mesh(config.radius, arc_elements);
+  const QuarterDiscMesh mesh = stretched_to_spheroid(quarter_disc_mesh(config.radius, arc_elements),
+                                                     config.pressed_radius());
   FemPlateRun run;
   run.arc_elements = arc_elements;
   run.elements = static_cast<int>(mesh.quads.size());
@@ -50,13 +51,15 @@ FemPlateRun run_fem_plate(const FemPlateConfig& config, int arc_elements,
       std::filesystem::exists(folder / (job + ".dat"))
           ? read_total_forces(folder / (job + ".dat"), plate_node_set)
           : std::vector<NodeSetTotal>{};
-  const analysis::ElasticSphere sphere{config.radius, config.youngs_modulus, config.poisson_ratio};
+  // Hertz at the pole: a sphere of the pole's radius of curvature (R itself for a sphere).
+  const analysis::ElasticSphere sphere{config.pole_curvature_radius(), config.youngs_modulus,
+                                       config.poisson_ratio};
   run.rows.push_back(FemPlateRow{});  // the undeformed state: nothing touches yet
   for (const NodeSetTotal& total : totals) {
     FemPlateRow row;
     row.step_time = total.step_time;
     row.deformation = total.step_time * config.max_deformation;
-    row.approach = 2.0 * config.radius * row.deformation;
+    row.approach = 2.0 * config.pressed_radius() * row.deformation;
     // The plate is pushed down (−z): its reaction is +z on the plate, i.e. fy > 0 resists;
     // CalculiX prints the reaction the supports exert, which points up at the top plate.
     row.force = std::fabs(total.fy) * axisymmetric_force_factor;

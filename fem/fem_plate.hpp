@@ -13,10 +13,10 @@ namespace shapepress::fem {
 
 struct FemPlateRow {
   double step_time = 0.0;    // fraction of the step
-  double deformation = 0.0;  // Δ/(2R)
+  double deformation = 0.0;  // Δ/(2R), Δ/(2c) for a spheroid
   double approach = 0.0;     // Δ [m], both plates
   double force = 0.0;        // on one plate [N] (the two are equal: symmetry)
-  double hertz_force = 0.0;  // (√2/3) E* √R Δ^{3/2}, E* = E/(1 − ν²) (rigid plates)
+  double hertz_force = 0.0;  // (√2/3) E* √R Δ^{3/2}, E* = E/(1 − ν²) (rigid plates), R at the pole
   double work = 0.0;         // ∫ F dΔ by the plates [J]
   double cpu_seconds = 0.0;  // CalculiX's CPU when the increment converged
   double wall_seconds = 0.0;

@@ -12,7 +12,13 @@ namespace {
 const OptionTable<FemPlateConfig>& sphere_table() {
   static const OptionTable<FemPlateConfig> t = [] {
     OptionTable<FemPlateConfig> s("sphere", "the elastic sphere and its material law");
-    s.quantity("radius", &FemPlateConfig::radius, dim::length, Range::positive(), "R")
+    s.quantity("radius", &FemPlateConfig::radius, dim::length, Range::positive(),
+               "R (a spheroid's equatorial semi-axis)")
+        .quantity("polar_radius", &FemPlateConfig::polar_radius, dim::length, Range::positive(),
+                  "a spheroid's semi-axis along the plates' axis (its axis of revolution): the "
+                  "particle is then a spheroid pressed along that axis, deformation = Δ/(2c)")
+        .default_text("radius (a sphere)")
+        .write_when([](const FemPlateConfig& c) { return c.polar_radius > 0.0; })
         .quantity("youngs_modulus", &FemPlateConfig::youngs_modulus, dim::pressure,
                   Range::positive(), "E, small-strain")
         .required()

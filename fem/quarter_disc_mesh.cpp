@@ -65,6 +65,7 @@ QuarterDiscMesh quarter_disc_mesh(double radius, int arc_elements) {
 
   QuarterDiscMesh mesh;
   mesh.radius = radius;
+  mesh.polar_radius = radius;
   NodeTable table(mesh);
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j)
@@ -108,6 +109,16 @@ QuarterDiscMesh quarter_disc_mesh(double radius, int arc_elements) {
     for (int f = 0; f < 4; ++f)
       if (on_arc[mesh.quads[e][f] - 1] && on_arc[mesh.quads[e][(f + 1) % 4] - 1])
         mesh.arc_faces.push_back({static_cast<int>(e) + 1, f + 1});
+  return mesh;
+}
+
+QuarterDiscMesh stretched_to_spheroid(QuarterDiscMesh mesh, double polar_radius) {
+  if (!(polar_radius > 0.0))
+    throw InputError(fmt::format("polar radius {} must be > 0", polar_radius));
+  const double stretch = polar_radius / mesh.polar_radius;
+  for (auto& node : mesh.nodes)
+    node[1] *= stretch;
+  mesh.polar_radius = polar_radius;
   return mesh;
 }
 

@@ -10,7 +10,8 @@
 namespace shapepress::fem {
 
 struct QuarterDiscMesh {
-  double radius = 0.0;
+  double radius = 0.0;        // a: along r (the equator)
+  double polar_radius = 0.0;  // c: along z, the pressing axis (= radius for a sphere)
   // Node i (1-based in the deck) at nodes[i - 1] = (r, z).
   std::vector<std::array<double, 2>> nodes;
   // Four 1-based node ids each, counter-clockwise in the (r, z) plane (CalculiX's CAX4 order).
@@ -28,6 +29,11 @@ struct QuarterDiscMesh {
 // (z = R), where the contact starts and its radius is smallest, and the radial spacing towards
 // the surface: both sizes are what the contact's pressure distribution needs resolved.
 QuarterDiscMesh quarter_disc_mesh(double radius, int arc_elements);
+
+// The same mesh stretched along z to the quarter ellipse (r/a)² + (z/c)² ≤ 1: the meridian
+// section of a spheroid with polar semi-axis c pressed along its axis of revolution. An affine
+// map keeps the structure, and the arc nodes land on the ellipse.
+QuarterDiscMesh stretched_to_spheroid(QuarterDiscMesh mesh, double polar_radius);
 
 // The arc element size next to the pole, [m]: the contact's resolution at small deformation.
 double pole_element_size(const QuarterDiscMesh& mesh);

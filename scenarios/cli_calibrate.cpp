@@ -75,11 +75,15 @@ ReferenceCurve read_reference(const CalibrateCli& cli, double radius) {
                       "increment (run.json: completed = false)",
                       cli.reference));
     const double fem_radius = record.number("radius_m");
-    if (std::fabs(fem_radius - radius) > 1e-9 * radius)
+    // A spheroid's FEM run (polar_radius_m ≠ radius_m) is not the sphere calibrate fills.
+    const double fem_polar =
+        record.has("polar_radius_m") ? record.number("polar_radius_m") : fem_radius;
+    if (std::fabs(fem_radius - radius) > 1e-9 * radius ||
+        std::fabs(fem_polar - radius) > 1e-9 * radius)
       throw InputError(
-          fmt::format("--reference {}: the FEM sphere's radius {} m is not the "
-                      "config's sphere radius {} m",
-                      cli.reference, fem_radius, radius));
+          fmt::format("--reference {}: the FEM particle's radius {} m and polar radius {} m are "
+                      "not the config's sphere radius {} m",
+                      cli.reference, fem_radius, fem_polar, radius));
     curve.csv = std::filesystem::path(cli.reference) / "force.csv";
     x_column = "deformation";
     curve.force_column = "top_force_N";

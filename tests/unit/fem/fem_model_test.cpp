@@ -61,6 +61,19 @@ TEST(QuarterDiscMesh, FillsTheQuarterDiscWithCounterClockwiseQuads) {
   EXPECT_LT(pole_element_size(mesh), radius * std::numbers::pi / 4.0 / n);
 }
 
+TEST(QuarterDiscMesh, StretchesToASpheroidWithItsArcOnTheEllipse) {
+  const double a = 0.01, c = 0.015;
+  const QuarterDiscMesh mesh = stretched_to_spheroid(quarter_disc_mesh(a, 6), c);
+  EXPECT_EQ(mesh.polar_radius, c);
+  EXPECT_NEAR(mesh.nodes[mesh.pole_node - 1][1], c, 1e-15);
+  for (const auto& [element, face] : mesh.arc_faces) {
+    const auto& node = mesh.nodes[mesh.quads[element - 1][face - 1] - 1];
+    EXPECT_NEAR(std::pow(node[0] / a, 2) + std::pow(node[1] / c, 2), 1.0, 1e-12);
+  }
+  const std::string deck = plate_deck(mesh, FemPlateConfig{});
+  EXPECT_NE(deck.find("PLATE,2,2,-6\n"), std::string::npos);  // Δ/2 = 0.4 c, in mm
+}
+
 TEST(QuarterDiscMesh, RejectsTooFewElements) {
   EXPECT_THROW(quarter_disc_mesh(0.01, 1), InputError);
   EXPECT_THROW(quarter_disc_mesh(-1.0, 8), InputError);
