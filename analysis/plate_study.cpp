@@ -47,13 +47,41 @@ int steps_within(const PlateStudyRow& row, double tolerance, double errors) {
       }));
 }
 
+// The FEM runs by element count, each against the finest; every BMS row against it too.
+void add_fem_rows(const std::vector<LoadedRun>& runs, PlateStudy& study) {
+  std::vector<const LoadedRun*> fem;
+  for (const LoadedRun& run : runs)
+    if (run.plate && run.plate->particle == "fem" && run.plate->elements > 0) fem.push_back(&run);
+  if (fem.empty()) return;
+  std::stable_sort(fem.begin(), fem.end(), [](const LoadedRun* a, const LoadedRun* b) {
+    return a->plate->elements < b->plate->elements;
+  });
+  const Curve finest = loading_curve(*fem.back()->plate, fem.back()->label);
+  const double to = std::min(study.to, finest.x.back());
+  for (const LoadedRun* run : fem) {
+    FemStudyRow row{
+        run->label, run->plate->elements, run->plate->cpu_seconds, run->plate->wall_seconds, {}};
+    row.versus_finest_fem =
+        compare_curves(loading_curve(*run->plate, run->label), finest, study.from,
+                       std::min(to, run->plate->deformation.back()));
+    study.fem.push_back(row);
+  }
+  for (PlateStudyRow& row : study.rows)
+    for (const LoadedRun& run : runs)
+      if (run.label == row.label && run.plate)
+        row.versus_fem = compare_curves(loading_curve(*run.plate, run.label), finest, study.from,
+                                        std::min(to, run.plate->deformation.back()));
+}
+
 }  // namespace
 
 std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
                                       std::optional<double> poisson_ratio, double from, double to) {
   std::vector<const LoadedRun*> members;
   for (const LoadedRun& run : runs)
-    if (run.plate && run.plate->sub_spheres > 0 && run.plate->particle != "cms")
+    // CMS clumps have their own study; an FEM run is a reference curve, not a count of spheres.
+    if (run.plate && run.plate->sub_spheres > 0 && run.plate->particle != "cms" &&
+        run.plate->particle != "fem")
       members.push_back(&run);
   // A study compares sub-sphere counts: it needs two agglomerates (N > 1), not only single
   // spheres (the demo's Hertz and multi-contact spheres are N = 1 each).
@@ -111,6 +139,7 @@ std::optional<PlateStudy> plate_study(const std::vector<LoadedRun>& runs,
     }
     study.rows.push_back(std::move(row));
   }
+  add_fem_rows(runs, study);
   return study;
 }
 
@@ -195,6 +224,15 @@ std::vector<Chart> plate_study_charts(const PlateStudy& study) {
   };
   by_x(bms), by_x(wall);
   cost.series = {bms, wall};
+  if (!study.fem.empty()) {
+    // The paper's Fig. 2b sets the FEM's elements beside the BMS sub-spheres on one axis.
+    cost.title = "CPU time against resolution: BMS sub-spheres, FEM elements (paper Fig. 2b)";
+    cost.x_label = "sub-spheres N (BMS) or elements (FEM)";
+    Series fem{"FEM (CalculiX), CPU seconds", {}, {}, SeriesStyle::lines, 4};
+    for (const FemStudyRow& row : study.fem)
+      fem.x.push_back(row.elements), fem.y.push_back(row.cpu_seconds);
+    cost.series.push_back(fem);
+  }
   Chart accuracy{fmt::format("Speed against accuracy: RMS force error over {:.0f}-{:.0f} % "
                              "deformation",
                              100 * study.from, 100 * study.to),
@@ -225,13 +263,28 @@ std::vector<Chart> plate_study_charts(const PlateStudy& study) {
   by_x(finest), by_x(tatara);
   accuracy.series = {finest, tatara};
   if (!hertz.x.empty()) accuracy.series.push_back(hertz);
+  if (!study.fem.empty()) {
+    Series bms_fem{"BMS vs the finest FEM", {}, {}, SeriesStyle::dashed, 4};
+    Series fem{"FEM vs the finest FEM", {}, {}, SeriesStyle::lines, 5};
+    for (const PlateStudyRow& row : study.rows)
+      if (row.sub_spheres > 1 && row.versus_fem)
+        bms_fem.x.push_back(row.cpu_seconds),
+            bms_fem.y.push_back(100 * row.versus_fem->rms_relative);
+    for (std::size_t i = 0; i + 1 < study.fem.size(); ++i)
+      fem.x.push_back(study.fem[i].cpu_seconds),
+          fem.y.push_back(100 * study.fem[i].versus_finest_fem.rms_relative);
+    by_x(bms_fem), by_x(fem);
+    if (!bms_fem.x.empty()) accuracy.series.push_back(bms_fem);
+    if (!fem.x.empty()) accuracy.series.push_back(fem);
+  }
   return {cost, accuracy, plate_convergence_chart(study)};
 }
 
 void write_plate_study_csv(const std::filesystem::path& path, const PlateStudy& study) {
-  CsvWriter csv(path, {"label", "sub_spheres", "fills", "cpu_s", "wall_s", "rms_vs_finest",
-                       "max_vs_finest", "max_step_vs_finest", "steps", "steps_within_2pc",
-                       "steps_within_2pc_2se", "rms_vs_tatara", "max_vs_tatara"});
+  CsvWriter csv(
+      path, {"label", "sub_spheres", "fills", "cpu_s", "wall_s", "rms_vs_finest", "max_vs_finest",
+             "max_step_vs_finest", "steps", "steps_within_2pc", "steps_within_2pc_2se",
+             "rms_vs_tatara", "max_vs_tatara", "rms_vs_finest_fem"});
   csv.comment(fmt::format("relative force errors over deformation [{:.4g}, {:.4g}]; finest: {}",
                           study.from, study.to, study.finest));
   csv.comment("max_step_vs_finest: largest relative difference at the 1 % deformation steps");
@@ -247,7 +300,23 @@ void write_plate_study_csv(const std::filesystem::path& path, const PlateStudy& 
                   fmt::format("{}", steps_within(r, 0.02, 0.0)),
                   fmt::format("{}", steps_within(r, 0.02, 2.0)),
                   r.versus_tatara ? format_number(r.versus_tatara->rms_relative) : "",
-                  r.versus_tatara ? format_number(r.versus_tatara->max_relative) : ""});
+                  r.versus_tatara ? format_number(r.versus_tatara->max_relative) : "",
+                  r.versus_fem ? format_number(r.versus_fem->rms_relative) : ""});
+  csv.commit();
+}
+
+void write_fem_study_csv(const std::filesystem::path& path, const PlateStudy& study) {
+  if (study.fem.empty()) return;
+  CsvWriter csv(path,
+                {"label", "elements", "cpu_s", "wall_s", "rms_vs_finest_fem", "max_vs_finest_fem"});
+  csv.comment(fmt::format(
+      "FEM runs (fem-plate) against the finest, {}, over deformation [{:.4g}, {:.4g}]; the BMS "
+      "runs against it: plate_study.csv rms_vs_finest_fem",
+      study.fem.back().label, study.from, study.to));
+  for (const FemStudyRow& r : study.fem)
+    csv.row_text({r.label, fmt::format("{}", r.elements), format_number(r.cpu_seconds),
+                  format_number(r.wall_seconds), format_number(r.versus_finest_fem.rms_relative),
+                  format_number(r.versus_finest_fem.max_relative)});
   csv.commit();
 }
 

@@ -34,12 +34,23 @@ struct PlateStudyRow {
   std::optional<CurveDifference> versus_tatara;  // with ν
   double max_step_versus_finest = 0.0;           // largest |F − F_finest|/F_finest at 1 % steps
   std::vector<PlateStep> steps;                  // every 1 % step of the window
+  std::optional<CurveDifference> versus_fem;     // against the finest FEM run, when there is one
+};
+
+// An FEM run of the same sphere (shapepress fem-plate): its cost and its difference from the
+// finest FEM run, the other half of the paper's Fig. 2b (elements instead of sub-spheres).
+struct FemStudyRow {
+  std::string label;
+  int elements = 0;
+  double cpu_seconds = -1.0, wall_seconds = -1.0;
+  CurveDifference versus_finest_fem;  // zero for the finest itself
 };
 
 struct PlateStudy {
   std::vector<PlateStudyRow> rows;  // in the order of the runs
   std::string finest;               // label of the run with the most sub-spheres
   double from = 0.05, to = 0.40;    // deformation window of the comparisons
+  std::vector<FemStudyRow> fem;     // FEM runs, by elements; the last is the finest
 };
 
 // Needs two or more plate runs with a sub-sphere count (force.csv of shapepress plate); returns
@@ -57,6 +68,9 @@ std::vector<Chart> plate_study_charts(const PlateStudy& study);
 // plate_study.csv: label, sub_spheres, fills, cpu_s, wall_s, rms/max relative errors, and how
 // many 1 % steps lie within 2 % of the finest (and within 2 % plus two standard errors).
 void write_plate_study_csv(const std::filesystem::path& path, const PlateStudy& study);
+// fem_study.csv: label, elements, cpu_s, wall_s and the RMS and largest relative differences
+// from the finest FEM run over the study's window (nothing written without FEM runs).
+void write_fem_study_csv(const std::filesystem::path& path, const PlateStudy& study);
 // plate_steps.csv: every run's force at every 1 % step with its standard error, and its
 // difference from the finest run with that difference's standard error.
 void write_plate_steps_csv(const std::filesystem::path& path, const PlateStudy& study);

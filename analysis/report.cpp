@@ -270,6 +270,7 @@ ReportResult write_report(const ReportOptions& options) {
     charts.emplace_back(cs[1].title, plot_chart(cs[1], options.out / "plate_speed_accuracy").svg);
     charts.emplace_back(cs[2].title, plot_chart(cs[2], options.out / "plate_convergence").svg);
     write_plate_study_csv(options.out / "plate_study.csv", *study);
+    write_fem_study_csv(options.out / "fem_study.csv", *study);
     write_plate_steps_csv(options.out / "plate_steps.csv", *study);
   }
   if (const std::optional<ConvergenceStudy> study = convergence_study(runs, options.spread_from)) {

@@ -52,10 +52,11 @@ RunFiles find_run(const std::filesystem::path& folder) {
   run.metadata = record.path();
   // A CSV from one stage beside the run.json of another is a folder mixed up by hand.
   const std::string& stage = record.stage();
-  if (compaction ? stage != "compact" : (stage != "plate" && stage != "calibrate"))
+  if (compaction ? stage != "compact"
+                 : (stage != "plate" && stage != "calibrate" && stage != "fem-plate"))
     throw InputError(fmt::format("{}: stage \"{}\", but the folder holds {} (written by {})",
                                  run.metadata.string(), stage, run.csv.filename().string(),
-                                 compaction ? "compact" : "plate or calibrate"));
+                                 compaction ? "compact" : "plate, calibrate or fem-plate"));
   run.comments = csv_comments(run.csv);
   return run;
 }
@@ -128,6 +129,7 @@ PlateCurve read_plate_curve(const std::filesystem::path& path) {
   curve.particle = record.text("particle_kind");
   curve.sub_spheres = static_cast<int>(record.integer("sub_spheres"));
   curve.fills = static_cast<int>(record.integer("fills"));
+  if (curve.particle == "fem") curve.elements = static_cast<int>(record.integer("elements"));
   if (curve.sub_spheres < 1 || curve.fills < 1)
     throw InputError(fmt::format("{}: sub_spheres {} and fills {} must be >= 1",
                                  record.path().string(), curve.sub_spheres, curve.fills));

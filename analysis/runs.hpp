@@ -33,6 +33,9 @@ struct PlateCurve {
   // the fills' sample standard deviation of the top force per row; 1 and empty for one fill.
   int fills = 1;
   std::vector<double> top_force_sd;
+  // An FEM run (particle "fem", shapepress fem-plate): the sphere's element count, its
+  // resolution in the cost chart (run.json elements); 0 for the other kinds.
+  int elements = 0;
 };
 
 struct RunFiles {

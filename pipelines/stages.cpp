@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "analysis/cli.hpp"
+#include "fem/cli.hpp"
 #include "geometry/cli.hpp"
 #include "imaging/cli.hpp"
 #include "packing/cli.hpp"
@@ -25,6 +26,8 @@ std::span<const Stage> registered_stages() {
       Stage{"fill", "fill particle meshes with sub-spheres (BMS, CMS)", geometry::setup_fill_cli},
       Stage{"plate", "one sphere or BMS particle between two plates (validation rig)",
             scenarios::setup_plate_cli, scenarios::plate_options},
+      Stage{"fem-plate", "one elastic sphere between rigid plates by FEM (CalculiX)",
+            fem::setup_fem_plate_cli, fem::fem_plate_options},
       Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve",
             scenarios::setup_calibrate_cli, scenarios::calibrate_options},
       Stage{"pack", "pack bodies (spheres, BMS, CMS) into a die: settle and pre-compress",

@@ -2,6 +2,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "common/config.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/run_metadata.hpp"
 #include "scenarios/calibrate.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/run_facts.hpp"
@@ -45,6 +47,53 @@ std::vector<std::string> split_names(const std::string& text) {
   return names;
 }
 
+// The reference curve: a CSV with the named columns, or the folder of a finished fem-plate run,
+// whose force.csv (deformation, top_force_N) is the particle's own FEM curve (issue 26). The FEM
+// run must have reached its last increment and pressed a sphere of the config's radius: a BMS
+// template is only calibrated against the particle it fills.
+struct ReferenceCurve {
+  std::filesystem::path csv;
+  std::vector<double> deformation, force;
+  std::string force_column;
+};
+
+ReferenceCurve read_reference(const CalibrateCli& cli, double radius) {
+  ReferenceCurve curve{cli.reference, {}, {}, cli.y_column};
+  std::string x_column = cli.x_column;
+  if (std::filesystem::is_directory(cli.reference)) {
+    const RunRecord record =
+        RunRecord::read(std::filesystem::path(cli.reference) / run_metadata_name);
+    if (record.stage() != "fem-plate")
+      throw InputError(
+          fmt::format("--reference {}: a folder must hold a fem-plate run, its "
+                      "run.json says stage \"{}\"",
+                      cli.reference, record.stage()));
+    const nlohmann::json& completed = record.json()["facts"]["completed"];
+    if (!completed.is_boolean() || !completed.get<bool>())
+      throw InputError(
+          fmt::format("--reference {}: the FEM run did not reach its last "
+                      "increment (run.json: completed = false)",
+                      cli.reference));
+    const double fem_radius = record.number("radius_m");
+    // A spheroid's FEM run (polar_radius_m ≠ radius_m) is not the sphere calibrate fills.
+    const double fem_polar =
+        record.has("polar_radius_m") ? record.number("polar_radius_m") : fem_radius;
+    if (std::fabs(fem_radius - radius) > 1e-9 * radius ||
+        std::fabs(fem_polar - radius) > 1e-9 * radius)
+      throw InputError(
+          fmt::format("--reference {}: the FEM particle's radius {} m and polar radius {} m are "
+                      "not the config's sphere radius {} m",
+                      cli.reference, fem_radius, fem_polar, radius));
+    curve.csv = std::filesystem::path(cli.reference) / "force.csv";
+    x_column = "deformation";
+    curve.force_column = "top_force_N";
+  }
+  const CsvTable table = read_csv(curve.csv);
+  curve.deformation = table.column(x_column);
+  curve.force = table.column(curve.force_column);
+  return curve;
+}
+
 int run(const CalibrateCli& cli, const RunContext& context) {
   RunMetadata meta("calibrate", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
@@ -54,12 +103,12 @@ int run(const CalibrateCli& cli, const RunContext& context) {
   if (!config.bms) throw InputError(cli.config + ": calibrate needs a [bms] particle and [bond]");
   if (cli.count > 0) config.bms->count = cli.count;
   if (cli.fills > 0) config.bms->fills = cli.fills;
-  const CsvTable reference = read_csv(cli.reference);
-  meta.input("reference", cli.reference);
+  const ReferenceCurve reference = read_reference(cli, config.setup.radius);
+  meta.input("reference", reference.csv);
   CalibrationOptions options;
   options.parameters = split_names(cli.fit);
-  options.reference_deformation = reference.column(cli.x_column);
-  options.reference_force = reference.column(cli.y_column);
+  options.reference_deformation = reference.deformation;
+  options.reference_force = reference.force;
   for (const std::string& item : split_names(cli.start)) {
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos)
@@ -81,13 +130,13 @@ int run(const CalibrateCli& cli, const RunContext& context) {
     columns.push_back(name);
   columns.insert(columns.end(), {"rms_relative", "wall_s"});
   CsvWriter log(out / "evaluations.csv", columns);
-  log.comment(
-      fmt::format("shapepress calibrate: {} sub-spheres, {} (seed {}), RMS relative force "
-                  "error over deformation [{}, {}] against {}:{}",
-                  config.bms->count,
-                  config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
-                                        : std::string("one fill"),
-                  config.bms->seed, cli.from, cli.to, cli.reference, cli.y_column));
+  log.comment(fmt::format(
+      "shapepress calibrate: {} sub-spheres, {} (seed {}), RMS relative force "
+      "error over deformation [{}, {}] against {}:{}",
+      config.bms->count,
+      config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
+                            : std::string("one fill"),
+      config.bms->seed, cli.from, cli.to, reference.csv.string(), reference.force_column));
   int index = 0;
   const CalibrationResult result =
       calibrate_plate(config, options, [&](const CalibrationEvaluation& e) {
@@ -166,7 +215,9 @@ StageRunner setup_calibrate_cli(CLI::App& app) {
   auto cli = std::make_shared<CalibrateCli>();
   app.add_option("--config", cli->config, "plate config with [bms] and [bond] (the start values)")
       ->required();
-  app.add_option("--reference", cli->reference, "reference curve CSV (e.g. the Tatara curve)")
+  app.add_option("--reference", cli->reference,
+                 "reference curve CSV (e.g. the Tatara curve), or a fem-plate run folder (its "
+                 "force.csv: deformation, top_force_N)")
       ->required();
   app.add_option("--x-column", cli->x_column, "deformation column of the reference")
       ->capture_default_str();

@@ -57,6 +57,38 @@ TEST(PlateStudy, ComparesEveryRunWithTheFinestAndCharts) {
   EXPECT_NEAR(charts[2].series[1].y.front(), -2.0, 1e-9);
 }
 
+// FEM runs (fem-plate) join the study as the other half of Fig. 2b: by elements, each against
+// the finest FEM run, and every BMS run against that run too; they are not BMS rows.
+TEST(PlateStudy, FemRunsAreChartedByElementsAgainstTheFinestFem) {
+  const auto fem = [](const std::string& label, int elements, double scale, double cpu) {
+    LoadedRun r = run(label, 1, scale, cpu);
+    r.plate->particle = "fem";
+    r.plate->elements = elements;
+    return r;
+  };
+  const std::vector<LoadedRun> runs = {run("coarse", 100, 1.10, 1.0), run("fine", 1322, 1.0, 30.0),
+                                       fem("fem-48", 5088, 1.05, 80.0),
+                                       fem("fem-12", 336, 1.05 * 1.01, 4.0)};
+  const auto study = plate_study(runs, std::nullopt);
+  ASSERT_TRUE(study);
+  EXPECT_EQ(study->finest, "fine");
+  ASSERT_EQ(study->rows.size(), 2u);  // the BMS runs only
+  ASSERT_EQ(study->fem.size(), 2u);
+  EXPECT_EQ(study->fem[0].label, "fem-12");  // by elements
+  EXPECT_NEAR(study->fem[0].versus_finest_fem.rms_relative, 0.01, 1e-9);
+  EXPECT_EQ(study->fem[1].versus_finest_fem.rms_relative, 0.0);
+  ASSERT_TRUE(study->rows[1].versus_fem);
+  EXPECT_NEAR(study->rows[1].versus_fem->rms_relative, 1.0 - 1.0 / 1.05, 1e-9);
+  const std::vector<Chart> charts = plate_study_charts(*study);
+  ASSERT_EQ(charts[0].series.size(), 3u);
+  EXPECT_EQ(charts[0].series[2].x, (std::vector<double>{336, 5088}));
+  EXPECT_EQ(charts[0].series[2].y, (std::vector<double>{4.0, 80.0}));
+  const auto& accuracy = charts[1].series;
+  ASSERT_EQ(accuracy.back().title, "FEM vs the finest FEM");
+  EXPECT_EQ(accuracy.back().x, (std::vector<double>{4.0}));  // the finest is not charted
+  EXPECT_NEAR(accuracy.back().y[0], 1.0, 1e-7);              // percent
+}
+
 TEST(PlateStudy, MeansOfFillsCarryTheStandardErrorOfTheirDifference) {
   // 819 at 1.03 × the finest, both means of 16 fills whose top force spreads by 8 % (sd): each
   // mean's standard error is 2 % of it, so that of the ratio 1.03 is 1.03 · √2 · 0.02.

@@ -1,0 +1,35 @@
+#pragma once
+// The CalculiX input deck (.inp) of the plate test: the sphere's meridian quarter as CAX4
+// elements, a rigid flat plate above it pushed down by a prescribed displacement, penalty
+// contact between them, symmetry at the axis and the equator plane. One static step.
+#include <string>
+
+#include "fem/fem_plate_config.hpp"
+#include "fem/quarter_disc_mesh.hpp"
+
+namespace shapepress::fem {
+
+// The deck is written in mm, N and MPa (consistent units; CalculiX's contact and convergence
+// tolerances are tuned for engineering magnitudes, not 1e-5 m and 1e7 Pa). Its node set PLATE
+// holds every plate node; its *NODE PRINT gives the plate's total reaction per increment.
+inline constexpr const char* plate_node_set = "PLATE";
+inline constexpr double deck_length_per_m = 1e3;    // mm per m
+inline constexpr double deck_stress_per_pa = 1e-6;  // MPa per Pa
+
+// CalculiX expands an axisymmetric element into a 2° wedge and reports its forces for that
+// wedge (CalculiX 2.20 manual, "CAX" elements): the whole ring carries 180 times the printed
+// reaction.
+inline constexpr double axisymmetric_force_factor = 180.0;
+
+// Neo-Hookean constants from the small-strain E and ν (CalculiX/Abaqus form
+// W = C10 (Ī₁ − 3) + (J − 1)²/D1, so μ = 2 C10 and K = 2/D1):
+// C10 = E / (4(1 + ν)), D1 = 6(1 − 2ν)/E.
+struct NeoHookeConstants {
+  double c10 = 0.0;
+  double d1 = 0.0;
+};
+NeoHookeConstants neo_hooke_constants(double youngs_modulus, double poisson_ratio);
+
+std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config);
+
+}  // namespace shapepress::fem

@@ -1,0 +1,119 @@
+#include "fem/fem_plate_config.hpp"
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "common/units.hpp"
+#include "fem/cli.hpp"
+
+namespace shapepress::fem {
+namespace {
+
+const OptionTable<FemPlateConfig>& sphere_table() {
+  static const OptionTable<FemPlateConfig> t = [] {
+    OptionTable<FemPlateConfig> s("sphere", "the elastic sphere and its material law");
+    s.quantity("radius", &FemPlateConfig::radius, dim::length, Range::positive(),
+               "R (a spheroid's equatorial semi-axis)")
+        .quantity("polar_radius", &FemPlateConfig::polar_radius, dim::length, Range::positive(),
+                  "a spheroid's semi-axis along the plates' axis (its axis of revolution): the "
+                  "particle is then a spheroid pressed along that axis, deformation = Δ/(2c)")
+        .default_text("radius (a sphere)")
+        .write_when([](const FemPlateConfig& c) { return c.polar_radius > 0.0; })
+        .quantity("youngs_modulus", &FemPlateConfig::youngs_modulus, dim::pressure,
+                  Range::positive(), "E, small-strain")
+        .required()
+        .number("poisson_ratio", &FemPlateConfig::poisson_ratio, Range{0.0, 0.5, true, false},
+                "ν, small-strain (neo-Hookean: sets the bulk modulus K = E/(3(1 − 2ν)))")
+        .required()
+        .choice("material_model", &FemPlateConfig::material,
+                std::vector<std::pair<std::string, MaterialModel>>{
+                    {"neo-hookean", MaterialModel::neo_hookean},
+                    {"linear-elastic", MaterialModel::linear_elastic}},
+                "compressible neo-Hookean (the paper's MPFEM material) or linear elastic (with "
+                "nonlinear geometry: St Venant–Kirchhoff)");
+    return s;
+  }();
+  return t;
+}
+
+const OptionTable<FemPlateConfig>& plate_table() {
+  static const OptionTable<FemPlateConfig> t = [] {
+    OptionTable<FemPlateConfig> p("plate", "the two rigid flat plates");
+    p.number("max_deformation", &FemPlateConfig::max_deformation, Range::open_closed(0.0, 0.8),
+             "total plate approach over the diameter, Δ/(2R), at the end of the step")
+        .number("friction", &FemPlateConfig::friction, Range::non_negative(),
+                "Coulomb friction coefficient between sphere and plates (0: frictionless)");
+    return p;
+  }();
+  return t;
+}
+
+const OptionTable<FemPlateConfig>& fem_table() {
+  static const OptionTable<FemPlateConfig> t = [] {
+    OptionTable<FemPlateConfig> f("fem", "the mesh and the CalculiX step");
+    f.integer("arc_elements", &FemPlateConfig::arc_elements, Range{2, 400},
+              "elements along each 45° of the sphere's outline (the run's resolution; "
+              "--arc-elements overrides)")
+        .integer("coarse_arc_elements", &FemPlateConfig::coarse_arc_elements, Range{0, 400},
+                 "the mesh convergence check's second resolution (0: no check)")
+        .integer("increments", &FemPlateConfig::increments, Range{1, 100000},
+                 "the step in this many equal increments at most (force.csv rows); CalculiX "
+                 "cuts one back when it does not converge")
+        .number("minimum_increment", &FemPlateConfig::minimum_increment,
+                Range::open_closed(0.0, 1.0),
+                "smallest cut-back increment, as a fraction of the step: below it the run stops "
+                "(exit 1) and keeps the converged part")
+        .boolean("nonlinear_geometry", &FemPlateConfig::nonlinear_geometry,
+                 "finite strains and rotations (NLGEOM); false: small-strain theory, as Hertz")
+        .number("penalty_factor", &FemPlateConfig::penalty_factor, Range::positive(),
+                "contact stiffness (pressure per overclosure) = this × E / the element size "
+                "at the pole");
+    return f;
+  }();
+  return t;
+}
+
+}  // namespace
+
+const char* material_model_name(MaterialModel model) {
+  return model == MaterialModel::neo_hookean ? "neo-hookean" : "linear-elastic";
+}
+
+void FemPlateConfig::check() const {
+  if (coarse_arc_elements != 0 && coarse_arc_elements >= arc_elements)
+    throw InputError(
+        fmt::format("fem.coarse_arc_elements {} must be below fem.arc_elements {} (or 0: no check)",
+                    coarse_arc_elements, arc_elements));
+  if (coarse_arc_elements == 1)
+    throw InputError("fem.coarse_arc_elements 1: at least 2 (or 0: no check)");
+  if (minimum_increment > 1.0 / increments)
+    throw InputError(fmt::format("fem.minimum_increment {} is above the increment 1/{}",
+                                 minimum_increment, increments));
+}
+
+FemPlateConfig read_fem_plate_config(const ConfigTable& root) {
+  FemPlateConfig config;
+  sphere_table().read(root.table("sphere"), config);
+  if (root.has("plate")) plate_table().read(root.table("plate"), config);
+  if (root.has("fem")) fem_table().read(root.table("fem"), config);
+  try {
+    config.check();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", root.source_name(), e.what()));
+  }
+  return config;
+}
+
+std::string fem_plate_config_toml(const FemPlateConfig& config) {
+  return sphere_table().write(config) + "\n" + plate_table().write(config) + "\n" +
+         fem_table().write(config);
+}
+
+StageOptions fem_plate_options() {
+  return StageOptions{"fem-plate",
+                      "one elastic sphere between rigid plates by the finite element method "
+                      "(CalculiX, axisymmetric)",
+                      {sphere_table().docs(), plate_table().docs(), fem_table().docs()}};
+}
+
+}  // namespace shapepress::fem

@@ -1,0 +1,46 @@
+#pragma once
+// What `fem-plate` presses and how: the sphere and its material law, the plates, the mesh and the
+// increments of the CalculiX run (docs/stages.md "fem-plate", docs/models.md "The finite-element
+// reference").
+#include <string>
+
+#include "common/config.hpp"
+#include "common/options.hpp"
+
+namespace shapepress::fem {
+
+enum class MaterialModel {
+  neo_hookean,     // compressible neo-Hookean, C10 = μ/2, D1 = 2/K (CalculiX *HYPERELASTIC)
+  linear_elastic,  // Hooke (with nonlinear geometry: St Venant–Kirchhoff)
+};
+const char* material_model_name(MaterialModel model);  // "neo-hookean", "linear-elastic"
+
+struct FemPlateConfig {
+  double radius = 0.01;         // R [m] (a spheroid's equatorial semi-axis a)
+  double polar_radius = 0.0;    // c [m]: a spheroid's semi-axis along the plates' axis; 0: R
+  double youngs_modulus = 0.0;  // E [Pa] (small-strain)
+  double poisson_ratio = 0.0;   // ν (small-strain)
+  MaterialModel material = MaterialModel::neo_hookean;
+  double max_deformation = 0.4;     // Δ/(2c) at the end of the step
+  double friction = 0.0;            // Coulomb coefficient between sphere and plates (0: none)
+  int arc_elements = 24;            // mesh resolution: elements per 45° of the outline
+  int coarse_arc_elements = 16;     // the convergence check's second mesh (0: none)
+  int increments = 40;              // the step in at most this many equal increments
+  double minimum_increment = 1e-4;  // smallest cut-back increment, fraction of the step
+  bool nonlinear_geometry = true;   // NLGEOM (off: small-strain theory, Hertz's assumption)
+  double penalty_factor = 100.0;    // contact stiffness = factor × E / (pole element size)
+
+  void check() const;  // InputError naming the key
+  // c: polar_radius, or R for the sphere.
+  double pressed_radius() const { return polar_radius > 0.0 ? polar_radius : radius; }
+  // The radius of curvature at the pole, where the plates touch: R²/c (c = R: the sphere's R),
+  // the R of Hertz's solution for the pole's two equal principal curvatures.
+  double pole_curvature_radius() const { return radius * radius / pressed_radius(); }
+};
+
+// Reads [sphere], [plate] and [fem] of a fem-plate config (the caller checks unknown keys).
+FemPlateConfig read_fem_plate_config(const ConfigTable& root);
+// The effective config as TOML that reads back to the same values.
+std::string fem_plate_config_toml(const FemPlateConfig& config);
+
+}  // namespace shapepress::fem
