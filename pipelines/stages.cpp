@@ -25,6 +25,10 @@ std::span<const Stage> registered_stages() {
       Stage{"fill", "fill particle meshes with sub-spheres (BMS, CMS)", geometry::setup_fill_cli},
       Stage{"plate", "one sphere or BMS particle between two plates (validation rig)",
             scenarios::setup_plate_cli, scenarios::plate_options},
+      Stage{"advise",
+            "the cheapest sub-sphere count and time step within a tolerance of the finest "
+            "(a ladder of plate runs; the stability map)",
+            scenarios::setup_advise_cli},
       Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve",
             scenarios::setup_calibrate_cli, scenarios::calibrate_options},
       Stage{"pack", "pack bodies (spheres, BMS, CMS) into a die: settle and pre-compress",
