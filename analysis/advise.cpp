@@ -112,7 +112,7 @@ Chart speed_accuracy_chart(const Advice& advice) {
     if (!row.rung->stable()) continue;
     Series& s = by_fraction[row.rung->time_step_fraction];
     s.title = fmt::format("step {:.3g} of critical", row.rung->time_step_fraction);
-    s.style = SeriesStyle::points;
+    s.style = SeriesStyle::markers;
     s.x.push_back(row.rung->cpu_seconds);
     s.y.push_back(100.0 * row.versus_reference.rms_relative);
     most = std::max(most, row.rung->cpu_seconds);
@@ -154,7 +154,7 @@ Chart stability_map_chart(const Advice& advice) {
       {RungStatus::refused, "refused by the step checks (exit 2)"}};
   int colour = 1;
   for (const auto& [status, title] : kinds) {
-    Series s{title, {}, {}, SeriesStyle::points, colour++};
+    Series s{title, {}, {}, SeriesStyle::markers, colour++};
     for (const AdviceRow& row : advice.rows)
       if (row.status == status) {
         s.x.push_back(row.rung->sub_spheres);
