@@ -32,6 +32,8 @@ std::string style_of(SeriesStyle style, int given_colour, int index) {
   switch (style) {
     case SeriesStyle::points:
       return fmt::format("with points pt 7 ps 0.5 lc {}", colour);
+    case SeriesStyle::markers:
+      return fmt::format("with points pt 7 ps 2 lc {}", colour);
     case SeriesStyle::dashed:
       return fmt::format("with lines dt 2 lw 2 lc {}", colour);
     case SeriesStyle::lines:

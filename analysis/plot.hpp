@@ -8,7 +8,8 @@
 
 namespace shapepress::analysis {
 
-enum class SeriesStyle { lines, dashed, points };
+// markers: large points, for maps of a few dozen runs.
+enum class SeriesStyle { lines, dashed, points, markers };
 
 struct Series {
   std::string title;

@@ -28,6 +28,10 @@ std::span<const Stage> registered_stages() {
             scenarios::setup_plate_cli, scenarios::plate_options},
       Stage{"fem-plate", "one elastic sphere between rigid plates by FEM (CalculiX)",
             fem::setup_fem_plate_cli, fem::fem_plate_options},
+      Stage{"advise",
+            "the cheapest sub-sphere count and time step within a tolerance of the finest "
+            "(a ladder of plate runs; the stability map)",
+            scenarios::setup_advise_cli},
       Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve",
             scenarios::setup_calibrate_cli, scenarios::calibrate_options},
       Stage{"pack", "pack bodies (spheres, BMS, CMS) into a die: settle and pre-compress",

@@ -9,6 +9,8 @@ namespace shapepress::scenarios {
 StageRunner setup_plate_cli(CLI::App& app);
 // shapepress compact --config compact.toml [--packing FILE | --restart SNAPSHOT] --out DIR
 StageRunner setup_compact_cli(CLI::App& app);
+// shapepress advise --config plate.toml --counts 100,250,545 [--fractions 0.1,0.2] --out DIR
+StageRunner setup_advise_cli(CLI::App& app);
 // shapepress calibrate --config plate.toml --reference curve.csv [--fit ...] --out DIR
 StageRunner setup_calibrate_cli(CLI::App& app);
 

@@ -27,6 +27,7 @@ struct PlateCli {
   int spheres = 0;
   int fills = 0;
   std::int64_t seed = -1;
+  double time_step_fraction = 0.0;  // 0: the config's run.time_step_fraction
   bool snapshot = false;
 };
 
@@ -65,6 +66,13 @@ int run(const PlateCli& cli, const RunContext& context) {
     if (kind != PlateParticleKind::cms)
       throw InputError("--spheres is the number of overlapping sub-spheres of --particle cms");
     config.cms->count = cli.spheres;
+  }
+  if (cli.time_step_fraction > 0.0) {
+    if (config.run.time_step)
+      throw InputError(cli.config +
+                       ": --time-step-fraction scales the critical step, but the config fixes "
+                       "run.time_step");
+    config.run.time_step_fraction = cli.time_step_fraction;
   }
   const std::filesystem::path out(cli.out);
   ensure_output_folder(out);
@@ -125,6 +133,10 @@ StageRunner setup_plate_cli(CLI::App& app) {
                  "cms: number of overlapping sub-spheres asked of the filler (overrides "
                  "cms.count)")
       ->check(CLI::Range(1, 1000000));
+  app.add_option("--time-step-fraction", cli->time_step_fraction,
+                 "the step as this fraction of the critical one (overrides "
+                 "run.time_step_fraction; `advise` and its stability map vary it)")
+      ->check(CLI::PositiveNumber);
   app.add_flag(
       "--snapshot", cli->snapshot,
       "also write final.h5 + final.xdmf (ParaView: sub-spheres, bonds as lines, clump axes, "

@@ -215,7 +215,7 @@ double place_clump_spheres(ClumpSet& clumps, SphereState& s, double* geometry, d
     const Vector3 omega_end = angular_velocity(predicted);
     const Vector3& inertia = body.principal_inertia;
     const double inverse_inertia = 1.0 / std::min({inertia[0], inertia[1], inertia[2]});
-    const double damping_mass = clump_damping_mass(clumps, c);
+    const double damping_mass = clumps.mass[c];  // shared per contact before the pair loop
     for (std::int32_t i = clumps.first[c], m = clumps.member_start[c]; i < clumps.last[c];
          ++i, ++m) {
       const Vector3 r = rotate_to_world(
@@ -242,19 +242,18 @@ double place_clump_spheres(ClumpSet& clumps, SphereState& s, double* geometry, d
   return largest;
 }
 
-void gather_clump_forces(ClumpSet& clumps, SphereState& s, const std::array<double, 3>& g,
-                         double kick) {
+void gather_clump_forces(ClumpSet& clumps, SphereState& s, const double* motion,
+                         const std::array<double, 3>& g, double kick) {
   for (std::size_t c = 0; c < clumps.size(); ++c) {
-    // The per-sphere gather added each sub-sphere's packed mass (clump_damping_mass) times g:
-    // taken off here, so gravity acts once, at the centre of mass, and makes no torque.
-    const double share = clump_damping_mass(clumps, c);
-    const Vector3 weight = {share * g[0], share * g[1], share * g[2]};
     // Fixed sub-sphere order: the same sum for any thread count.
     Vector3 f = {0.0, 0.0, 0.0}, t = {0.0, 0.0, 0.0};
     for (std::int32_t i = clumps.first[c], m = clumps.member_start[c]; i < clumps.last[c];
          ++i, ++m) {
-      const Vector3 fi = {s.force.x[i] - weight[0], s.force.y[i] - weight[1],
-                          s.force.z[i] - weight[2]};
+      // The per-sphere gather added the sub-sphere's packed (damping) mass times g: taken off
+      // here, so gravity acts once, at the centre of mass, and makes no torque.
+      const double share = motion[8 * static_cast<std::size_t>(i) + 6];
+      const Vector3 fi = {s.force.x[i] - share * g[0], s.force.y[i] - share * g[1],
+                          s.force.z[i] - share * g[2]};
       const Vector3 moment = cross({clumps.arm.x[m], clumps.arm.y[m], clumps.arm.z[m]}, fi);
       for (int k = 0; k < 3; ++k)
         f[k] += fi[k];

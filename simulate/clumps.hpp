@@ -14,12 +14,14 @@
 //   per-sphere kick–drift leaves their velocities alone; gravity acts on the body, once (the
 //   gather's weight of a sub-sphere's packed mass is taken off again in the clump sum);
 // - the pair loop and the wall contacts see a sub-sphere as a sphere moving with the body, of
-//   the clump's mass shared equally among its sub-spheres (clump_damping_mass: the effective
-//   mass of the contact damping). Not the whole clump's mass, as LIGGGHTS' multisphere takes:
-//   with n contacts each damping with √(k M) the body's damping grows as √n times that of one
-//   contact of the summed stiffness — 600 sub-sphere contacts under the plates made the step
-//   unstable (damping rate × dt ≫ 1) and added ~10 % viscous force to a quasi-static curve;
-//   with M/n the sum over n equal contacts is √(K M), the restitution damping of the body;
+//   the mass its contacts' restitution damping needs: the clump's M over the number k of the
+//   clump's touching contacts with the same partner body (Engine::share_clump_damping_mass,
+//   clump_damping.cpp). One contact damps with M, as LIGGGHTS' multisphere and Yade give every
+//   clump member, so a clump–clump impact rebounds with the input e; k contacts with one
+//   partner damp together as one contact of their summed stiffness, √(K M). M/n for every
+//   sub-sphere, as before, damped a single contact √n times too little (e = 0.352 rebounded
+//   at 0.90 with n = 89); M for every contact damps k of them √k times too much (600 contacts
+//   under the plates made the step unstable);
 // - after the per-sphere gather the clump sums force and torque over its sub-spheres in index
 //   order (the same bits for any thread count), kicks the body and sets the sub-spheres' velocity
 //   v + ω × r and angular velocity ω.
@@ -95,7 +97,8 @@ std::size_t add_rigid_clump(SphereState& state, ClumpSet& clumps,
                             double volume, const Vector3& principal_inertia, int material,
                             const std::string& name);
 
-// The mass a sub-sphere of clump c brings to its contacts' damping: M / (sub-sphere count).
+// The least mass a sub-sphere of clump c can bring to its contacts' damping, M / (sub-sphere
+// count): all of them touching one partner (the time step's damping-rate bound).
 inline double clump_damping_mass(const ClumpSet& clumps, std::size_t c) {
   return clumps.mass[c] / static_cast<double>(clumps.last[c] - clumps.first[c]);
 }
@@ -105,15 +108,16 @@ inline double clump_damping_mass(const ClumpSet& clumps, std::size_t c) {
 void advance_clumps(ClumpSet& clumps, double dt);
 // Sub-sphere positions, velocities and angular velocities from the bodies, and the packed
 // copies the pair loop reads (4 doubles per sphere of geometry, 8 of motion: predicted
-// end-of-step v, ω, then clump_damping_mass and the clump's largest 1/I). Returns the largest
+// end-of-step v, ω, then the clump's mass, shared per contact before the pair loop, and the
+// clump's largest 1/I). Returns the largest
 // squared displacement of a sub-sphere since `reference` (the list build positions).
 double place_clump_spheres(ClumpSet& clumps, SphereState& state, double* geometry, double* motion,
                            double half_dt, const Vec3Array& reference);
 // Sums the sub-spheres' forces and torques (gathered into `state`) per clump about its centre,
-// adds gravity, applies the second half kick `kick` (0: none) and sets the sub-sphere
-// velocities from the body.
-void gather_clump_forces(ClumpSet& clumps, SphereState& state, const std::array<double, 3>& g,
-                         double kick);
+// adds gravity (taking off the packed mass × g the per-sphere gather added, `motion`), applies
+// the second half kick `kick` (0: none) and sets the sub-sphere velocities from the body.
+void gather_clump_forces(ClumpSet& clumps, SphereState& state, const double* motion,
+                         const std::array<double, 3>& g, double kick);
 // Translational + rotational kinetic energy of the bodies, J.
 double clump_kinetic_energy(const ClumpSet& clumps);
 // Moves clump centres into [0, L) in the periodic directions and their sub-spheres with them

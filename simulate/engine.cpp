@@ -409,12 +409,14 @@ Engine::AffineDrift Engine::list_affine_drift() const {
 }
 
 void Engine::compute_forces(double kick) {
+  if (!clumps_.empty()) share_clump_damping_mass();
   pair_forces();
   if (!bonds_.empty())
     compute_bond_forces(bonds_, state_, motion_.data(), box_, settings_.time_step,
                         !bond_increments_);
   gather_forces(kick);
-  if (!clumps_.empty()) gather_clump_forces(clumps_, state_, settings_.gravity, kick);
+  if (!clumps_.empty())
+    gather_clump_forces(clumps_, state_, motion_.data(), settings_.gravity, kick);
 }
 
 void Engine::index_cross_chunk_pairs() {

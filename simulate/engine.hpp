@@ -187,6 +187,10 @@ class Engine {
   void require_material_pairs() const;
   void enable_particle_stress();
   void index_clumps();  // clumps_.index and the checks against bonds
+  // The packed mass of every clump sub-sphere (motion_[8 i + 6]) for this evaluation's contact
+  // damping: its clump's M over the clump's touching contacts with the same partner body
+  // (clump_damping.cpp).
+  void share_clump_damping_mass();
 
   SphereState state_;
   Box box_;
@@ -267,6 +271,7 @@ class Engine {
   bool bond_increments_ = false;  // false for the forces at t = 0: no step has moved anything
   double work_in_ = 0.0;
   ClumpSet clumps_;
+  std::vector<std::array<std::int64_t, 3>> clump_contacts_;  // share_clump_damping_mass scratch
 };
 
 }  // namespace shapepress::simulate

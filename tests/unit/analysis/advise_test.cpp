@@ -1,0 +1,123 @@
+// The advisor's judgement on synthetic ladders whose errors are known by construction: a rung's
+// curve is the reference's times (1 + e), so its RMS relative difference is exactly e, and the
+// pick must be the cheapest rung with e at most the tolerance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "analysis/advise.hpp"
+#include "tests/support/files.hpp"
+
+namespace shapepress::analysis {
+namespace {
+
+// A Hertz-like plate curve F = 1000 x^1.5 over 0–40 % deformation, times (1 + error).
+Curve plate_curve(double error) {
+  Curve c;
+  for (int k = 0; k <= 40; ++k) {
+    const double x = k / 100.0;
+    c.x.push_back(x);
+    c.y.push_back(1000.0 * std::pow(x, 1.5) * (1.0 + error));
+  }
+  return c;
+}
+
+Rung rung(int n, double fraction, double error, double cpu) {
+  Rung r;
+  r.label = "cms-" + std::to_string(n) + "-f" + std::to_string(fraction);
+  r.sub_spheres = n;
+  r.time_step_fraction = fraction;
+  r.curve = plate_curve(error);
+  r.cpu_seconds = cpu;
+  return r;
+}
+
+Rung diverged(int n, double fraction) {
+  Rung r;
+  r.label = "cms-" + std::to_string(n) + "-diverged";
+  r.sub_spheres = n;
+  r.time_step_fraction = fraction;
+  r.end = RunEnd::diverged;
+  r.cause = "energy";
+  return r;
+}
+
+// Errors fall with N (20, 8, 3 %, the finest 0); the cost doubles per rung; a doubled step at
+// N = 400 is 4 % off at 0.55 of the finest's cost; one rung diverged, cheapest of all.
+std::vector<Rung> ladder() {
+  return {rung(50, 0.2, 0.20, 1.0), rung(100, 0.2, -0.08, 2.0), rung(200, 0.2, 0.03, 4.0),
+          rung(400, 0.2, 0.0, 8.0), rung(400, 0.4, -0.04, 4.4), diverged(50, 0.8)};
+}
+
+TEST(Advise, PicksTheCheapestRungWithinTheTolerance) {
+  const std::vector<Rung> rungs = ladder();
+  const auto pick = [&](double tolerance) {
+    const Advice a = advise(rungs, tolerance);
+    EXPECT_TRUE(a.pick.has_value());
+    return rungs[a.pick.value_or(0)].label;
+  };
+  EXPECT_EQ(pick(0.05), rungs[2].label);  // 3 % at 4.0 s beats 4 % at 4.4 s
+  EXPECT_EQ(pick(0.035), rungs[2].label);
+  EXPECT_EQ(pick(0.10), rungs[1].label);  // 8 % at 2 s
+  EXPECT_EQ(pick(0.25), rungs[0].label);  // never the diverged one, however cheap
+  EXPECT_EQ(pick(0.01), rungs[3].label);  // nothing but the finest holds 1 %
+}
+
+TEST(Advise, MeasuresEachRungAgainstTheFinestStableOne) {
+  const std::vector<Rung> rungs = ladder();
+  const Advice a = advise(rungs, 0.05);
+  ASSERT_TRUE(a.reference.has_value());
+  EXPECT_EQ(*a.reference, 3u);  // N = 400 at the smaller step
+  const double expected[] = {0.20, 0.08, 0.03, 0.0, 0.04};
+  for (std::size_t k = 0; k < 5; ++k)
+    EXPECT_NEAR(a.rows[k].versus_reference.rms_relative, expected[k], 1e-12) << k;
+  EXPECT_EQ(a.rows[0].status, RungStatus::off);
+  EXPECT_EQ(a.rows[1].status, RungStatus::off);
+  EXPECT_EQ(a.rows[2].status, RungStatus::within);
+  EXPECT_EQ(a.rows[3].status, RungStatus::reference);
+  EXPECT_EQ(a.rows[4].status, RungStatus::within);
+  EXPECT_EQ(a.rows[5].status, RungStatus::diverged);
+}
+
+TEST(Advise, AFinestRungThatDivergedIsNotTheReference) {
+  std::vector<Rung> rungs = {rung(100, 0.2, 0.05, 2.0), rung(200, 0.2, 0.0, 4.0),
+                             diverged(800, 0.2)};
+  const Advice a = advise(rungs, 0.06);
+  ASSERT_TRUE(a.reference.has_value());
+  EXPECT_EQ(*a.reference, 1u);
+  EXPECT_EQ(a.pick, std::optional<std::size_t>(0));
+  EXPECT_EQ(a.rows[2].status, RungStatus::diverged);
+  rungs = {diverged(100, 0.2), diverged(200, 0.2)};
+  const Advice none = advise(rungs, 0.05);
+  EXPECT_FALSE(none.reference.has_value());
+  EXPECT_FALSE(none.pick.has_value());
+}
+
+TEST(Advise, TableNamesEveryRungItsStatusAndThePick) {
+  const std::vector<Rung> rungs = ladder();
+  const Advice a = advise(rungs, 0.05);
+  const auto dir = testing::fresh_directory("advise_table");
+  write_advice_csv(dir / "advice.csv", a);
+  std::ifstream in(dir / "advice.csv");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') lines.push_back(line);
+  ASSERT_EQ(lines.size(), rungs.size() + 1);
+  EXPECT_EQ(lines[0],
+            "label,status,cause,sub_spheres,time_step_fraction,cpu_s,rms_vs_reference,"
+            "max_vs_reference,picked");
+  EXPECT_EQ(lines[3].substr(0, lines[3].find(',')), rungs[2].label);
+  EXPECT_EQ(lines[3].back(), '1');
+  EXPECT_NE(lines[2].find(",off,-,100,0.2,2,0.08,"), std::string::npos) << lines[2];
+  EXPECT_NE(lines[6].find(",diverged,energy,50,0.8,-1,nan,nan,0"), std::string::npos) << lines[6];
+  const Chart map = stability_map_chart(a);
+  ASSERT_EQ(map.series.size(), 4u);  // reference, within, off, diverged
+  EXPECT_EQ(map.series.back().x, (std::vector<double>{50}));
+  EXPECT_EQ(map.series.back().y, (std::vector<double>{0.8}));
+}
+
+}  // namespace
+}  // namespace shapepress::analysis
