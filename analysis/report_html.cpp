@@ -159,13 +159,13 @@ std::string experiments_html(const std::vector<ExperimentComparison>& experiment
 
 }  // namespace
 
-ShownValue shown_value(double si_value, std::string_view unit, bool fraction) {
-  if (unit == "Pa") return {si_value * 1e-6, "MPa"};
-  if (unit == "1/Pa") return {si_value * 1e6, "1/MPa"};
-  if (unit == "m") return {si_value * 1e3, "mm"};
-  if (unit == "J") return {si_value * 1e3, "mJ"};
-  if (unit == "1") return fraction ? ShownValue{100.0 * si_value, "%"} : ShownValue{si_value, ""};
-  return {si_value, std::string(unit)};
+ShownValue shown_value(double in_si, std::string_view unit, bool fraction) {
+  if (unit == "Pa") return {in_si * 1e-6, "MPa"};
+  if (unit == "1/Pa") return {in_si * 1e6, "1/MPa"};
+  if (unit == "m") return {in_si * 1e3, "mm"};
+  if (unit == "J") return {in_si * 1e3, "mJ"};
+  if (unit == "1") return fraction ? ShownValue{100.0 * in_si, "%"} : ShownValue{in_si, ""};
+  return {in_si, std::string(unit)};
 }
 
 std::string shown_text(double value) {

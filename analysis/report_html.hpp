@@ -70,7 +70,7 @@ struct ShownValue {
   double value;
   std::string unit;
 };
-ShownValue shown_value(double si_value, std::string_view unit, bool fraction = false);
+ShownValue shown_value(double in_si, std::string_view unit, bool fraction = false);
 // "30.12" (4 significant digits), "52340" from 1e4 on, an exponent only below 1e-3 or from 1e9;
 // "-" when not finite.
 std::string shown_text(double value);
