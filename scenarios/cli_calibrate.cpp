@@ -258,11 +258,11 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   const std::filesystem::path out(cli.out);
   ensure_output_folder(out);
   if (invocation.resumed) options.known = known_evaluations(out, options.parameters);
-  const std::string x_unit = x_dimension == dim::pressure ? "Pa" : "";
+  const std::string x_unit = x_dimension == dim::pressure ? " Pa" : "";  // solid fraction: none
   EvaluationLog log(
       out / "evaluations.csv", options.parameters,
       fmt::format("shapepress calibrate: RMS relative {} error against {} ({}, {}) "
-                  "over x in [{:g}, {:g}] {}{}",
+                  "over x in [{:g}, {:g}]{}{}",
                   analysis::axes_name(options.reference.axes), cli.reference,
                   options.reference.x_column, options.reference.y_column, options.from, options.to,
                   x_unit,
@@ -281,12 +281,12 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   progress.finish();
   const analysis::MeasuredMismatch& error = result.error;
   const std::string y_unit =
-      options.reference.axes == analysis::MeasuredAxes::stress_strain ? "Pa" : "";
+      options.reference.axes == analysis::MeasuredAxes::stress_strain ? " Pa" : "";
   std::string header = fmt::format(
       "# shapepress calibrate --config {} --reference {} --fit {}{}\n"
       "# fitted: {}\n"
-      "# {} against the reference at {} points, x in [{:g}, {:g}] {}: RMS {:.6g} {} ({:.4g} %), "
-      "largest {:.6g} {} at x = {:g}\n",
+      "# {} against the reference at {} points, x in [{:g}, {:g}]{}: RMS {:.6g}{} ({:.4g} %), "
+      "largest {:.6g}{} at x = {:g}\n",
       cli.config, cli.reference, fmt::join(options.parameters, ","),
       cli.density_scale > 0.0 ? fmt::format(" --density-scale {}", cli.density_scale) : "",
       [&] {
@@ -313,7 +313,7 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   punch.commit();
   CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted"});
   summary.comment(fmt::format(
-      "{} points of {} in [{:g}, {:g}] {}; rms = {:.6g} {}, rms_relative = {:.6g}, max = {:.6g} "
+      "{} points of {} in [{:g}, {:g}]{}; rms = {:.6g}{}, rms_relative = {:.6g}, max = {:.6g}"
       "{}, max_relative = {:.6g}; converged = {}; evaluations = {}",
       error.points, cli.reference, error.from, error.to, x_unit, error.rms, y_unit,
       error.rms_relative, error.max, y_unit, error.max_relative, result.converged ? 1 : 0,
@@ -348,7 +348,7 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
     meta.output(name);
   meta.write(out / run_metadata_name);
   fmt::print(
-      "calibrated on {} points of {}: RMS {:.6g} {} ({:.3g} %), largest {:.6g} {} after {} runs\n",
+      "calibrated on {} points of {}: RMS {:.6g}{} ({:.3g} %), largest {:.6g}{} after {} runs\n",
       error.points, cli.reference, error.rms, y_unit, 100.0 * error.rms_relative, error.max, y_unit,
       result.evaluations.size());
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
