@@ -21,6 +21,7 @@ struct ReportCli {
   std::optional<double> compare_from;
   std::vector<std::string> plate_curves;  // LABEL=FILE.csv
   std::vector<std::string> spread_from;   // METHOD=N
+  std::vector<std::string> experiments;
   std::vector<double> heckel_window{0.3, 1.0};
   std::vector<double> kawakita_window{0.05, 1.0};
 };
@@ -60,6 +61,8 @@ int run(const ReportCli& cli, const RunContext& context) {
           "--spread-from '{}': expected METHOD=N with N >= 2 (e.g. cms=150, bms=819)", item));
     options.spread_from[item.substr(0, equals)] = n;
   }
+  for (const std::string& file : cli.experiments)
+    options.experiments.emplace_back(file);
   options.command_line = context.command_line;
   const ReportResult result = write_report(options);
   // The report's own record: which runs (their CSV and run.json, hashed) it was drawn from.
@@ -69,6 +72,8 @@ int run(const ReportCli& cli, const RunContext& context) {
       if (std::filesystem::exists(folder / name)) meta.input("run", folder / name);
   for (const auto& curve : options.plate_curves)
     meta.input("plate_curve", curve.second);
+  for (const auto& file : options.experiments)
+    meta.input("experiment", file);
   meta.output(result.html.filename())
       .output(result.metrics.filename())
       .fact("compaction_runs", result.compaction_runs)
@@ -102,6 +107,12 @@ StageRunner setup_report_cli(CLI::App& app) {
   app.add_option("--plate-curve", cli->plate_curves,
                  "LABEL=FILE.csv: one more curve on the plate chart (columns deformation and "
                  "force_N or top_force_N), e.g. a BMS plate run; repeatable");
+  app.add_option("--experiment", cli->experiments,
+                 "FILE.csv: a measured compaction curve drawn over the runs and compared with "
+                 "each (stress-strain: columns strain and stress_<unit>; solid fraction-stress: "
+                 "stress_<unit> and solid_fraction; strain_% and solid_fraction_% in percent); "
+                 "repeatable")
+      ->check(CLI::ExistingFile);
   app.add_option("--spread-from", cli->spread_from,
                  "METHOD=N: the convergence spread of the plate runs with particle METHOD (cms, "
                  "bms) is taken over N and up (default: the method's two finest runs); repeatable");

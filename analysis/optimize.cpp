@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -61,22 +62,45 @@ std::vector<Point> initial_simplex(const Point& start, const NelderMeadOptions& 
 
 MinimumResult minimize_nelder_mead(const Objective& objective, Point start,
                                    const NelderMeadOptions& options) {
+  const BatchObjective one_by_one = [&](const std::vector<Point>& points) {
+    std::vector<double> values;
+    for (const Point& x : points)
+      values.push_back(objective(x));
+    return values;
+  };
+  return minimize_nelder_mead_batched(one_by_one, std::move(start), options);
+}
+
+MinimumResult minimize_nelder_mead_batched(const BatchObjective& objective, Point start,
+                                           const NelderMeadOptions& options) {
   const std::size_t n = start.size();
   if (n == 0) throw InputError("Nelder-Mead: no parameters to optimise");
   check_options(options, n);
   const Box box{options.lower, options.upper};
   box.clamp(start);
   MinimumResult result;
+  // Clamps the points into the box and evaluates them; a failed trial (NaN) is a bad point,
+  // not a crash.
+  auto evaluate_all = [&](std::vector<Point>& points) {
+    for (Point& x : points)
+      box.clamp(x);
+    result.evaluations += static_cast<int>(points.size());
+    std::vector<double> values = objective(points);
+    if (values.size() != points.size())
+      throw ComputationError(
+          fmt::format("Nelder-Mead: {} values for {} points", values.size(), points.size()));
+    for (double& v : values)
+      if (std::isnan(v)) v = HUGE_VAL;
+    return values;
+  };
   auto evaluate = [&](Point& x) {
-    box.clamp(x);
-    ++result.evaluations;
-    const double v = objective(x);
-    return std::isnan(v) ? HUGE_VAL : v;  // a failed trial is a bad point, not a crash
+    std::vector<Point> one = {x};
+    const double v = evaluate_all(one).front();
+    x = one.front();
+    return v;
   };
   std::vector<Point> simplex = initial_simplex(start, options);
-  std::vector<double> values(n + 1);
-  for (std::size_t i = 0; i <= n; ++i)
-    values[i] = evaluate(simplex[i]);
+  std::vector<double> values = evaluate_all(simplex);
   std::vector<std::size_t> order(n + 1);
   while (true) {
     std::iota(order.begin(), order.end(), 0);
@@ -124,11 +148,12 @@ MinimumResult minimize_nelder_mead(const Objective& objective, Point start,
       simplex[worst] = contracted, values[worst] = fc;
       continue;
     }
-    for (std::size_t i = 0; i <= n; ++i) {  // shrink towards the best point
-      if (i == best) continue;
-      simplex[i] = combine(simplex[best], simplex[i], 0.5);
-      values[i] = evaluate(simplex[i]);
-    }
+    std::vector<Point> shrunk;  // towards the best point, all at once
+    for (std::size_t i = 0; i <= n; ++i)
+      if (i != best) shrunk.push_back(combine(simplex[best], simplex[i], 0.5));
+    const std::vector<double> shrunk_values = evaluate_all(shrunk);
+    for (std::size_t i = 0, k = 0; i <= n; ++i)
+      if (i != best) simplex[i] = shrunk[k], values[i] = shrunk_values[k], ++k;
   }
   const std::size_t best =
       static_cast<std::size_t>(std::min_element(values.begin(), values.end()) - values.begin());

@@ -9,6 +9,9 @@
 namespace shapepress::analysis {
 
 using Objective = std::function<double(const std::vector<double>&)>;
+// Values of several independent points, one per point in order: the caller may compute them side
+// by side (a calibration runs one simulation per point on its own thread).
+using BatchObjective = std::function<std::vector<double>(const std::vector<std::vector<double>>&)>;
 
 struct NelderMeadOptions {
   std::vector<double> lower;           // bounds, empty = unbounded; else one per parameter
@@ -33,6 +36,13 @@ struct MinimumResult {
 // never called outside it.
 MinimumResult minimize_nelder_mead(const Objective& objective, std::vector<double> start,
                                    const NelderMeadOptions& options = {});
+// The same search, handing the points that do not depend on each other to `objective` together:
+// the first simplex (n + 1 points) and a shrink (n points); a reflection, expansion or
+// contraction depends on the last value and goes alone. The trial points and the result are
+// those of minimize_nelder_mead.
+MinimumResult minimize_nelder_mead_batched(const BatchObjective& objective,
+                                           std::vector<double> start,
+                                           const NelderMeadOptions& options = {});
 
 struct ScalarMinimum {
   double x = 0.0;

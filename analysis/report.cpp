@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "analysis/curves.hpp"
+#include "analysis/measured_curve.hpp"
 #include "analysis/plate_analysis.hpp"
 #include "analysis/plate_study.hpp"
 #include "analysis/plot.hpp"
@@ -83,7 +84,37 @@ std::size_t unload_start(const PunchCurve& c) {
   return c.phase.size();
 }
 
-std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs) {
+// The measured curves over the runs, as points in black (gnuplot colour 8 is taken by runs
+// only in a report of eight or more).
+void add_experiments(Chart& stress_strain, Chart& density,
+                     const std::vector<ExperimentComparison>& experiments) {
+  for (const ExperimentComparison& e : experiments) {
+    const MeasuredCurve& c = e.curve;
+    const std::string label = "measured " + c.source.filename().string();
+    if (c.axes == MeasuredAxes::stress_strain)
+      stress_strain.series.push_back({label, c.x, scaled(c.y, 1 / mega), SeriesStyle::points, 8});
+    else
+      density.series.push_back({label, scaled(c.x, 1 / mega), c.y, SeriesStyle::points, 8});
+  }
+}
+
+std::vector<ExperimentComparison> compare_experiments(const std::vector<LoadedRun>& runs,
+                                                      const ReportOptions& options) {
+  std::vector<ExperimentComparison> comparisons;
+  for (const std::filesystem::path& file : options.experiments) {
+    ExperimentComparison e{read_measured_curve(file), {}};
+    const Curve measured = e.curve.loading();
+    for (const LoadedRun& run : runs)
+      if (run.punch)
+        e.runs.emplace_back(run.label, compare_with_measured(
+                                           simulated_loading(*run.punch, e.curve.axes), measured));
+    comparisons.push_back(std::move(e));
+  }
+  return comparisons;
+}
+
+std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs,
+                                     const std::vector<ExperimentComparison>& experiments) {
   Chart stress_strain{"Stress-strain (load solid, unload dashed)",
                       "engineering strain (H0-H)/H0",
                       "punch stress [MPa]",
@@ -156,6 +187,7 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs) {
          SeriesStyle::dashed,
          colour});
   }
+  add_experiments(stress_strain, density, experiments);
   return {stress_strain, density, heckel, kawakita};
 }
 
@@ -253,8 +285,11 @@ ReportResult write_report(const ReportOptions& options) {
   std::vector<std::pair<std::string, std::filesystem::path>> charts;  // (title, svg)
   for (const LoadedRun& run : runs)
     (run.punch ? result.compaction_runs : result.plate_runs) += 1;
+  if (!options.experiments.empty() && result.compaction_runs == 0)
+    throw InputError("--experiment: a measured compaction curve needs a compaction run to compare");
+  const std::vector<ExperimentComparison> experiments = compare_experiments(runs, options);
   if (result.compaction_runs > 0) {
-    const std::vector<Chart> cs = compaction_charts(runs);
+    const std::vector<Chart> cs = compaction_charts(runs, experiments);
     const char* stems[] = {"stress_strain", "solid_fraction_stress", "heckel", "kawakita"};
     for (std::size_t i = 0; i < cs.size(); ++i)
       charts.emplace_back(cs[i].title, plot_chart(cs[i], options.out / stems[i]).svg);
@@ -288,9 +323,10 @@ ReportResult write_report(const ReportOptions& options) {
                                     shapepress_git_revision()};
   result.metrics = options.out / "metrics.json";
   const std::optional<StressSpread> spread = stress_spread(runs);
-  write_file_atomically(result.metrics, metrics_json(runs, options.windows, provenance, spread));
+  write_file_atomically(result.metrics,
+                        metrics_json(runs, options.windows, provenance, spread, experiments));
   result.html = options.out / "report.html";
-  write_file_atomically(result.html, report_html(runs, charts, provenance, spread));
+  write_file_atomically(result.html, report_html(runs, charts, provenance, spread, experiments));
   return result;
 }
 

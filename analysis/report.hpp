@@ -26,6 +26,9 @@ struct ReportOptions {
   // The convergence study (CMS against BMS): smallest N of each method's spread, by the
   // particle kind of force.csv ("cms" → 150 for the paper's 150…3000); default its two finest.
   std::map<std::string, int> spread_from;
+  // Measured compaction curves to overlay (stress–strain or solid fraction–stress, the unit in
+  // each column name; analysis/measured_curve.hpp), each compared with every compaction run.
+  std::vector<std::filesystem::path> experiments;
   std::string command_line;  // provenance of the report
 };
 

@@ -16,6 +16,8 @@ struct Metric {
   double value;
   std::string unit;
   std::string meaning;
+  // A dimensionless value that is a fraction, shown in %; counts and coefficients are not.
+  bool fraction = false;
 };
 
 std::vector<Metric> compaction_metrics(const CompactionMetrics& m) {
@@ -24,12 +26,12 @@ std::vector<Metric> compaction_metrics(const CompactionMetrics& m) {
       {"H0", m.reference_gap, "m", "reference gap of strain and Kawakita V0 (from punch.csv)"},
       {"peak_stress", m.peak_stress, "Pa", "maximum punch stress"},
       {"peak_force", m.peak_force, "N", "punch force at the peak stress"},
-      {"solid_fraction_at_peak", m.solid_fraction_at_peak, "1", "D at the peak stress"},
-      {"strain_at_peak", m.strain_at_peak, "1", "(H0-H)/H0 at the peak stress"},
+      {"solid_fraction_at_peak", m.solid_fraction_at_peak, "1", "D at the peak stress", true},
+      {"strain_at_peak", m.strain_at_peak, "1", "(H0-H)/H0 at the peak stress", true},
       {"minimum_gap", m.minimum_gap, "m", "H_min"},
       {"unloaded_gap", m.unloaded ? m.unloaded_gap : nan, "m", "H at the end of unloading"},
-      {"elastic_recovery", m.unloaded ? m.elastic_recovery : nan, "1",
-       "(H_unloaded - H_min)/H_min"},
+      {"elastic_recovery", m.unloaded ? m.elastic_recovery : nan, "1", "(H_unloaded - H_min)/H_min",
+       true},
       {"work_of_compaction", m.work_of_compaction, "J", "integral of F d(-H), load and hold"},
       {"work_of_unloading", m.unloaded ? m.work_of_unloading : nan, "J",
        "integral of F dH while unloading"},
@@ -40,7 +42,7 @@ std::vector<Metric> compaction_metrics(const CompactionMetrics& m) {
       {"heckel_points", static_cast<double>(m.heckel.points), "1", ""},
       {"heckel_stress_lower", m.heckel.stress_lower, "Pa", "fitted window"},
       {"heckel_stress_upper", m.heckel.stress_upper, "Pa", ""},
-      {"kawakita_a", m.kawakita.a, "1", "P/C = P/a + 1/(a b), C = (H0-H)/H0"},
+      {"kawakita_a", m.kawakita.a, "1", "P/C = P/a + 1/(a b), C = (H0-H)/H0", true},
       {"kawakita_b", m.kawakita.b, "1/Pa", ""},
       {"kawakita_r_squared", m.kawakita.r_squared, "1", ""},
       {"kawakita_points", static_cast<double>(m.kawakita.points), "1", ""},
@@ -59,17 +61,17 @@ std::vector<Metric> plate_metrics(const PlateMetrics& m) {
   std::vector<Metric> rows = {
       {"radius", m.radius, "m", "R = approach/(2 deformation)"},
       {"effective_modulus", m.effective_modulus, "Pa", "E* from the run's Hertz column"},
-      {"max_deformation", m.max_deformation, "1", "Delta/(2R)"},
+      {"max_deformation", m.max_deformation, "1", "Delta/(2R)", true},
       {"max_force", m.max_force, "N", ""},
-      {"compared_from_deformation", m.compared_from, "1", "comparison over [this, max]"},
-      {"hertz_rms_relative_error", m.versus_hertz.rms_relative, "1", "simulated vs Hertz"},
-      {"hertz_max_relative_error", m.versus_hertz.max_relative, "1", ""},
+      {"compared_from_deformation", m.compared_from, "1", "comparison over [this, max]", true},
+      {"hertz_rms_relative_error", m.versus_hertz.rms_relative, "1", "simulated vs Hertz", true},
+      {"hertz_max_relative_error", m.versus_hertz.max_relative, "1", "", true},
   };
   if (m.versus_tatara) {
     rows.push_back({"poisson_ratio", *m.poisson_ratio, "1", "given with --poisson-ratio"});
-    rows.push_back(
-        {"tatara_rms_relative_error", m.versus_tatara->rms_relative, "1", "simulated vs Tatara"});
-    rows.push_back({"tatara_max_relative_error", m.versus_tatara->max_relative, "1", ""});
+    rows.push_back({"tatara_rms_relative_error", m.versus_tatara->rms_relative, "1",
+                    "simulated vs Tatara", true});
+    rows.push_back({"tatara_max_relative_error", m.versus_tatara->max_relative, "1", "", true});
   }
   return rows;
 }
@@ -96,7 +98,90 @@ std::string inline_svg(const std::filesystem::path& path) {
   return start == std::string::npos ? std::string() : text.substr(start);
 }
 
+std::string experiments_json(const std::vector<ExperimentComparison>& experiments) {
+  std::string s = "  \"experiments\": [";
+  for (std::size_t e = 0; e < experiments.size(); ++e) {
+    const ExperimentComparison& x = experiments[e];
+    const bool strain = x.curve.axes == MeasuredAxes::stress_strain;
+    s += fmt::format(
+        "{}\n    {{\"file\": \"{}\", \"axes\": \"{}\", \"x_column\": \"{}\", \"y_column\": "
+        "\"{}\", \"rows\": {}, \"runs\": [",
+        e == 0 ? "" : ",", json_escape(x.curve.source.string()), axes_name(x.curve.axes),
+        json_escape(x.curve.x_column), json_escape(x.curve.y_column), x.curve.x.size());
+    for (std::size_t r = 0; r < x.runs.size(); ++r) {
+      const auto& [label, m] = x.runs[r];
+      s += fmt::format(
+          "{}\n      {{\"label\": \"{}\", \"points\": {}, \"x_from\": {}, \"x_to\": {}, "
+          "\"x_unit\": \"{}\", \"rms\": {}, \"max\": {}, \"at_x\": {}, \"unit\": \"{}\", "
+          "\"rms_relative\": {}, \"max_relative\": {}}}",
+          r == 0 ? "" : ",", json_escape(label), m.points, json_number(m.points > 0 ? m.from : NAN),
+          json_number(m.points > 0 ? m.to : NAN), strain ? "1" : "Pa",
+          json_number(m.points > 0 ? m.rms : NAN), json_number(m.points > 0 ? m.max : NAN),
+          json_number(m.points > 0 ? m.at_max : NAN), strain ? "Pa" : "1",
+          json_number(m.points > 0 ? m.rms_relative : NAN),
+          json_number(m.points > 0 ? m.max_relative : NAN));
+    }
+    s += "]}";
+  }
+  return s + "\n  ],\n";
+}
+
+std::string experiments_html(const std::vector<ExperimentComparison>& experiments) {
+  std::string s;
+  for (const ExperimentComparison& x : experiments) {
+    const bool strain = x.curve.axes == MeasuredAxes::stress_strain;
+    s += fmt::format(
+        "<h3>Against the experiment {} ({})</h3>\n<p>Each run's loading branch at the measured "
+        "points ({} rows, columns {} and {}) it covers; errors in "
+        "{}.</p>\n<table>\n<tr><th>run</th>"
+        "<th>points</th><th>{} from</th><th>to</th><th>RMS error</th><th>largest error</th>"
+        "<th>at {}</th><th>RMS relative</th><th>largest relative</th></tr>\n",
+        html_escape(x.curve.source.filename().string()), axes_name(x.curve.axes), x.curve.x.size(),
+        html_escape(x.curve.x_column), html_escape(x.curve.y_column),
+        strain ? "stress" : "solid fraction", strain ? "strain" : "stress",
+        strain ? "strain" : "stress");
+    for (const auto& [label, m] : x.runs) {
+      const auto x_text = [&](double v) {
+        const ShownValue shown = shown_value(v, strain ? "1" : "Pa", true);
+        return shown_text(m.points > 0 ? shown.value : NAN) + " " + shown.unit;
+      };
+      const auto y_text = [&](double v) {
+        const ShownValue shown = shown_value(v, strain ? "Pa" : "1", true);
+        return shown_text(m.points > 0 ? shown.value : NAN) + " " + shown.unit;
+      };
+      s += fmt::format(
+          "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td "
+          "class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td "
+          "class=\"num\">{}</td><td class=\"num\">{} %</td><td class=\"num\">{} %</td></tr>\n",
+          html_escape(label), m.points, x_text(m.from), x_text(m.to), y_text(m.rms), y_text(m.max),
+          x_text(m.at_max), shown_text(m.points > 0 ? 100.0 * m.rms_relative : NAN),
+          shown_text(m.points > 0 ? 100.0 * m.max_relative : NAN));
+    }
+    s += "</table>\n";
+  }
+  return s;
+}
+
 }  // namespace
+
+ShownValue shown_value(double in_si, std::string_view unit, bool fraction) {
+  if (unit == "Pa") return {in_si * 1e-6, "MPa"};
+  if (unit == "1/Pa") return {in_si * 1e6, "1/MPa"};
+  if (unit == "m") return {in_si * 1e3, "mm"};
+  if (unit == "J") return {in_si * 1e3, "mJ"};
+  if (unit == "1") return fraction ? ShownValue{100.0 * in_si, "%"} : ShownValue{in_si, ""};
+  return {in_si, std::string(unit)};
+}
+
+std::string shown_text(double value) {
+  if (!std::isfinite(value)) return "-";
+  // Four significant digits without an exponent where a reader expects none (50000 mJ, not
+  // 5e+04); an exponent only far outside the ranges the units are chosen for.
+  const double size = std::abs(value);
+  if (size == 0.0 || (size >= 1e-3 && size < 1e4)) return fmt::format("{:.4g}", value);
+  if (size >= 1e4 && size < 1e9) return fmt::format("{:.0f}", value);
+  return fmt::format("{:.3e}", value);
+}
 
 std::string json_escape(std::string_view text) {
   std::string out;
@@ -149,7 +234,8 @@ std::string html_escape(std::string_view text) {
 
 std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& windows,
                          const ReportProvenance& provenance,
-                         const std::optional<StressSpread>& spread) {
+                         const std::optional<StressSpread>& spread,
+                         const std::vector<ExperimentComparison>& experiments) {
   std::string s = "{\n";
   s += fmt::format(
       "  \"provenance\": {{\"command_line\": \"{}\", \"shapepress_version\": \"{}\", "
@@ -171,6 +257,7 @@ std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& w
       s += (i == 0 ? "" : ", ") + json_number(spread->spread[i]);
     s += "]},\n";
   }
+  if (!experiments.empty()) s += experiments_json(experiments);
   s += "  \"runs\": [";
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const LoadedRun& run = runs[r];
@@ -195,7 +282,8 @@ std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& w
 std::string report_html(const std::vector<LoadedRun>& runs,
                         const std::vector<std::pair<std::string, std::filesystem::path>>& charts,
                         const ReportProvenance& provenance,
-                        const std::optional<StressSpread>& spread) {
+                        const std::optional<StressSpread>& spread,
+                        const std::vector<ExperimentComparison>& experiments) {
   std::string s =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<title>shapepress report</title>\n<style>\n"
@@ -218,20 +306,28 @@ std::string report_html(const std::vector<LoadedRun>& runs,
         "<h3>{} ({})</h3>\n<table>\n<tr><th>metric</th><th>value</th><th>unit</th>"
         "<th>meaning</th></tr>\n",
         html_escape(run.label), run.compaction ? "compaction" : "plate");
-    for (const Metric& m : metrics_of(run))
+    for (const Metric& m : metrics_of(run)) {
+      // Counts are whole numbers; everything else in the unit a reader expects.
+      const bool count = m.name.ends_with("_points");
+      const ShownValue shown = shown_value(m.value, m.unit, m.fraction);
       s += fmt::format("<tr><td>{}</td><td class=\"num\">{}</td><td>{}</td><td>{}</td></tr>\n",
-                       m.name, std::isfinite(m.value) ? fmt::format("{:.6g}", m.value) : "-",
-                       m.unit, html_escape(m.meaning));
+                       m.name,
+                       count && std::isfinite(m.value) ? fmt::format("{:.0f}", m.value)
+                                                       : shown_text(shown.value),
+                       html_escape(shown.unit), html_escape(m.meaning));
+    }
     s += "</table>\n";
   }
   if (spread) {
     s += "<h3>Spread of the compaction runs</h3>\n<p>(max - min)/mean of the loading stress at "
          "each strain.</p>\n<table>\n<tr><th>strain</th><th>spread</th></tr>\n";
     for (std::size_t i = 0; i < spread->strain.size(); ++i)
-      s += fmt::format("<tr><td class=\"num\">{:.4g}</td><td class=\"num\">{:.4g}</td></tr>\n",
-                       spread->strain[i], spread->spread[i]);
+      s +=
+          fmt::format("<tr><td class=\"num\">{} %</td><td class=\"num\">{} %</td></tr>\n",
+                      shown_text(100.0 * spread->strain[i]), shown_text(100.0 * spread->spread[i]));
     s += "</table>\n";
   }
+  s += experiments_html(experiments);
   s += "<h2>Provenance</h2>\n";
   for (const LoadedRun& run : runs) {
     s += fmt::format("<p><b>{}</b>: {}</p>\n<pre>", html_escape(run.label),

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "analysis/compaction.hpp"
+#include "analysis/measured_curve.hpp"
 #include "analysis/plate_analysis.hpp"
 #include "analysis/runs.hpp"
 
@@ -29,6 +30,12 @@ struct StressSpread {
   std::vector<double> spread;
 };
 
+// A measured curve (report --experiment) and how far each compaction run is from it.
+struct ExperimentComparison {
+  MeasuredCurve curve;
+  std::vector<std::pair<std::string, MeasuredMismatch>> runs;  // run label, mismatch
+};
+
 struct ReportProvenance {
   std::string command_line;
   std::string version;
@@ -38,16 +45,35 @@ struct ReportProvenance {
 // {"provenance": {...}, "fit_windows": {...}, "stress_spread": {...} (2+ compaction runs), "runs":
 // [{"folder", "kind", "csv", "source", "metrics": {name: {"value", "unit"}}}]}; non-finite numbers
 // are null.
+// "experiments": [{"file", "axes", "x_column", "y_column", "rows", "runs": [{"label",
+// "points", "x_from", "x_to", "x_unit", "rms", "max", "at_x", "unit", "rms_relative",
+// "max_relative"}]}] when experiments are given (SI units, as every number there).
 std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& windows,
                          const ReportProvenance& provenance,
-                         const std::optional<StressSpread>& spread = std::nullopt);
+                         const std::optional<StressSpread>& spread = std::nullopt,
+                         const std::vector<ExperimentComparison>& experiments = {});
 
-// A plain page: the charts' SVGs inline, one metrics table per run, the provenance of every
-// input (its CSV comment lines) and of the report. `charts` are (title, svg file).
+// A plain page: the charts' SVGs inline, one metrics table per run, the comparison with each
+// experiment, the provenance of every input (its CSV comment lines) and of the report.
+// `charts` are (title, svg file). Tables show the units people read (MPa, mm, mJ, %);
+// metrics.json keeps SI.
 std::string report_html(const std::vector<LoadedRun>& runs,
                         const std::vector<std::pair<std::string, std::filesystem::path>>& charts,
                         const ReportProvenance& provenance,
-                        const std::optional<StressSpread>& spread = std::nullopt);
+                        const std::optional<StressSpread>& spread = std::nullopt,
+                        const std::vector<ExperimentComparison>& experiments = {});
+
+// A value in SI with its unit as a table shows it: Pa as MPa, m as mm, J as mJ, 1/Pa as 1/MPa,
+// a fraction as %; `fraction` says whether a dimensionless value is a fraction (a solid
+// fraction, a strain, a relative error) or a plain number (R², an intercept).
+struct ShownValue {
+  double value;
+  std::string unit;
+};
+ShownValue shown_value(double in_si, std::string_view unit, bool fraction = false);
+// "30.12" (4 significant digits), "52340" from 1e4 on, an exponent only below 1e-3 or from 1e9;
+// "-" when not finite.
+std::string shown_text(double value);
 
 // Escapes for JSON string contents and HTML text.
 std::string json_escape(std::string_view text);

@@ -50,13 +50,15 @@ RunFiles find_run(const std::filesystem::path& folder) {
   const bool compaction = run.kind == RunKind::compaction;
   const RunRecord record = run_record_of(run.csv, compaction ? punch_facts : plate_facts);
   run.metadata = record.path();
-  // A CSV from one stage beside the run.json of another is a folder mixed up by hand.
+  // A CSV from one stage beside the run.json of another is a folder mixed up by hand; calibrate
+  // writes either, the run of its fitted values.
   const std::string& stage = record.stage();
-  if (compaction ? stage != "compact"
-                 : (stage != "plate" && stage != "calibrate" && stage != "fem-plate"))
-    throw InputError(fmt::format("{}: stage \"{}\", but the folder holds {} (written by {})",
-                                 run.metadata.string(), stage, run.csv.filename().string(),
-                                 compaction ? "compact" : "plate, calibrate or fem-plate"));
+  if (stage != "calibrate" &&
+      (compaction ? stage != "compact" : (stage != "plate" && stage != "fem-plate")))
+    throw InputError(
+        fmt::format("{}: stage \"{}\", but the folder holds {} (written by {})",
+                    run.metadata.string(), stage, run.csv.filename().string(),
+                    compaction ? "compact or calibrate" : "plate, calibrate or fem-plate"));
   run.comments = csv_comments(run.csv);
   return run;
 }

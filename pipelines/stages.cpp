@@ -32,7 +32,8 @@ std::span<const Stage> registered_stages() {
             "the cheapest sub-sphere count and time step within a tolerance of the finest "
             "(a ladder of plate runs; the stability map)",
             scenarios::setup_advise_cli},
-      Stage{"calibrate", "fit BMS bond stiffnesses so a plate run matches a reference curve",
+      Stage{"calibrate",
+            "fit contact or bond parameters so a plate or compaction run matches a curve",
             scenarios::setup_calibrate_cli, scenarios::calibrate_options},
       Stage{"pack", "pack bodies (spheres, BMS, CMS) into a die: settle and pre-compress",
             packing::setup_pack_cli, packing::pack_options},

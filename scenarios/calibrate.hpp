@@ -22,6 +22,15 @@ namespace shapepress::scenarios {
 //   radius_multiplier                  λ̄
 std::vector<std::string> calibration_parameter_names();
 
+struct CalibrationEvaluation {
+  std::vector<double> values;
+  double rms_relative = 0.0;  // objective; +inf when the run failed
+  double wall_seconds = 0.0;
+  // Not run: taken from a resumed calibration's evaluations.csv or from an earlier evaluation
+  // of the same point.
+  bool reused = false;
+};
+
 struct CalibrationOptions {
   std::vector<std::string> parameters;
   std::vector<double> reference_deformation;  // increasing
@@ -33,13 +42,14 @@ struct CalibrationOptions {
   // Start values that replace the config's (name, value); the fitted parameters start from the
   // config's values otherwise.
   std::vector<std::pair<std::string, double>> start;
+  // Evaluations already made (a resumed calibration): a trial point equal to one of them takes
+  // its value without running again (calibrate_compaction.hpp).
+  std::vector<CalibrationEvaluation> known;
 };
 
-struct CalibrationEvaluation {
-  std::vector<double> values;
-  double rms_relative = 0.0;  // objective; +inf when the run failed
-  double wall_seconds = 0.0;
-};
+// The value of a known evaluation at exactly these parameters (a resumed calibration), if any.
+const CalibrationEvaluation* known_evaluation(const std::vector<CalibrationEvaluation>& known,
+                                              const std::vector<double>& values);
 
 struct CalibrationResult {
   PlateConfig config;  // with the fitted values

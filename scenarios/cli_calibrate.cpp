@@ -2,8 +2,11 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <omp.h>
+
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <sstream>
 
@@ -11,8 +14,12 @@
 #include "common/config.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/progress.hpp"
 #include "common/run_metadata.hpp"
+#include "common/sha256.hpp"
+#include "common/units.hpp"
 #include "scenarios/calibrate.hpp"
+#include "scenarios/calibrate_compaction.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/run_facts.hpp"
 
@@ -22,17 +29,161 @@ namespace {
 struct CalibrateCli {
   std::string config;
   std::string reference;
-  std::string x_column = "deformation";
-  std::string y_column = "F_tatara_N";
-  std::string fit = "modulus,shear_ratio";
-  std::string start;  // "name=value,..."
+  std::string x_column;  // plate: deformation; compaction: from the reference's column names
+  std::string y_column;  // plate: F_tatara_N
+  std::string fit;       // plate: modulus,shear_ratio; compaction: loading_stiffness
+  std::string start;     // "name=value,..."
   int count = 0;
   int fills = 0;
-  double from = 0.05;
-  double to = 0.40;
+  std::string from;  // plate: 0.05; compaction: the whole reference
+  std::string to;    // plate: 0.40
   int max_evaluations = 40;
-  double initial_factor = 4.0;
+  double initial_factor = 0.0;  // plate: 4; compaction: 2
+  std::string packing;
+  double density_scale = 0.0;  // 0: the config's
   std::string out;
+  std::string resume;
+};
+
+// How a calibration was started, in OUT/calibrate.json: `--resume OUT` runs it again with the
+// same arguments from the same folder, refusing a config or reference that changed since.
+constexpr const char* invocation_name = "calibrate.json";
+
+// The file a --reference names: the CSV itself, or a fem-plate run folder's force.csv.
+std::filesystem::path reference_file(const std::string& reference) {
+  return std::filesystem::is_directory(reference) ? std::filesystem::path(reference) / "force.csv"
+                                                  : std::filesystem::path(reference);
+}
+
+nlohmann::json invocation_json(const CalibrateCli& cli, const std::string& command_line) {
+  nlohmann::json j = {{"command_line", command_line},
+                      {"working_directory", std::filesystem::current_path().string()},
+                      {"config", cli.config},
+                      {"config_sha256", sha256_file(cli.config)},
+                      {"reference", cli.reference},
+                      {"reference_sha256", sha256_file(reference_file(cli.reference))},
+                      {"x_column", cli.x_column},
+                      {"y_column", cli.y_column},
+                      {"fit", cli.fit},
+                      {"start", cli.start},
+                      {"count", cli.count},
+                      {"fills", cli.fills},
+                      {"from", cli.from},
+                      {"to", cli.to},
+                      {"max_evaluations", cli.max_evaluations},
+                      {"initial_factor", cli.initial_factor},
+                      {"packing", cli.packing},
+                      {"density_scale", cli.density_scale},
+                      {"out", std::filesystem::absolute(cli.out).string()}};
+  if (!cli.packing.empty()) j["packing_sha256"] = sha256_file(cli.packing);
+  return j;
+}
+
+CalibrateCli resumed_arguments(const std::string& folder, std::string& command_line) {
+  const std::filesystem::path path = std::filesystem::path(folder) / invocation_name;
+  std::ifstream in(path);
+  if (!in)
+    throw InputError(fmt::format("--resume {}: no {} there (not a calibrate output folder)", folder,
+                                 invocation_name));
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+    CalibrateCli cli;
+    command_line = j.at("command_line").get<std::string>();
+    const std::string working = j.at("working_directory").get<std::string>();
+    std::error_code ec;
+    std::filesystem::current_path(working, ec);
+    if (ec)
+      throw InputError(
+          fmt::format("--resume {}: the calibration was started in {}, which is "
+                      "gone ({})",
+                      folder, working, ec.message()));
+    for (const auto& [file, hash] :
+         {std::pair{"config", "config_sha256"}, std::pair{"reference", "reference_sha256"},
+          std::pair{"packing", "packing_sha256"}}) {
+      const std::string given = j.at(file).get<std::string>();
+      if (given.empty()) continue;
+      const std::filesystem::path name = reference_file(given);
+      if (!std::filesystem::is_regular_file(name) || sha256_file(name) != j.at(hash))
+        throw InputError(fmt::format(
+            "--resume {}: the {} {} is missing or changed since the calibration started; a "
+            "resumed calibration needs the same one",
+            folder, file, name));
+    }
+    cli.config = j.at("config");
+    cli.reference = j.at("reference");
+    cli.x_column = j.at("x_column");
+    cli.y_column = j.at("y_column");
+    cli.fit = j.at("fit");
+    cli.start = j.at("start");
+    cli.count = j.at("count");
+    cli.fills = j.at("fills");
+    cli.from = j.at("from");
+    cli.to = j.at("to");
+    cli.max_evaluations = j.at("max_evaluations");
+    cli.initial_factor = j.at("initial_factor");
+    cli.packing = j.at("packing");
+    cli.density_scale = j.at("density_scale");
+    cli.out = j.at("out");
+    return cli;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: {}", path.string(), e.what()));
+  }
+}
+
+// The evaluations of an interrupted calibration (its evaluations.csv), for the search to reuse.
+std::vector<CalibrationEvaluation> known_evaluations(const std::filesystem::path& out,
+                                                     const std::vector<std::string>& parameters) {
+  std::vector<CalibrationEvaluation> known;
+  const std::filesystem::path path = out / "evaluations.csv";
+  if (!std::filesystem::exists(path)) return known;
+  const CsvTable table = read_csv(path);
+  std::vector<std::vector<double>> columns;
+  for (const std::string& name : parameters)
+    columns.push_back(table.column(name));
+  const std::vector<double> rms = table.column("rms_relative"), wall = table.column("wall_s");
+  for (std::size_t r = 0; r < rms.size(); ++r) {
+    CalibrationEvaluation e;
+    for (const std::vector<double>& c : columns)
+      e.values.push_back(c[r]);
+    e.rms_relative = rms[r];
+    e.wall_seconds = wall[r];
+    known.push_back(std::move(e));
+  }
+  return known;
+}
+
+// evaluations.csv, rewritten whole after every evaluation (atomically: a killed calibration
+// leaves every finished evaluation for --resume), values with 17 digits so they read back to
+// the same doubles.
+class EvaluationLog {
+ public:
+  EvaluationLog(std::filesystem::path path, std::vector<std::string> parameters,
+                std::string comment)
+      : path_(std::move(path)), parameters_(std::move(parameters)), comment_(std::move(comment)) {}
+  void add(const CalibrationEvaluation& e) {
+    std::vector<std::string> row = {std::to_string(rows_.size() + 1)};
+    for (double v : e.values)
+      row.push_back(fmt::format("{:.17g}", v));
+    row.push_back(fmt::format("{:.17g}", e.rms_relative));
+    row.push_back(fmt::format("{:.4g}", e.wall_seconds));
+    rows_.push_back(std::move(row));
+    std::vector<std::string> columns = {"evaluation"};
+    columns.insert(columns.end(), parameters_.begin(), parameters_.end());
+    columns.insert(columns.end(), {"rms_relative", "wall_s"});
+    CsvWriter csv(path_, columns);
+    csv.comment(comment_);
+    for (const std::vector<std::string>& r : rows_)
+      csv.row_text(r);
+    csv.commit();
+  }
+  std::size_t size() const { return rows_.size(); }
+
+ private:
+  std::filesystem::path path_;
+  std::vector<std::string> parameters_;
+  std::string comment_;
+  std::vector<std::vector<std::string>> rows_;
 };
 
 // Table 1 of Giannis et al. 2023, for the side-by-side report.
@@ -47,9 +198,176 @@ std::vector<std::string> split_names(const std::string& text) {
   return names;
 }
 
-// The reference curve: a CSV with the named columns, or the folder of a finished fem-plate run,
-// whose force.csv (deformation, top_force_N) is the particle's own FEM curve (issue 26). The FEM
-// run must have reached its last increment and pressed a sphere of the config's radius: a BMS
+// What the command line brought beside the stage's options.
+struct Invocation {
+  std::string command_line;
+  bool resumed = false;
+  bool quiet = false;
+};
+
+void write_invocation(const std::filesystem::path& out, const CalibrateCli& cli,
+                      const Invocation& invocation) {
+  if (invocation.resumed) return;  // it is the first start's
+  write_file_atomically(out / invocation_name,
+                        invocation_json(cli, invocation.command_line).dump(2) + "\n");
+}
+
+std::vector<std::pair<std::string, double>> start_values(const std::string& text) {
+  std::vector<std::pair<std::string, double>> start;
+  for (const std::string& item : split_names(text)) {
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos)
+      throw InputError("--start '" + item + "': expected name=value (e.g. modulus=5e6)");
+    try {
+      start.emplace_back(item.substr(0, eq), std::stod(item.substr(eq + 1)));
+    } catch (const std::exception&) {
+      throw InputError("--start '" + item + "': the value is not a number");
+    }
+  }
+  return start;
+}
+
+// A window bound: a number in the x axis' SI unit or a quantity ("20 MPa", "30 %").
+double window_bound(const std::string& text, Dimension dimension, std::string_view option) {
+  return parse_quantity(text, dimension, option);
+}
+
+void report_evaluation(std::size_t index, const CalibrationEvaluation& e,
+                       ProgressReporter& progress) {
+  spdlog::info(
+      "calibrate: evaluation {}: {} -> RMS {:.4f} ({})", index, fmt::join(e.values, ", "),
+      e.rms_relative,
+      e.reused ? std::string("reused, not run again") : fmt::format("{:.2f} s", e.wall_seconds));
+  progress.update(static_cast<double>(index));
+}
+
+int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
+                               const Invocation& invocation) {
+  RunMetadata meta("calibrate", invocation.command_line);
+  meta.input("config", cli.config);
+  CompactConfig config = read_compact_config(root);
+  root.check_unknown_keys();
+  if (cli.count > 0 || cli.fills > 0)
+    throw InputError("calibrate: --count and --fills are for a plate config's [bms] particle");
+  CompactionCalibrationOptions options;
+  options.reference = analysis::read_measured_curve(cli.reference, cli.x_column, cli.y_column);
+  meta.input("reference", cli.reference);
+  if (!cli.packing.empty()) meta.input("packing", cli.packing);
+  options.parameters = split_names(cli.fit.empty() ? "loading_stiffness" : cli.fit);
+  options.start = start_values(cli.start);
+  const Dimension x_dimension = options.reference.axes == analysis::MeasuredAxes::stress_strain
+                                    ? dim::dimensionless
+                                    : dim::pressure;
+  options.from = cli.from.empty() ? -HUGE_VAL : window_bound(cli.from, x_dimension, "--from");
+  options.to = cli.to.empty() ? HUGE_VAL : window_bound(cli.to, x_dimension, "--to");
+  options.max_evaluations = cli.max_evaluations;
+  options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 2.0;
+  if (cli.density_scale > 0.0) options.density_scale = cli.density_scale;
+  const std::filesystem::path out(cli.out);
+  ensure_output_folder(out);
+  if (invocation.resumed) options.known = known_evaluations(out, options.parameters);
+  const std::string x_unit = x_dimension == dim::pressure ? " Pa" : "";  // solid fraction: none
+  EvaluationLog log(
+      out / "evaluations.csv", options.parameters,
+      fmt::format("shapepress calibrate: RMS relative {} error against {} ({}, {}) "
+                  "over x in [{:g}, {:g}]{}{}",
+                  analysis::axes_name(options.reference.axes), cli.reference,
+                  options.reference.x_column, options.reference.y_column, options.from, options.to,
+                  x_unit,
+                  options.density_scale
+                      ? fmt::format("; evaluations with density_scale {}", *options.density_scale)
+                      : std::string()));
+  write_invocation(out, cli, invocation);
+  ProgressReporter progress("calibrate", options.max_evaluations,
+                            {.quiet = invocation.quiet, .unit = "runs"});
+  const int threads = omp_get_max_threads();
+  const CompactionCalibrationResult result = calibrate_compaction(
+      config, cli.packing, options, threads, [&](const CalibrationEvaluation& e) {
+        log.add(e);
+        report_evaluation(log.size(), e, progress);
+      });
+  progress.finish();
+  const analysis::MeasuredMismatch& error = result.error;
+  const std::string y_unit =
+      options.reference.axes == analysis::MeasuredAxes::stress_strain ? " Pa" : "";
+  std::string header = fmt::format(
+      "# shapepress calibrate --config {} --reference {} --fit {}{}\n"
+      "# fitted: {}\n"
+      "# {} against the reference at {} points, x in [{:g}, {:g}]{}: RMS {:.6g}{} ({:.4g} %), "
+      "largest {:.6g}{} at x = {:g}\n",
+      cli.config, cli.reference, fmt::join(options.parameters, ","),
+      cli.density_scale > 0.0 ? fmt::format(" --density-scale {}", cli.density_scale) : "",
+      [&] {
+        std::vector<std::string> items;
+        for (std::size_t k = 0; k < options.parameters.size(); ++k)
+          items.push_back(fmt::format("{} = {:.6g}", options.parameters[k], result.values[k]));
+        return fmt::format("{}", fmt::join(items, ", "));
+      }(),
+      analysis::axes_name(options.reference.axes), error.points, error.from, error.to, x_unit,
+      error.rms, y_unit, 100.0 * error.rms_relative, error.max, y_unit, error.at_max);
+  write_file_atomically(out / "calibrated.toml", header + compact_config_toml(result.config));
+  CsvWriter punch(out / "punch.csv", punch_csv_columns());
+  const PreparedCompaction& best = result.best.prepared;
+  punch.comment(fmt::format(
+      "shapepress calibrate: the run with the fitted values; strain from H0 = {:.10g} m; die "
+      "area {:.10g} m^2",
+      best.punch.reference_gap, best.setup.die_area));
+  if (options.density_scale)
+    punch.comment(fmt::format("mass scaling: particle density x {} (calibrate --density-scale)",
+                              *options.density_scale));
+  punch.comment("phase: 0 load, 1 hold, 2 unload, 3 done");
+  for (const PunchRecord& r : result.best.records)
+    punch.row(punch_csv_row(r));
+  punch.commit();
+  CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted"});
+  summary.comment(fmt::format(
+      "{} points of {} in [{:g}, {:g}]{}; rms = {:.6g}{}, rms_relative = {:.6g}, max = {:.6g}"
+      "{}, max_relative = {:.6g}; converged = {}; evaluations = {}",
+      error.points, cli.reference, error.from, error.to, x_unit, error.rms, y_unit,
+      error.rms_relative, error.max, y_unit, error.max_relative, result.converged ? 1 : 0,
+      result.evaluations.size()));
+  for (std::size_t k = 0; k < options.parameters.size(); ++k)
+    summary.row_text({options.parameters[k], fmt::format("{:.10g}", result.start[k]),
+                      fmt::format("{:.10g}", result.values[k])});
+  summary.commit();
+  // The folder is also a compaction run (punch.csv of the best fit), so `report` reads it.
+  CompactConfig scene = result.config;
+  if (options.density_scale) scene.density_scale = *options.density_scale;
+  add_compaction_facts(meta, scene, best.setup, best.punch.reference_gap, best.time_step,
+                       *best.engine, result.best.summary);
+  nlohmann::json fitted = nlohmann::json::object(), start = nlohmann::json::object();
+  for (std::size_t k = 0; k < options.parameters.size(); ++k) {
+    fitted[options.parameters[k]] = result.values[k];
+    start[options.parameters[k]] = result.start[k];
+  }
+  meta.fact("fitted", fitted)
+      .fact("start", start)
+      .fact("reference_axes", analysis::axes_name(options.reference.axes))
+      .fact("points_compared", error.points)
+      .fact("rms", error.rms)
+      .fact("max", error.max)
+      .fact("rms_relative", error.rms_relative)
+      .fact("max_relative", error.max_relative)
+      .fact("window", nlohmann::json::array({error.from, error.to}))
+      .fact("converged", result.converged)
+      .fact("evaluations", result.evaluations.size());
+  for (const char* name :
+       {"evaluations.csv", "calibrated.toml", "punch.csv", "calibration.csv", invocation_name})
+    meta.output(name);
+  meta.write(out / run_metadata_name);
+  fmt::print(
+      "calibrated on {} points of {}: RMS {:.6g}{} ({:.3g} %), largest {:.6g}{} after {} runs\n",
+      error.points, cli.reference, error.rms, y_unit, 100.0 * error.rms_relative, error.max, y_unit,
+      result.evaluations.size());
+  for (std::size_t k = 0; k < options.parameters.size(); ++k)
+    fmt::print("  {} = {:.6g} (start {:.6g})\n", options.parameters[k], result.values[k],
+               result.start[k]);
+  return 0;
+}
+
+// The plate reference curve: a CSV with the named columns, or the folder of a finished fem-plate
+// run, whose force.csv (deformation, top_force_N) is the particle's own FEM curve (issue 26). The
+// FEM run must have reached its last increment and pressed a sphere of the config's radius: a BMS
 // template is only calibrated against the particle it fills.
 struct ReferenceCurve {
   std::filesystem::path csv;
@@ -57,9 +375,10 @@ struct ReferenceCurve {
   std::string force_column;
 };
 
-ReferenceCurve read_reference(const CalibrateCli& cli, double radius) {
-  ReferenceCurve curve{cli.reference, {}, {}, cli.y_column};
-  std::string x_column = cli.x_column;
+ReferenceCurve read_plate_reference(const CalibrateCli& cli, double radius) {
+  ReferenceCurve curve{
+      cli.reference, {}, {}, cli.y_column.empty() ? std::string("F_tatara_N") : cli.y_column};
+  std::string x_column = cli.x_column.empty() ? std::string("deformation") : cli.x_column;
   if (std::filesystem::is_directory(cli.reference)) {
     const RunRecord record =
         RunRecord::read(std::filesystem::path(cli.reference) / run_metadata_name);
@@ -94,66 +413,55 @@ ReferenceCurve read_reference(const CalibrateCli& cli, double radius) {
   return curve;
 }
 
-int run(const CalibrateCli& cli, const RunContext& context) {
-  RunMetadata meta("calibrate", context.command_line);
-  const ConfigTable root = ConfigTable::load_file(cli.config);
+int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation& invocation) {
+  RunMetadata meta("calibrate", invocation.command_line);
   meta.input("config", cli.config);
   PlateConfig config = read_plate_config(root);
   root.check_unknown_keys();
   if (!config.bms) throw InputError(cli.config + ": calibrate needs a [bms] particle and [bond]");
   if (cli.count > 0) config.bms->count = cli.count;
   if (cli.fills > 0) config.bms->fills = cli.fills;
-  const ReferenceCurve reference = read_reference(cli, config.setup.radius);
+  const ReferenceCurve reference = read_plate_reference(cli, config.setup.radius);
   meta.input("reference", reference.csv);
   CalibrationOptions options;
-  options.parameters = split_names(cli.fit);
+  options.parameters = split_names(cli.fit.empty() ? "modulus,shear_ratio" : cli.fit);
   options.reference_deformation = reference.deformation;
+  const std::string& y_column = reference.force_column;
   options.reference_force = reference.force;
-  for (const std::string& item : split_names(cli.start)) {
-    const std::size_t eq = item.find('=');
-    if (eq == std::string::npos)
-      throw InputError("--start '" + item + "': expected name=value (e.g. modulus=5e6)");
-    try {
-      options.start.emplace_back(item.substr(0, eq), std::stod(item.substr(eq + 1)));
-    } catch (const std::exception&) {
-      throw InputError("--start '" + item + "': the value is not a number");
-    }
-  }
-  options.from = cli.from;
-  options.to = cli.to;
+  options.start = start_values(cli.start);
+  const double from =
+      cli.from.empty() ? 0.05 : window_bound(cli.from, dim::dimensionless, "--from");
+  const double to = cli.to.empty() ? 0.40 : window_bound(cli.to, dim::dimensionless, "--to");
+  options.from = from;
+  options.to = to;
   options.max_evaluations = cli.max_evaluations;
-  options.initial_factor = cli.initial_factor;
+  options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 4.0;
   const std::filesystem::path out(cli.out);
   ensure_output_folder(out);
-  std::vector<std::string> columns = {"evaluation"};
-  for (const std::string& name : options.parameters)
-    columns.push_back(name);
-  columns.insert(columns.end(), {"rms_relative", "wall_s"});
-  CsvWriter log(out / "evaluations.csv", columns);
-  log.comment(fmt::format(
-      "shapepress calibrate: {} sub-spheres, {} (seed {}), RMS relative force "
-      "error over deformation [{}, {}] against {}:{}",
-      config.bms->count,
-      config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
-                            : std::string("one fill"),
-      config.bms->seed, cli.from, cli.to, reference.csv.string(), reference.force_column));
-  int index = 0;
+  if (invocation.resumed) options.known = known_evaluations(out, options.parameters);
+  EvaluationLog log(
+      out / "evaluations.csv", options.parameters,
+      fmt::format("shapepress calibrate: {} sub-spheres, {} (seed {}), RMS relative force "
+                  "error over deformation [{}, {}] against {}:{}",
+                  config.bms->count,
+                  config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
+                                        : std::string("one fill"),
+                  config.bms->seed, from, to, reference.csv.string(), y_column));
+  write_invocation(out, cli, invocation);
+  ProgressReporter progress("calibrate", options.max_evaluations,
+                            {.quiet = invocation.quiet, .unit = "runs"});
   const CalibrationResult result =
       calibrate_plate(config, options, [&](const CalibrationEvaluation& e) {
-        std::vector<double> row = {static_cast<double>(++index)};
-        row.insert(row.end(), e.values.begin(), e.values.end());
-        row.insert(row.end(), {e.rms_relative, e.wall_seconds});
-        log.row(row);
-        spdlog::info("calibrate: evaluation {}: {} -> RMS {:.4f} ({:.2f} s)", index,
-                     fmt::join(e.values, ", "), e.rms_relative, e.wall_seconds);
+        log.add(e);
+        report_evaluation(log.size(), e, progress);
       });
-  log.commit();
+  progress.finish();
   write_file_atomically(
       out / "calibrated.toml",
       fmt::format("# shapepress calibrate --config {} --reference {} --fit {} (N = {}):\n"
                   "# RMS relative error {:.5f} over deformation [{}, {}]\n",
-                  cli.config, cli.reference, cli.fit, config.bms->count, result.rms_relative,
-                  cli.from, cli.to) +
+                  cli.config, cli.reference, fmt::join(options.parameters, ","), config.bms->count,
+                  result.rms_relative, from, to) +
           plate_config_toml(result.config));
   write_force_csv(out / "force.csv", result.best, result.config, true);
   // Fitted values beside the start and the paper's (per unit area k̄n, k̄s at this fill).
@@ -162,7 +470,7 @@ int run(const CalibrateCli& cli, const RunContext& context) {
       "N = {}, fills = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = "
       "{:.6g} over [{}, {}]; converged = {}; evaluations = {}",
       result.best.spheres, result.best.fills(), result.best.sub_sphere_radius, result.rms_relative,
-      result.max_relative, cli.from, cli.to, result.converged ? 1 : 0, result.evaluations.size()));
+      result.max_relative, from, to, result.converged ? 1 : 0, result.evaluations.size()));
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
     summary.row_text({options.parameters[k], format_number(result.start[k]),
                       format_number(result.values[k]), ""});
@@ -186,16 +494,17 @@ int run(const CalibrateCli& cli, const RunContext& context) {
       .fact("start", start)
       .fact("rms_relative", result.rms_relative)
       .fact("max_relative", result.max_relative)
-      .fact("window_deformation", nlohmann::json::array({cli.from, cli.to}))
+      .fact("window_deformation", nlohmann::json::array({from, to}))
       .fact("converged", result.converged)
       .fact("evaluations", result.evaluations.size())
       .fact("bond_normal_stiffness_N_per_m3", kn)
       .fact("bond_shear_stiffness_N_per_m3", ks);
-  for (const char* name : {"evaluations.csv", "calibrated.toml", "force.csv", "calibration.csv"})
+  for (const char* name :
+       {"evaluations.csv", "calibrated.toml", "force.csv", "calibration.csv", invocation_name})
     meta.output(name);
   meta.write(out / run_metadata_name);
   fmt::print("calibrated N = {}: RMS {:.4f}, max {:.4f} over [{}, {}] after {} runs\n",
-             result.best.spheres, result.rms_relative, result.max_relative, cli.from, cli.to,
+             result.best.spheres, result.rms_relative, result.max_relative, from, to,
              result.evaluations.size());
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
     fmt::print("  {} = {:.6g} (start {:.6g})\n", options.parameters[k], result.values[k],
@@ -205,50 +514,100 @@ int run(const CalibrateCli& cli, const RunContext& context) {
   return 0;
 }
 
+int run(const CalibrateCli& given, const RunContext& context) {
+  Invocation invocation{context.command_line, !given.resume.empty(), context.quiet};
+  const CalibrateCli cli =
+      given.resume.empty() ? given : resumed_arguments(given.resume, invocation.command_line);
+  if (cli.config.empty() || cli.reference.empty() || cli.out.empty())
+    throw InputError("calibrate: give --config, --reference and --out (or --resume OUT)");
+  const ConfigTable root = ConfigTable::load_file(cli.config);
+  // A compaction config has a punch program; a plate config has none.
+  if (root.has("punch")) return run_compaction_calibration(cli, root, invocation);
+  if (!cli.packing.empty() || cli.density_scale > 0.0)
+    throw InputError("calibrate: --packing and --density-scale are for a compaction config");
+  return run_plate(cli, root, invocation);
+}
+
 }  // namespace
 
 StageOptions calibrate_options() {
-  return plate_config_options("calibrate");
+  StageOptions options = plate_config_options("calibrate");
+  options.help =
+      "A plate config (these keys), or a compact config: a config with [punch] is calibrated on "
+      "a compaction and takes compact's keys.";
+  return options;
 }
 
 StageRunner setup_calibrate_cli(CLI::App& app) {
   auto cli = std::make_shared<CalibrateCli>();
-  app.add_option("--config", cli->config, "plate config with [bms] and [bond] (the start values)")
-      ->required();
-  app.add_option("--reference", cli->reference,
-                 "reference curve CSV (e.g. the Tatara curve), or a fem-plate run folder (its "
-                 "force.csv: deformation, top_force_N)")
-      ->required();
-  app.add_option("--x-column", cli->x_column, "deformation column of the reference")
-      ->capture_default_str();
-  app.add_option("--y-column", cli->y_column, "force column of the reference [N]")
-      ->capture_default_str();
-  app.add_option("--fit", cli->fit,
-                 "parameters, comma-separated: modulus, shear_ratio, normal_stiffness, "
-                 "shear_stiffness, contact_modulus, radius_multiplier")
-      ->capture_default_str();
-  app.add_option("--start", cli->start,
-                 "start values replacing the config's, in SI units: name=value,... "
-                 "(e.g. modulus=3e6,contact_modulus=1.85e9)");
-  app.add_option("--count", cli->count, "sub-spheres (overrides bms.count)")
-      ->check(CLI::Range(1, 1000000));
-  app.add_option("--fills", cli->fills,
-                 "fit the mean curve of this many fills (seeds seed, seed + 1, …; overrides "
-                 "bms.fills)")
-      ->check(CLI::Range(1, 1000));
-  app.add_option("--from", cli->from, "objective window: lowest deformation")
-      ->capture_default_str();
-  app.add_option("--to", cli->to, "objective window: highest deformation")->capture_default_str();
-  app.add_option("--max-evaluations", cli->max_evaluations, "plate runs at most")
-      ->capture_default_str();
-  app.add_option("--initial-factor", cli->initial_factor,
-                 "first simplex: each parameter times this factor (smaller when the start is "
-                 "already close)")
-      ->check(CLI::Range(1.01, 100.0))
-      ->capture_default_str();
-  app.add_option("--out", cli->out,
-                 "output folder (calibrated.toml, calibration.csv, evaluations.csv, force.csv)")
-      ->required();
+  auto* config = app.add_option("--config", cli->config,
+                                "plate config with [bms] and [bond], or compact config (with "
+                                "[punch]); the start values");
+  auto* reference = app.add_option(
+      "--reference", cli->reference,
+      "reference curve CSV: plate force (e.g. the Tatara curve); compaction stress-strain or "
+      "solid fraction-stress, the unit in each column name (strain_%, stress_MPa); or a "
+      "fem-plate run folder (its force.csv: deformation, top_force_N)");
+  auto* x_column = app.add_option("--x-column", cli->x_column,
+                                  "x column of the reference (plate: deformation; compaction: "
+                                  "found by name)");
+  auto* y_column = app.add_option("--y-column", cli->y_column,
+                                  "y column of the reference (plate: F_tatara_N [N]; compaction: "
+                                  "found by name)");
+  auto* fit = app.add_option(
+      "--fit", cli->fit,
+      "parameters, comma-separated. Plate (default modulus,shear_ratio): modulus, shear_ratio, "
+      "normal_stiffness, shear_stiffness, contact_modulus, radius_multiplier. Compaction "
+      "(default loading_stiffness): loading_stiffness, youngs_modulus, plasticity_ratio, "
+      "multicontact_prefactor, normal_stiffness, shear_stiffness");
+  auto* start = app.add_option("--start", cli->start,
+                               "start values replacing the config's, in SI units: "
+                               "name=value,... (e.g. modulus=3e6,contact_modulus=1.85e9)");
+  auto* count = app.add_option("--count", cli->count, "plate: sub-spheres (overrides bms.count)")
+                    ->check(CLI::Range(1, 1000000));
+  auto* fills = app.add_option("--fills", cli->fills,
+                               "plate: fit the mean curve of this many fills (seeds seed, seed + "
+                               "1, …; overrides bms.fills)")
+                    ->check(CLI::Range(1, 1000));
+  auto* from = app.add_option("--from", cli->from,
+                              "objective window, lowest x: plate deformation (0.05); compaction "
+                              "strain or stress with unit, e.g. 0.3 or 5MPa (default: all)");
+  auto* to = app.add_option("--to", cli->to, "objective window, highest x (plate: 0.40)");
+  auto* evaluations = app.add_option("--max-evaluations", cli->max_evaluations, "runs at most")
+                          ->capture_default_str();
+  auto* factor = app.add_option("--initial-factor", cli->initial_factor,
+                                "first simplex: each parameter times this factor (plate 4, "
+                                "compaction 2; smaller when the start is already close)")
+                     ->check(CLI::Range(1.01, 100.0));
+  auto* packing = app.add_option("--packing", cli->packing,
+                                 "compaction: the bed every evaluation presses (pack's "
+                                 "packed.h5, or spheres); default the config's [generate] bed, "
+                                 "settled once");
+  auto* density = app.add_option("--density-scale", cli->density_scale,
+                                 "compaction: mass scaling of the evaluations only (a cheaper "
+                                 "scene); calibrated.toml keeps the config's run.density_scale")
+                      ->check(CLI::PositiveNumber);
+  auto* out = app.add_option("--out", cli->out,
+                             "output folder (calibrated.toml, calibration.csv, evaluations.csv, "
+                             "force.csv or punch.csv, run.json)");
+  app.add_option("--resume", cli->resume,
+                 "continue the interrupted calibration in this output folder, with the arguments "
+                 "it was started with: evaluations in its evaluations.csv are not run again")
+      ->excludes(config)
+      ->excludes(reference)
+      ->excludes(x_column)
+      ->excludes(y_column)
+      ->excludes(fit)
+      ->excludes(start)
+      ->excludes(count)
+      ->excludes(fills)
+      ->excludes(from)
+      ->excludes(to)
+      ->excludes(evaluations)
+      ->excludes(factor)
+      ->excludes(packing)
+      ->excludes(density)
+      ->excludes(out);
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -166,11 +166,7 @@ int run(const CompactCli& given, const RunContext& context) {
   const Provenance provenance{
       command_line, root.text(),
       config.generate ? std::optional(config.generate->seed) : std::nullopt};
-  CsvWriter csv(
-      out / "punch.csv",
-      {"time_s", "step", "gap_m", "strain", "top_force_N", "bottom_force_N", "stress_Pa",
-       "solid_fraction", "phase", "kinetic_energy_J", "contacts", "wall_contacts",
-       "contacts_per_particle", "intact_bonds", "solid_fraction_spheres", "punch_work_J"});
+  CsvWriter csv(out / "punch.csv", punch_csv_columns());
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
                           prepared.punch.reference_gap, setup.die_area));
@@ -196,13 +192,7 @@ int run(const CompactCli& given, const RunContext& context) {
   csv.comment("phase: 0 load, 1 hold, 2 unload, 3 done");
   std::vector<SnapshotIndexEntry>& index = history.snapshots;
   CompactionHooks hooks;
-  hooks.record = [&](const PunchRecord& r) {
-    csv.row({r.time, static_cast<double>(r.step), r.gap, r.strain, r.top_force, r.bottom_force,
-             r.stress, r.solid_fraction, static_cast<double>(r.phase), r.kinetic_energy,
-             static_cast<double>(r.sphere_contacts), static_cast<double>(r.wall_contacts),
-             r.contacts_per_particle, static_cast<double>(r.intact_bonds), r.solid_fraction_spheres,
-             r.punch_work});
-  };
+  hooks.record = [&](const PunchRecord& r) { csv.row(punch_csv_row(r)); };
   hooks.snapshot = [&](const Engine& e, const PunchState& punch) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
     write_snapshot(out / "snapshots" / name, e, compaction_scenario_state(punch, setup),

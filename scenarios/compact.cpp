@@ -15,6 +15,44 @@ ScenarioState compaction_scenario_state(const PunchState& punch, const Compactio
   return state;
 }
 
+std::vector<std::string> punch_csv_columns() {
+  return {"time_s",
+          "step",
+          "gap_m",
+          "strain",
+          "top_force_N",
+          "bottom_force_N",
+          "stress_Pa",
+          "solid_fraction",
+          "phase",
+          "kinetic_energy_J",
+          "contacts",
+          "wall_contacts",
+          "contacts_per_particle",
+          "intact_bonds",
+          "solid_fraction_spheres",
+          "punch_work_J"};
+}
+
+std::vector<double> punch_csv_row(const PunchRecord& r) {
+  return {r.time,
+          static_cast<double>(r.step),
+          r.gap,
+          r.strain,
+          r.top_force,
+          r.bottom_force,
+          r.stress,
+          r.solid_fraction,
+          static_cast<double>(r.phase),
+          r.kinetic_energy,
+          static_cast<double>(r.sphere_contacts),
+          static_cast<double>(r.wall_contacts),
+          r.contacts_per_particle,
+          static_cast<double>(r.intact_bonds),
+          r.solid_fraction_spheres,
+          r.punch_work};
+}
+
 PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
                          const PunchState& punch) {
   const auto& walls = engine.walls();

@@ -4,6 +4,7 @@
 // this file holds the physics loop and no I/O (the CLI writes punch.csv and snapshots).
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 #include "scenarios/namespaces.hpp"
 
@@ -54,6 +55,10 @@ struct PunchRecord {
   double contacts_per_particle = 0.0;  // 2 × sphere–sphere contacts / N (LIGGGHTS contact/atom)
   std::int64_t intact_bonds = 0;       // BMS bonds not broken
 };
+
+// The columns of punch.csv, each with its unit, and one record as its row.
+std::vector<std::string> punch_csv_columns();
+std::vector<double> punch_csv_row(const PunchRecord& r);
 
 // What a run has produced so far beyond the engine and the punch: every record (the rows of
 // punch.csv at full precision, which the summary is judged over) and the steps taken. A

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/csv.hpp"
 #include "common/sha256.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
@@ -234,6 +235,69 @@ TEST(ReportE2e, IdenticalCompactionRunsHaveNoSpread) {
   ASSERT_EQ(match.size(), 3u) << json;
   EXPECT_EQ(match[2].str(), "0, 0, 0, 0, 0, 0, 0, 0, 0, 0");
   EXPECT_THAT(match[1].str(), HasSubstr("0.5713444712"));  // the common strain range's end
+}
+
+TEST(ReportE2e, ExperimentIsOverlaidWithItsErrorsAndTablesReadInMpaMmPercent) {
+  const auto dir = fresh_directory("analysis_experiment");
+  // A "measured" curve 10 % stiffer than the synthetic run at every loading strain, in percent
+  // and MPa: the run is 1/1.1 of it everywhere, 10 % of the 100 MPa peak (10 MPa) below at most.
+  const CsvTable run = read_csv(data / "compaction_run" / "punch.csv");
+  const auto strain = run.column("strain"), stress = run.column("stress_Pa"),
+             phase = run.column("phase"), density = run.column("solid_fraction");
+  std::string stress_strain = "# 1.1 x the synthetic run\nstrain_%,stress_MPa\n",
+              solid_fraction = "stress_kPa,solid_fraction\n";
+  int loading = 0;
+  for (std::size_t i = 0; i < phase.size() && phase[i] == 0.0; ++i, ++loading) {
+    std::ostringstream a, b;
+    a.precision(12), b.precision(12);
+    a << 100 * strain[i] << "," << 1.1e-6 * stress[i] << "\n";
+    b << 1e-3 * stress[i] << "," << density[i] << "\n";
+    stress_strain += a.str();
+    solid_fraction += b.str();
+  }
+  write_text(dir / "measured.csv", stress_strain);
+  write_text(dir / "density.csv", solid_fraction);
+  const auto r = run_shapepress("report " + quote(data / "compaction_run") + " --experiment " +
+                                quote(dir / "measured.csv") + " --experiment " +
+                                quote(dir / "density.csv") + " --out " + quote(dir / "r"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(dir / "r" / "metrics.json");
+  const auto json = nlohmann::json::parse(in);
+  const auto& e = json.at("experiments");
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_EQ(e[0].at("axes"), "stress-strain");
+  const auto& versus = e[0].at("runs").at(0);
+  EXPECT_EQ(versus.at("points").get<int>(), loading);
+  // 10-digit CSVs: relative rounding near 1e-9.
+  EXPECT_NEAR(versus.at("rms_relative").get<double>(), 0.1 / 1.1, 1e-7);
+  EXPECT_NEAR(versus.at("max_relative").get<double>(), 0.1 / 1.1, 1e-7);
+  EXPECT_NEAR(versus.at("max").get<double>(), 10e6, 1.0);
+  EXPECT_EQ(versus.at("unit"), "Pa");
+  EXPECT_EQ(e[1].at("axes"), "solid fraction-stress");  // the same curve: no error
+  EXPECT_NEAR(e[1].at("runs").at(0).at("rms").get<double>(), 0.0, 1e-9);
+  const std::string html = read_text(dir / "r" / "report.html");
+  EXPECT_THAT(html, HasSubstr("Against the experiment measured.csv"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"num\">9.091 %</td>"));
+  // The tables in the units people read: the 100 MPa peak, H0 in mm, fractions in %.
+  EXPECT_THAT(html, HasSubstr("peak_stress</td><td class=\"num\">100</td><td>MPa"));
+  EXPECT_THAT(html, HasSubstr("elastic_recovery</td><td class=\"num\">4</td><td>%"));
+  EXPECT_THAT(html, HasSubstr("H0</td><td class=\"num\">10.17</td><td>mm"));
+  const std::string tables =
+      html.substr(html.find("<h2>Metrics</h2>"),
+                  html.find("<h2>Provenance</h2>") - html.find("<h2>Metrics</h2>"));
+  EXPECT_THAT(tables, Not(HasSubstr("e+0")));
+  EXPECT_THAT(read_text(dir / "r" / "stress_strain.csv"), HasSubstr("measured measured.csv"));
+  // A curve without a strain or solid fraction column is exit 2 naming the file.
+  write_text(dir / "bad.csv", "stress_MPa,force_N\n1,2\n");
+  const auto bad = run_shapepress("report " + quote(data / "compaction_run") + " --experiment " +
+                                  quote(dir / "bad.csv") + " --out " + quote(dir / "r2"));
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_THAT(bad.output, HasSubstr("bad.csv"));
+  write_text(dir / "unit.csv", "strain,stress_N\n0.1,2\n");
+  const auto unit = run_shapepress("report " + quote(data / "compaction_run") + " --experiment " +
+                                   quote(dir / "unit.csv") + " --out " + quote(dir / "r3"));
+  EXPECT_EQ(unit.exit_code, 2) << unit.output;
+  EXPECT_THAT(unit.output, HasSubstr("stress_N"));
 }
 
 TEST(ReportE2e, BadInputIsExitTwoNamingTheFileOrColumn) {

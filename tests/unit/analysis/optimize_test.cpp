@@ -77,6 +77,41 @@ TEST(NelderMead, ProgressCanStopTheSearchAndBudgetIsHonoured) {
   EXPECT_THROW(minimize_nelder_mead(rosenbrock, {0.5, 0.5}, options), InputError);
 }
 
+TEST(NelderMead, BatchedSearchAsksTheSamePointsAndGroupsTheIndependentOnes) {
+  // The batched search is the one search: the same trial points in the same order, the first
+  // simplex (n + 1 points) handed over at once, and every batch but the shrinks one point.
+  NelderMeadOptions options;
+  options.lower = {-2.0, -2.0};
+  options.upper = {2.0, 2.0};
+  options.max_evaluations = 300;
+  std::vector<std::vector<double>> plain_points, batched_points;
+  const MinimumResult plain = minimize_nelder_mead(
+      [&](const std::vector<double>& p) {
+        plain_points.push_back(p);
+        return rosenbrock(p);
+      },
+      {-1.2, 1.0}, options);
+  std::vector<std::size_t> batch_sizes;
+  const MinimumResult batched = minimize_nelder_mead_batched(
+      [&](const std::vector<std::vector<double>>& points) {
+        batch_sizes.push_back(points.size());
+        std::vector<double> values;
+        for (const auto& p : points) {
+          batched_points.push_back(p);
+          values.push_back(rosenbrock(p));
+        }
+        return values;
+      },
+      {-1.2, 1.0}, options);
+  EXPECT_EQ(batched_points, plain_points);
+  EXPECT_EQ(batched.parameters, plain.parameters);
+  EXPECT_EQ(batched.evaluations, plain.evaluations);
+  ASSERT_FALSE(batch_sizes.empty());
+  EXPECT_EQ(batch_sizes.front(), 3u);
+  for (std::size_t k = 1; k < batch_sizes.size(); ++k)
+    EXPECT_TRUE(batch_sizes[k] == 1u || batch_sizes[k] == 2u) << k;  // one trial, or a shrink
+}
+
 TEST(Brent, MinimisesAParabolaAndACosine) {
   ScalarMinimum m = minimize_brent([](double x) { return (x - 0.3) * (x - 0.3) + 2; }, -1, 4);
   // x tolerance 1e-8 (default), and √ε·|x| is the floor at a flat minimum.

@@ -1,0 +1,328 @@
+#include "scenarios/calibrate_compaction.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "analysis/optimize.hpp"
+#include "common/error.hpp"
+
+namespace shapepress::scenarios {
+
+std::vector<std::string> compaction_parameter_names() {
+  return {"loading_stiffness",      "youngs_modulus",   "plasticity_ratio",
+          "multicontact_prefactor", "normal_stiffness", "shear_stiffness"};
+}
+
+namespace {
+
+bool is_law_parameter(const std::string& name) {
+  return name == "loading_stiffness" || name == "plasticity_ratio" ||
+         name == "multicontact_prefactor";
+}
+
+// The multi-contact laws of the particles' interactions (with each other first, then with the
+// walls): the paper states one k1, λp and β for the powder, so a fit moves them together.
+std::vector<MulticontactLaw*> particle_laws(CompactConfig& c, const std::string& name) {
+  std::vector<MulticontactLaw*> laws;
+  for (Interaction& in : c.materials.interactions) {
+    if (in.first != c.particle_material && in.second != c.particle_material) continue;
+    if (auto* law = std::get_if<MulticontactLaw>(&in.normal_law)) {
+      if (in.first == in.second)
+        laws.insert(laws.begin(), law);
+      else
+        laws.push_back(law);
+    }
+  }
+  if (laws.empty())
+    throw InputError(
+        fmt::format("calibrate: '{}' needs an [[interaction]] of material '{}' with normal_law = "
+                    "\"multicontact\"",
+                    name, c.particle_material));
+  return laws;
+}
+
+Material& particle_material(CompactConfig& c) {
+  for (Material& m : c.materials.materials)
+    if (m.name == c.particle_material) return m;
+  throw InputError("calibrate: unknown particle material '" + c.particle_material + "'");
+}
+
+BondParameters& bond_of(CompactConfig& c, const std::string& name) {
+  if (!c.bond)
+    throw InputError("calibrate: '" + name + "' needs a [bond] table (a packing of BMS bodies)");
+  if (c.bond->modulus > 0.0)
+    throw InputError("calibrate: '" + name +
+                     "' needs [bond] normal_stiffness/shear_stiffness (the config gives modulus)");
+  return *c.bond;
+}
+
+// Hertz's k1 = 4/3 E* √R* for two particles of the mean of the bed's diameter bounds (R* = d/4),
+// the start of a k1 fit whose config takes k1 from E.
+double hertz_loading_stiffness(CompactConfig& c) {
+  if (!c.generate)
+    throw InputError(
+        "calibrate: the config's multi-contact law takes k1 from E (no loading_stiffness) and "
+        "has no [generate] to take a particle size from: give a start with --start "
+        "loading_stiffness=VALUE (N/m^1.5)");
+  const Material& m = particle_material(c);
+  const double e_star = m.youngs_modulus / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio));
+  const double d = 0.5 * (c.generate->diameter_min + c.generate->diameter_max);
+  return 4.0 / 3.0 * e_star * std::sqrt(0.25 * d);
+}
+
+// Log-space bounds: six decades either side of the start, and λp ≤ 1 (Eq. 6: k2 ≥ k1).
+std::pair<double, double> log_bounds(const std::string& name, double start) {
+  const double decades = std::log(1e6);
+  double upper = std::log(start) + decades;
+  if (name == "plasticity_ratio") upper = std::min(upper, 0.0);
+  return {std::log(start) - decades, upper};
+}
+
+analysis::PunchCurve punch_curve(const CompactionTrial& trial) {
+  analysis::PunchCurve c;
+  for (const PunchRecord& r : trial.records) {
+    c.time.push_back(r.time);
+    c.gap.push_back(r.gap);
+    c.top_force.push_back(r.top_force);
+    c.stress.push_back(r.stress);
+    c.solid_fraction.push_back(r.solid_fraction);
+    c.phase.push_back(static_cast<int>(r.phase));
+  }
+  c.reference_gap = trial.prepared.punch.reference_gap;
+  c.die_area = trial.prepared.setup.die_area;
+  return c;
+}
+
+}  // namespace
+
+double get_parameter(const CompactConfig& config, const std::string& name) {
+  CompactConfig c = config;
+  if (name == "youngs_modulus") return particle_material(c).youngs_modulus;
+  if (is_law_parameter(name)) {
+    const MulticontactParameters& p = particle_laws(c, name).front()->parameters;
+    if (name == "plasticity_ratio") return p.plasticity_ratio;
+    if (name == "multicontact_prefactor") return p.prefactor;
+    return p.loading_stiffness ? *p.loading_stiffness : hertz_loading_stiffness(c);
+  }
+  if (name == "normal_stiffness") return bond_of(c, name).normal_stiffness;
+  if (name == "shear_stiffness") return bond_of(c, name).shear_stiffness;
+  throw InputError(fmt::format("calibrate: unknown compaction parameter '{}' (known: {})", name,
+                               fmt::join(compaction_parameter_names(), ", ")));
+}
+
+void set_parameter(CompactConfig& config, const std::string& name, double value) {
+  if (name == "youngs_modulus") {
+    particle_material(config).youngs_modulus = value;
+  } else if (is_law_parameter(name)) {
+    for (MulticontactLaw* law : particle_laws(config, name)) {
+      MulticontactParameters& p = law->parameters;
+      if (name == "plasticity_ratio")
+        p.plasticity_ratio = value;
+      else if (name == "multicontact_prefactor")
+        p.prefactor = value;
+      else
+        p.loading_stiffness = value;
+    }
+  } else if (name == "normal_stiffness") {
+    bond_of(config, name).normal_stiffness = value;
+  } else if (name == "shear_stiffness") {
+    bond_of(config, name).shear_stiffness = value;
+  } else {
+    throw InputError(fmt::format("calibrate: unknown compaction parameter '{}' (known: {})", name,
+                                 fmt::join(compaction_parameter_names(), ", ")));
+  }
+}
+
+CompactionBed compaction_bed(const CompactConfig& config, const std::filesystem::path& packing) {
+  if (config.clumps)
+    throw InputError(
+        "calibrate: [clumps] are inserted at random for every run; calibrate on a packing made "
+        "by `pack` (--packing) instead");
+  CompactionBed bed;
+  bed.punch = std::numeric_limits<double>::quiet_NaN();
+  if (!packing.empty()) {
+    if (is_body_packing(packing))
+      bed.bodies = read_packing(packing);
+    else
+      bed.spheres = read_spheres(packing);
+    return bed;
+  }
+  // Poured and settled once; the punch then starts where compact would start it, on its top.
+  const PreparedCompaction settled = prepare_compaction(config, std::nullopt);
+  const SphereState& s = settled.engine->state();
+  bed.spheres = SphereList{};
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    bed.spheres->x.push_back(s.position.x[i]);
+    bed.spheres->y.push_back(s.position.y[i]);
+    bed.spheres->z.push_back(s.position.z[i]);
+    bed.spheres->radius.push_back(s.radius[i]);
+  }
+  bed.punch = settled.engine->walls()[settled.setup.punch_wall].position;
+  return bed;
+}
+
+CompactionTrial run_compaction_trial(const CompactConfig& config, const CompactionBed& bed) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CompactionTrial trial;
+  CompactConfig c = config;
+  if (!std::isnan(bed.punch)) c.punch = bed.punch;
+  trial.prepared =
+      bed.bodies ? prepare_compaction(c, *bed.bodies) : prepare_compaction(c, bed.spheres);
+  CompactionHooks hooks;
+  hooks.record = [&](const PunchRecord& r) { trial.records.push_back(r); };
+  PreparedCompaction& p = trial.prepared;
+  trial.summary = run_compaction(*p.engine, p.setup, p.punch, hooks);
+  trial.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return trial;
+}
+
+analysis::MeasuredMismatch trial_mismatch(const CompactionTrial& trial,
+                                          const analysis::MeasuredCurve& reference, double from,
+                                          double to) {
+  return analysis::compare_with_measured(
+      analysis::simulated_loading(punch_curve(trial), reference.axes), reference.loading(), from,
+      to);
+}
+
+CompactionCalibrationResult calibrate_compaction(
+    const CompactConfig& config, const std::filesystem::path& packing,
+    const CompactionCalibrationOptions& options, int threads,
+    const std::function<void(const CalibrationEvaluation&)>& progress) {
+  if (options.parameters.empty()) throw InputError("calibrate: no parameter to fit");
+  if (!(options.to > options.from))
+    throw InputError(
+        fmt::format("calibrate: window [{}, {}] must have from < to", options.from, options.to));
+  if (options.max_evaluations < 2) throw InputError("calibrate: --max-evaluations must be >= 2");
+  CompactionCalibrationResult result;
+  result.config = config;
+  CompactConfig base = config;
+  if (options.density_scale) base.density_scale = *options.density_scale;
+  for (const auto& [name, value] : options.start) {
+    if (!(value > 0.0))
+      throw InputError(fmt::format("calibrate: start value of {} = {} must be > 0", name, value));
+    set_parameter(base, name, value);
+  }
+  analysis::NelderMeadOptions nm;
+  std::vector<double> start_log;
+  for (const std::string& name : options.parameters) {
+    const double v = get_parameter(base, name);
+    if (!(v > 0.0))
+      throw InputError(fmt::format("calibrate: start value of {} = {} must be > 0", name, v));
+    result.start.push_back(v);
+    set_parameter(base, name, v);  // a k1 taken from E becomes the stated start
+    start_log.push_back(std::log(v));
+    const auto [lower, upper] = log_bounds(name, v);
+    nm.lower.push_back(lower);
+    nm.upper.push_back(upper);
+    nm.initial_step.push_back(std::log(options.initial_factor));
+  }
+  nm.max_evaluations = options.max_evaluations;
+  nm.value_tolerance = 1e-4;      // 0.01 % RMS, below the curve's resolution
+  nm.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
+  // The bed is the config's: poured and settled with its own values (the start values are the
+  // search's, not the powder's), so a `compact` run of the config presses the same bed.
+  CompactConfig pour = config;
+  pour.density_scale = base.density_scale;
+  const CompactionBed bed = compaction_bed(pour, packing);
+  const auto configured = [&](const CompactConfig& from, const std::vector<double>& values) {
+    CompactConfig c = from;
+    for (std::size_t k = 0; k < values.size(); ++k)
+      set_parameter(c, options.parameters[k], values[k]);
+    return c;
+  };
+  const auto window_error = [&](const CompactionTrial& trial) {
+    const analysis::MeasuredMismatch m =
+        trial_mismatch(trial, options.reference, options.from, options.to);
+    if (m.points == 0)
+      throw InputError(fmt::format(
+          "calibrate: no point of {} in the window [{}, {}] lies on the run's loading curve",
+          options.reference.source.string(), options.from, options.to));
+    return m;
+  };
+  std::optional<CompactionTrial> best;
+  std::vector<double> best_values;
+  double best_value = HUGE_VAL;
+  const analysis::BatchObjective objective = [&](const std::vector<std::vector<double>>& points) {
+    const std::size_t n = points.size();
+    std::vector<CalibrationEvaluation> evaluations(n);
+    std::vector<std::optional<CompactionTrial>> trials(n);
+    std::vector<std::exception_ptr> errors(n);
+    std::vector<std::size_t> to_run;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (double v : points[i])
+        evaluations[i].values.push_back(std::exp(v));
+      // A point of a resumed calibration's file, or one this search has run before (a
+      // contraction can land on an earlier vertex): the same run would give the same value.
+      const CalibrationEvaluation* known = known_evaluation(options.known, evaluations[i].values);
+      if (!known) known = known_evaluation(result.evaluations, evaluations[i].values);
+      if (known) {
+        evaluations[i] = *known;
+        evaluations[i].reused = true;
+      } else {
+        to_run.push_back(i);
+      }
+    }
+    const auto run_one = [&](std::size_t i) {
+      try {
+        trials[i] = run_compaction_trial(configured(base, evaluations[i].values), bed);
+        evaluations[i].wall_seconds = trials[i]->wall_seconds;
+        evaluations[i].rms_relative = window_error(*trials[i]).rms_relative;
+      } catch (const ComputationError&) {
+        // A diverged trial is a bad point, not the end of the search.
+        evaluations[i].rms_relative = std::numeric_limits<double>::infinity();
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    };
+    const int side_by_side = std::min(threads, static_cast<int>(to_run.size()));
+    if (side_by_side <= 1) {
+      for (std::size_t i : to_run)
+        run_one(i);  // one trial: its engine takes the threads
+    } else {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(side_by_side)
+      for (std::size_t k = 0; k < to_run.size(); ++k) {
+        omp_set_num_threads(1);  // each trial's engine on one thread: the same bits
+        run_one(to_run[k]);
+      }
+    }
+    for (const std::exception_ptr& e : errors)
+      if (e) std::rethrow_exception(e);
+    std::vector<double> values;
+    for (std::size_t i = 0; i < n; ++i) {
+      const CalibrationEvaluation& e = evaluations[i];
+      result.evaluations.push_back(e);
+      if (progress) progress(e);
+      const double value = std::isfinite(e.rms_relative) ? e.rms_relative : 1e6;
+      // The best run so far is kept, so the fit's curve needs no extra run (ties: the first,
+      // as the search takes it).
+      if (trials[i] && value < best_value) {
+        best_value = value;
+        best_values = e.values;
+        best = std::move(trials[i]);
+      }
+      values.push_back(value);
+    }
+    return values;
+  };
+  const analysis::MinimumResult found =
+      analysis::minimize_nelder_mead_batched(objective, start_log, nm);
+  for (double v : found.parameters)
+    result.values.push_back(std::exp(v));
+  result.converged = found.converged;
+  result.config = configured(config, result.values);
+  // The best point's run, unless a resumed calibration took its value from the file.
+  const CompactConfig scene = configured(base, result.values);
+  if (!best || best_values != result.values) best = run_compaction_trial(scene, bed);
+  result.error = window_error(*best);
+  result.best = std::move(*best);
+  return result;
+}
+
+}  // namespace shapepress::scenarios

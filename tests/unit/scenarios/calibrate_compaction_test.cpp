@@ -1,0 +1,79 @@
+// The parameters a compaction calibration fits, on a compact config
+// (scenarios/calibrate_compaction.hpp): a multi-contact parameter moves in every interaction of
+// the particles, E is the particle material's, and a config that takes k1 from E starts from
+// Hertz's k1 for its mean size.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
+#include <string>
+#include <variant>
+
+#include "common/config.hpp"
+#include "common/error.hpp"
+#include "scenarios/calibrate_compaction.hpp"
+#include "scenarios/config_io.hpp"
+#include "tests/support/files.hpp"
+
+namespace shapepress::scenarios {
+namespace {
+
+CompactConfig bed(const std::string& text) {
+  const ConfigTable root = ConfigTable::parse(text, "bed.toml");
+  CompactConfig c = read_compact_config(root);
+  root.check_unknown_keys();
+  return c;
+}
+
+const std::string shipped = shapepress::testing::test_data_text("scenarios/calibration-bed.toml");
+
+double k1_of(const Interaction& in) {
+  return *std::get<MulticontactLaw>(in.normal_law).parameters.loading_stiffness;
+}
+
+TEST(CompactionParameters, MultiContactParametersMoveInEveryParticleInteraction) {
+  CompactConfig c = bed(shipped);
+  EXPECT_DOUBLE_EQ(get_parameter(c, "loading_stiffness"), 2e6);
+  set_parameter(c, "loading_stiffness", 3e6);
+  set_parameter(c, "plasticity_ratio", 0.5);
+  set_parameter(c, "multicontact_prefactor", 2.0);
+  ASSERT_EQ(c.materials.interactions.size(), 2u);  // avicel–avicel and avicel–tool
+  for (const Interaction& in : c.materials.interactions) {
+    EXPECT_DOUBLE_EQ(k1_of(in), 3e6);
+    const auto& p = std::get<MulticontactLaw>(in.normal_law).parameters;
+    EXPECT_DOUBLE_EQ(p.plasticity_ratio, 0.5);
+    EXPECT_DOUBLE_EQ(p.prefactor, 2.0);
+  }
+  set_parameter(c, "youngs_modulus", 1e9);
+  EXPECT_DOUBLE_EQ(get_parameter(c, "youngs_modulus"), 1e9);
+  for (const Material& m : c.materials.materials)
+    if (m.name == "tool") {
+      EXPECT_DOUBLE_EQ(m.youngs_modulus, 7.62e10);  // the walls' stays
+    }
+  // The calibrated config written and read back carries the fitted values.
+  const CompactConfig again = bed(compact_config_toml(c));
+  EXPECT_DOUBLE_EQ(get_parameter(again, "loading_stiffness"), 3e6);
+  EXPECT_DOUBLE_EQ(get_parameter(again, "plasticity_ratio"), 0.5);
+}
+
+TEST(CompactionParameters, KOneFromEStartsAtHertzForTheMeanSize) {
+  const CompactConfig c =
+      bed(std::regex_replace(shipped, std::regex("loading_stiffness = 2e6\n"), ""));
+  // E* = E / (2 (1 - ν²)) of two avicel spheres, R* = d/4 for d = (250 + 350)/2 µm.
+  const double e_star = 2.58e8 / (2.0 * (1.0 - 0.09));
+  EXPECT_NEAR(get_parameter(c, "loading_stiffness"), 4.0 / 3.0 * e_star * std::sqrt(75e-6),
+              1e-9 * 1.6e6);
+}
+
+TEST(CompactionParameters, UnknownOrAbsentParametersAreInputErrors) {
+  CompactConfig c = bed(shipped);
+  EXPECT_THROW(get_parameter(c, "stiffness"), InputError);
+  EXPECT_THROW(set_parameter(c, "normal_stiffness", 1e6), InputError);  // no [bond]
+  CompactConfig hertz = bed(std::regex_replace(
+      std::regex_replace(shipped, std::regex("normal_law = \"multicontact\"\n"), ""),
+      std::regex("(plasticity_ratio|multicontact_prefactor|loading_stiffness) = [^\n]*\n"), ""));
+  EXPECT_THROW(get_parameter(hertz, "plasticity_ratio"), InputError);
+}
+
+}  // namespace
+}  // namespace shapepress::scenarios
