@@ -275,8 +275,19 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
   return split_touching_particles(mask, width, height, options);
 }
 
-LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
-                                    const SegmentOptions& options) {
+namespace {
+
+cv::Mat distance_map(const std::vector<std::uint8_t>& mask, int width, int height) {
+  cv::Mat m(height, width, CV_8U, const_cast<std::uint8_t*>(mask.data()));
+  cv::Mat binary = m != 0, dist;
+  cv::distanceTransform(binary, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return dist;
+}
+
+// Labels of the basins of the mask's distance map (split rule, fragments joined), no line
+// between them yet.
+LabelImage flood_distance_map(const std::vector<std::uint8_t>& mask, int width, int height,
+                              const SegmentOptions& options) {
   cv::Mat m(height, width, CV_8U, const_cast<std::uint8_t*>(mask.data()));
   cv::Mat binary = m != 0, dist;
   cv::distanceTransform(binary, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
@@ -347,12 +358,17 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
     if (label_of_root[r] == 0) label_of_root[r] = ++labels.count;
     labels.labels[i] = label_of_root[r];
   }
-  if (!options.split_lines) return labels;
+  return labels;
+}
 
-  // Of every two 8-neighbours with different labels, the one nearer the background (lower
-  // distance; on a tie, the later in raster order) is cleared: afterwards no two particles
-  // touch even diagonally, as after ImageJ's watershed lines, and the line is about one pixel
-  // wide. The pieces are then counted as 8-connected blobs, as ImageJ counts them.
+// Of every two 8-neighbours with different labels, the one nearer the background (lower
+// distance; on a tie, the later in raster order) is cleared: afterwards no two particles
+// touch even diagonally, as after ImageJ's watershed lines, and the line is about one pixel
+// wide. The pieces are then counted as 8-connected blobs, as ImageJ counts them.
+LabelImage separate_by_lines(const LabelImage& labels, const std::vector<std::uint8_t>& mask) {
+  const int width = labels.width, height = labels.height;
+  const cv::Mat dist = distance_map(mask, width, height);
+  const float* d = dist.ptr<float>(0);
   std::vector<std::uint8_t> kept(mask.begin(), mask.end());
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
@@ -373,9 +389,68 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
     }
   }
   cv::Mat lab, kept_mat(height, width, CV_8U, kept.data());
-  labels.count = cv::connectedComponents(kept_mat, lab, 8, CV_32S) - 1;
-  labels.labels.assign(lab.ptr<std::int32_t>(0), lab.ptr<std::int32_t>(0) + lab.total());
+  LabelImage separated{width, height, 0, {}};
+  separated.count = cv::connectedComponents(kept_mat, lab, 8, CV_32S) - 1;
+  separated.labels.assign(lab.ptr<std::int32_t>(0), lab.ptr<std::int32_t>(0) + lab.total());
+  return separated;
+}
+
+// Labels grown from the pieces of `core` over the rest of `mask` (core ⊆ mask), one 8-neighbour
+// ring per round, so each pixel takes the label of the nearest piece along the mask; blobs of
+// the mask without core get labels of their own.
+LabelImage grow_labels(LabelImage labels, const std::vector<std::uint8_t>& mask) {
+  const int width = labels.width, height = labels.height;
+  std::vector<std::int32_t>& l = labels.labels;
+  std::vector<std::int32_t> front;
+  for (std::size_t i = 0; i < l.size(); ++i)
+    if (l[i] != 0) front.push_back(static_cast<std::int32_t>(i));
+  while (!front.empty()) {
+    std::vector<std::pair<std::int32_t, std::int32_t>> claimed;  // pixel, label
+    for (std::int32_t p : front) {
+      const int x = p % width, y = p / width;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+          const std::int32_t q = ny * width + nx;
+          if (mask[q] && l[q] == 0) claimed.emplace_back(q, l[p]);
+        }
+      }
+    }
+    front.clear();
+    for (const auto& [q, label] : claimed) {
+      if (l[q] != 0) continue;  // claimed twice this round: the first piece keeps it
+      l[q] = label;
+      front.push_back(q);
+    }
+  }
+  std::vector<std::uint8_t> rest(mask.size(), 0);
+  for (std::size_t i = 0; i < l.size(); ++i)
+    rest[i] = mask[i] && l[i] == 0 ? 255 : 0;
+  cv::Mat lab, rest_mat(height, width, CV_8U, rest.data());
+  const int extra = cv::connectedComponents(rest_mat, lab, 8, CV_32S) - 1;
+  for (std::size_t i = 0; i < l.size(); ++i)
+    if (const std::int32_t r = lab.ptr<std::int32_t>(0)[i]; r > 0) l[i] = labels.count + r;
+  labels.count += extra;
   return labels;
+}
+
+}  // namespace
+
+LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
+                                    const SegmentOptions& options,
+                                    const std::vector<std::uint8_t>& gaps_open) {
+  std::vector<std::uint8_t> core(mask.size());
+  for (std::size_t i = 0; i < mask.size(); ++i)
+    core[i] = mask[i] && gaps_open[i] ? 255 : 0;
+  LabelImage labels = grow_labels(flood_distance_map(core, width, height, options), mask);
+  return options.split_lines ? separate_by_lines(labels, mask) : labels;
+}
+
+LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
+                                    const SegmentOptions& options) {
+  LabelImage labels = flood_distance_map(mask, width, height, options);
+  return options.split_lines ? separate_by_lines(labels, mask) : labels;
 }
 
 int imagej_default_threshold(std::array<long, 256> data) {
@@ -469,7 +544,8 @@ void fill_holes_per_particle(LabelImage& labels) {
 // is touching particles, and a hole in it is mostly a gap that they close around: filling it
 // would join them across it, leaving the split no saddle there (scikit-image's gravel: 99
 // particles with every hole filled, 224 in ImageJ's watershed, which splits before it fills).
-void fill_holes_of_convex_blobs(cv::Mat& mask, double solidity) {
+// Returns the pixels of the blobs so filled.
+cv::Mat fill_holes_of_convex_blobs(cv::Mat& mask, double solidity) {
   cv::Mat filled = mask.clone();
   fill_holes(filled);
   cv::Mat lab;
@@ -493,9 +569,15 @@ void fill_holes_of_convex_blobs(cv::Mat& mask, double solidity) {
     cv::convexHull(corners, hull);
     convex[l] = static_cast<double>(points[l].size()) >= solidity * cv::contourArea(hull);
   }
-  for (int y = 0; y < lab.rows; ++y)
-    for (int x = 0; x < lab.cols; ++x)
-      if (convex[lab.at<std::int32_t>(y, x)]) mask.at<std::uint8_t>(y, x) = 255;
+  cv::Mat convex_blobs = cv::Mat::zeros(mask.size(), CV_8U);
+  for (int y = 0; y < lab.rows; ++y) {
+    for (int x = 0; x < lab.cols; ++x) {
+      if (!convex[lab.at<std::int32_t>(y, x)]) continue;
+      mask.at<std::uint8_t>(y, x) = 255;
+      convex_blobs.at<std::uint8_t>(y, x) = 255;
+    }
+  }
+  return convex_blobs;
 }
 
 // Drops particles on the image edge and outside the size range; renumbers the rest 1..n.
@@ -612,8 +694,9 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
   // at), and left to the split when it is not (the gaps that touching stones close around).
   const bool imagej_order = options.split_touching && options.fill_holes_after_split;
   const bool by_convexity = options.split_touching && options.fill_holes && !imagej_order;
+  cv::Mat convex_blobs = cv::Mat::zeros(mask.size(), CV_8U);
   if (by_convexity) {
-    fill_holes_of_convex_blobs(mask, options.relief_solidity);
+    convex_blobs = fill_holes_of_convex_blobs(mask, options.relief_solidity);
   } else if (options.fill_holes && !imagej_order) {
     fill_holes(mask);
   }
@@ -621,7 +704,27 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
   if (options.split_touching) {
     std::vector<std::uint8_t> bits(mask.ptr<std::uint8_t>(0),
                                    mask.ptr<std::uint8_t>(0) + mask.total());
-    result.labels = split_touching_particles(bits, mask.cols, mask.rows, options);
+    const bool unsmoothed_gaps = options.split_gaps_unsmoothed &&
+                                 options.denoise != Denoise::none && result.threshold >= 0 &&
+                                 !imagej_order;
+    if (unsmoothed_gaps) {
+      // The same background and level applied to the image before smoothing: pixels that are
+      // particle there. The smoothing lifts a gap of one or two pixels between touching
+      // particles above the level; before it, the gap is below.
+      cv::Mat raw = to_mat(image);
+      if (!result.bright_particles) raw = 1.0 - raw;
+      double low = 0, high = 1;
+      cv::minMaxLoc(flat, &low, &high);
+      cv::Mat raw_unit = (raw - (smooth - flat) - low) / std::max(high - low, 1e-12);
+      // Only in concave blobs (touching particles): in a convex one, the dark pixels of the
+      // unsmoothed image are the particle's relief (a coin's design), not gaps.
+      cv::Mat open = (raw_unit > result.threshold) | convex_blobs;
+      std::vector<std::uint8_t> gaps_open(open.ptr<std::uint8_t>(0),
+                                          open.ptr<std::uint8_t>(0) + open.total());
+      result.labels = split_touching_particles(bits, mask.cols, mask.rows, options, gaps_open);
+    } else {
+      result.labels = split_touching_particles(bits, mask.cols, mask.rows, options);
+    }
     if (options.fill_holes && (imagej_order || by_convexity))
       fill_holes_per_particle(result.labels);
   } else {
