@@ -222,6 +222,11 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
                  "a piece the split cuts off below this fraction of the median area is joined "
                  "back to its neighbour (0: never)")
       ->capture_default_str();
+  app.add_option("--cluster-split-neck", cli->segment.cluster_split_neck,
+                 "a convex blob with holes is split as a cluster of touching particles around "
+                 "pores when maxima behind necks narrower than this x the smaller inscribed "
+                 "radius give 3 pieces or more")
+      ->capture_default_str();
   app.add_option("--relief-solidity", cli->segment.relief_solidity,
                  "holes are filled before the split in blobs at least this convex (area / hull "
                  "area), else split along (0: always filled first)")

@@ -57,6 +57,11 @@ struct SegmentOptions {
   // over the smoothed mask, whose outlines are measured. Convex blobs are split as smoothed
   // (their dark pixels are relief). Only with smoothing and a single threshold level.
   bool split_gaps_unsmoothed = true;
+  // A convex blob with holes is also split with its holes open, maxima kept apart only behind a
+  // neck narrower than this times the smaller inscribed radius; when that gives three pieces or
+  // more, the blob is a cluster of touching particles around pores and takes them
+  // (segment.cpp, split_pores_of_clusters).
+  double cluster_split_neck = 0.6;
   // With fill_holes and the default order, holes are filled before the split only in blobs at
   // least this convex (area / convex hull area): in them a hole is the particle's own relief;
   // in more concave blobs (touching particles) it is a gap between them, split along first.
@@ -87,10 +92,12 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
 LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
                                     const SegmentOptions& options);
 // Split along the gaps of `gaps_open` (non-zero where open for the split), pieces grown back over
-// `mask`.
+// `mask`; where `narrow_only` is non-zero, two maxima stay apart only if the neck rule
+// (split_neck) also says so.
 LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
                                     const SegmentOptions& options,
-                                    const std::vector<std::uint8_t>& gaps_open);
+                                    const std::vector<std::uint8_t>& gaps_open,
+                                    const std::vector<std::uint8_t>& narrow_only);
 
 // ImageJ's "Default" threshold of a 256-bin histogram: the level t (objects on one side: > t
 // or <= t) of its IsoData variant, which leaves the first and last bins out.
