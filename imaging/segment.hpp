@@ -60,7 +60,8 @@ struct SegmentOptions {
   // A convex blob with holes is also split with its holes open, maxima kept apart only behind a
   // neck narrower than this times the smaller inscribed radius; when that gives three pieces or
   // more, the blob is a cluster of touching particles around pores and takes them
-  // (segment.cpp, split_pores_of_clusters).
+  // (segment.cpp, split_pores_of_clusters). Only with split_gaps_unsmoothed in effect: without
+  // smoothing, the ragged relief of scikit-image's coins splits them into three or more.
   double cluster_split_neck = 0.6;
   // With fill_holes and the default order, holes are filled before the split only in blobs at
   // least this convex (area / convex hull area): in them a hole is the particle's own relief;
