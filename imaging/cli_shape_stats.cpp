@@ -30,6 +30,7 @@ struct ShapeStatsCli {
   bool keep_edges = false;
   bool no_split = false;
   std::string split;  // empty: the default (or the preset's)
+  std::string split_gaps = "unsmoothed";
   bool imagej = false;
   bool keep_holes = false;
   bool no_overlays = false;
@@ -91,6 +92,7 @@ int run(const ShapeStatsCli& cli, const RunContext& context) {
   options.segment.split_rule = split == "neck" ? SplitRule::neck : SplitRule::prominence;
   options.segment.split_lines = split != "neck";
   options.segment.fill_holes_after_split = split == "imagej";
+  options.segment.split_gaps_unsmoothed = cli.split_gaps == "unsmoothed";
   options.segment.fill_holes = !cli.keep_holes;
   options.segment.check();
   if (!cli.pixel_size.empty())
@@ -201,6 +203,11 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
                  "none, neck, prominence (default; ImageJ-like watershed) or imagej (ImageJ's "
                  "Watershed, in ImageJ's order: before holes are filled)")
       ->check(CLI::IsMember(split_names));
+  app.add_option("--split-gaps", cli->split_gaps,
+                 "unsmoothed: split along the gaps of the image before --denoise, measure the "
+                 "smoothed outlines; smoothed: split the smoothed mask")
+      ->check(CLI::IsMember({"unsmoothed", "smoothed"}))
+      ->capture_default_str();
   app.add_flag("--imagej", cli->imagej,
                "ImageJ's Analyze Particles as a user runs it: Default (IsoData) threshold, no "
                "smoothing or background, fill holes, exclude on edges, 8-connected; watershed "
@@ -214,6 +221,11 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
   app.add_option("--split-fragment", cli->segment.split_fragment_fraction,
                  "a piece the split cuts off below this fraction of the median area is joined "
                  "back to its neighbour (0: never)")
+      ->capture_default_str();
+  app.add_option("--cluster-split-neck", cli->segment.cluster_split_neck,
+                 "a convex blob with holes is split as a cluster of touching particles around "
+                 "pores when maxima behind necks narrower than this x the smaller inscribed "
+                 "radius give 3 pieces or more")
       ->capture_default_str();
   app.add_option("--relief-solidity", cli->segment.relief_solidity,
                  "holes are filled before the split in blobs at least this convex (area / hull "

@@ -51,6 +51,18 @@ struct SegmentOptions {
   // Split the mask as thresholded and fill each piece's holes afterwards, as ImageJ's
   // Watershed then Analyze Particles' "include holes" do (else holes are filled first).
   bool fill_holes_after_split = false;
+  // Split along the gaps of the image before smoothing, which closes gaps of 1–2 px between
+  // touching particles: in concave blobs (below relief_solidity) the distance map is that of the
+  // pixels that are particle both before and after the smoothing, and the pieces are grown back
+  // over the smoothed mask, whose outlines are measured. Convex blobs are split as smoothed
+  // (their dark pixels are relief). Only with smoothing and a single threshold level.
+  bool split_gaps_unsmoothed = true;
+  // A convex blob with holes is also split with its holes open, maxima kept apart only behind a
+  // neck narrower than this times the smaller inscribed radius; when that gives three pieces or
+  // more, the blob is a cluster of touching particles around pores and takes them
+  // (segment.cpp, split_pores_of_clusters). Only with split_gaps_unsmoothed in effect: without
+  // smoothing, the ragged relief of scikit-image's coins splits them into three or more.
+  double cluster_split_neck = 0.6;
   // With fill_holes and the default order, holes are filled before the split only in blobs at
   // least this convex (area / convex hull area): in them a hole is the particle's own relief;
   // in more concave blobs (touching particles) it is a gap between them, split along first.
@@ -80,6 +92,13 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
                                     double split_neck);
 LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
                                     const SegmentOptions& options);
+// Split along the gaps of `gaps_open` (non-zero where open for the split), pieces grown back over
+// `mask`; where `narrow_only` is non-zero, two maxima stay apart only if the neck rule
+// (split_neck) also says so.
+LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int width, int height,
+                                    const SegmentOptions& options,
+                                    const std::vector<std::uint8_t>& gaps_open,
+                                    const std::vector<std::uint8_t>& narrow_only);
 
 // ImageJ's "Default" threshold of a 256-bin histogram: the level t (objects on one side: > t
 // or <= t) of its IsoData variant, which leaves the first and last bins out.

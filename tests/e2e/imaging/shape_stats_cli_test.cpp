@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/support/command.hpp"
 
@@ -207,6 +211,58 @@ TEST_F(ShapeStatsCli, ImageJPresetAndGifInput) {
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("truncated.gif: cannot be read as an image"), std::string::npos)
       << bad.output;
+}
+
+// Issue 22: a 16-bit TIFF end to end. blobs16.tif holds blobs_raw.pgm's values × 257 (written by
+// ImageJ): shape-stats writes the same particles for both, row by row and column by column
+// (within float rounding: 1e-6 relative), image name aside; and a file in a format that is not
+// read (a Targa image) is an exit 2 naming it.
+TEST_F(ShapeStatsCli, SixteenBitTiffGivesTheParticlesOfItsEightBitTwin) {
+  const std::string data = std::string(SHAPEPRESS_TEST_DATA) + "/imaging/";
+  for (const char* image : {"blobs16.tif", "blobs_raw.pgm"}) {
+    auto run = run_shapepress("-q shape-stats " + data + image + " --polarity bright " +
+                              "--pixel-size 1m --no-overlays --out " + path(image));
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+  }
+  auto rows = [](const std::string& csv) {  // the numbers of each data row, image name left out
+    std::ifstream in(csv);
+    std::vector<std::vector<double>> table;
+    bool header = true;
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line[0] == '#') continue;
+      if (std::exchange(header, false)) continue;
+      std::vector<double> row;
+      std::istringstream fields(line.substr(line.find(',') + 1));
+      for (std::string field; std::getline(fields, field, ',');)
+        row.push_back(std::stod(field));
+      table.push_back(row);
+    }
+    return table;
+  };
+  const auto deep = rows(path("blobs16.tif/particles.csv"));
+  const auto eight = rows(path("blobs_raw.pgm/particles.csv"));
+  EXPECT_GT(deep.size(), 40u);
+  ASSERT_EQ(deep.size(), eight.size());
+  for (std::size_t i = 0; i < deep.size(); ++i) {
+    ASSERT_EQ(deep[i].size(), eight[i].size());
+    for (std::size_t k = 0; k < deep[i].size(); ++k)
+      EXPECT_NEAR(deep[i][k], eight[i][k], 1e-6 * std::max(1.0, std::abs(eight[i][k])))
+          << "particle " << i + 1 << " column " << k + 2;
+  }
+
+  // An uncompressed 2×2 true-colour Targa (a valid file): OpenCV reads no Targa.
+  {
+    std::ofstream tga(path("photo.tga"), std::ios::binary);
+    const unsigned char header[18] = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 2, 0, 24, 0};
+    tga.write(reinterpret_cast<const char*>(header), sizeof header);
+    for (int i = 0; i < 12; ++i)
+      tga.put(static_cast<char>(i * 20));
+  }
+  auto tga = run_shapepress("-q shape-stats " + path("photo.tga") + " --pixel-size 1um --out " +
+                            path("tga"));
+  EXPECT_EQ(tga.exit_code, 2) << tga.output;
+  EXPECT_NE(tga.output.find("photo.tga: cannot be read as an image"), std::string::npos)
+      << tga.output;
 }
 
 }  // namespace

@@ -134,6 +134,23 @@ TEST(Load, GifAppliesItsPaletteAndSixteenBitTiffKeepsItsValues) {
     ASSERT_NEAR(deep.image.pixels[i], raw.image.pixels[i], 1e-6f) << "pixel " << i;
 }
 
+// scikit-image's chessboard in 16 bits, little- and big-endian, as written by another program
+// than ImageJ (tifffile, values 0-255 in 16-bit words): both byte orders give the pixels of the
+// same chessboard in 8 bits.
+TEST(Load, SixteenBitTiffInBothByteOrders) {
+  LoadedImage eight = load_image(data + "chessboard_GRAY.png");
+  for (const char* name : {"chessboard_GRAY_U16.tif", "chessboard_GRAY_U16B.tif"}) {
+    SCOPED_TRACE(name);
+    LoadedImage deep = load_image(data + name);
+    EXPECT_EQ(deep.bit_depth, 16);
+    ASSERT_EQ(deep.image.width, eight.image.width);
+    ASSERT_EQ(deep.image.height, eight.image.height);
+    EXPECT_DOUBLE_EQ(deep.raw_max, eight.raw_max);  // scikit-image stores the 8-bit values
+    for (std::size_t i = 0; i < eight.image.pixels.size(); ++i)
+      ASSERT_NEAR(deep.image.pixels[i], eight.image.pixels[i], 1e-6f) << "pixel " << i;
+  }
+}
+
 TEST(Load, TruncatedGifIsNamedAsUnreadable) {
   fs::path gif = temp_path("truncated.gif");
   std::ofstream(gif, std::ios::binary) << "GIF89a\x10\x00";
