@@ -69,20 +69,14 @@ void with_scene_law(const MaterialTable& materials, F&& f) {
 // Σ l·f of sphere i's intact bonds with the sign of a contact's rc Fn (> 0 compressive): the
 // bond force acts at the bond centre, which divides the centre distance d = x_second - x_first
 // as ri : rj, so both ends give share × (d · F), F the force on `second` (a broken bond's is 0).
-// Bonds join sub-spheres of one body, smaller than half the box: the nearest image.
-double bond_arm_force(const BondSet& bonds, const SphereState& s, const Box& box, std::int64_t i) {
+// The bond loop leaves d · F in the bond's result.
+double bond_arm_force(const BondSet& bonds, std::int64_t i) {
   double sum = 0.0;
   for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
     const std::int32_t entry = bonds.gather[e];
     const BondSet::Constants& k = bonds.constants[entry >> 1];
-    const double* force = bonds.result[entry >> 1].force;
-    double dx = s.position.x[k.second] - s.position.x[k.first];
-    double dy = s.position.y[k.second] - s.position.y[k.first];
-    const double dz = s.position.z[k.second] - s.position.z[k.first];
-    if (box.periodic_x()) dx -= box.length_x * std::nearbyint(dx / box.length_x);
-    if (box.periodic_y()) dy -= box.length_y * std::nearbyint(dy / box.length_y);
     const double share = (entry & 1) == 0 ? k.arm_first : k.arm_second;
-    sum += share * (dx * force[0] + dy * force[1] + dz * force[2]);
+    sum += share * bonds.result[entry >> 1].separation_force;
   }
   return sum;
 }
@@ -420,7 +414,7 @@ void Engine::gather_forces_with(double kick) {
           // A bonded sub-sphere's stress includes its bonds (models.md, "Stress of a bonded
           // sub-sphere"): summed over a body's sub-spheres the bond terms leave the body's stress
           // from its external contacts.
-          if constexpr (stress_on) arm_force += bond_arm_force(bonds_, s, box_, i);
+          if constexpr (stress_on) arm_force += bond_arm_force(bonds_, i);
         }
         // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
         // Only the spheres near a wall at the last list build can touch it (build_list), and
