@@ -334,6 +334,7 @@ __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
     const double cy = n[2] * force[0] - n[0] * force[2];
     const double cz = n[0] * force[1] - n[1] * force[0];
     out.force[0] = force[0], out.force[1] = force[1], out.force[2] = force[2];
+    out.separation_force = dx * force[0] + dy * force[1] + dz * force[2];
     out.torque_first[0] = -rci * cx - moment[0];
     out.torque_first[1] = -rci * cy - moment[1];
     out.torque_first[2] = -rci * cz - moment[2];

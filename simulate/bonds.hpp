@@ -81,6 +81,9 @@ struct BondSet {
     double force[3];  // on second (first gets the negative)
     double torque_first[3];
     double torque_second[3];
+    // (x_second - x_first) · force, nearest image: each end's Love–Weber term is its share of it
+    // (forces.cpp), so the gather does not recompute the separation per bond end.
+    double separation_force;
   };
   std::vector<Result> result;
   // What the bond loop reads per bond, packed in one record (derived by index(), not saved): the

@@ -8,6 +8,7 @@
 #include <omp.h>
 
 #include "common/error.hpp"
+#include "simulate/verlet.hpp"
 
 namespace shapepress::simulate {
 
@@ -251,68 +252,43 @@ void Engine::build_list(bool wrap) {
 
 template <bool damped>
 double Engine::kick_drift(const AffineDrift& drift) {
-  const double dt = settings_.time_step;
-  const double half = 0.5 * dt;
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
-  // Raw restrict pointers: the arrays never alias, and saying so lets the compiler vectorize.
-  double* __restrict vx = s.velocity.x.data();
-  double* __restrict vy = s.velocity.y.data();
-  double* __restrict vz = s.velocity.z.data();
-  double* __restrict wx = s.angular_velocity.x.data();
-  double* __restrict wy = s.angular_velocity.y.data();
-  double* __restrict wz = s.angular_velocity.z.data();
-  double* __restrict px = s.position.x.data();
-  double* __restrict py = s.position.y.data();
-  double* __restrict pz = s.position.z.data();
-  const double* __restrict fx = s.force.x.data();
-  const double* __restrict fy = s.force.y.data();
-  const double* __restrict fz = s.force.z.data();
-  const double* __restrict tx = s.torque.x.data();
-  const double* __restrict ty = s.torque.y.data();
-  const double* __restrict tz = s.torque.z.data();
-  const double* __restrict inverse_mass = s.inverse_mass.data();
-  const double* __restrict rx = build_reference_.x.data();
-  const double* __restrict ry = build_reference_.y.data();
-  const double* __restrict rz = build_reference_.z.data();
-  double* __restrict geometry = geometry_.data();
-  double* __restrict motion = motion_.data();
-  const double drift_offset = drift.offset, drift_strain = drift.strain;
-  const double drift_origin = drift.origin;
-  const double alpha = settings_.local_damping;
   // Half kick and drift, fused with the largest displacement since the last list build and with
   // the packed copies the pair loop reads (pack_spheres(): the predicted end-of-step velocity
   // v(t+dt/2) + dt/2 F(t)/m is the half-step velocity plus the same half kick once more).
   // Radius, mass and 1/I stay in the packed copies from pack_spheres(): every array this loop
   // streams is one more memory stream, and it streams two dozen.
+  const VerletArrays arrays{s.velocity.x.data(),
+                            s.velocity.y.data(),
+                            s.velocity.z.data(),
+                            s.angular_velocity.x.data(),
+                            s.angular_velocity.y.data(),
+                            s.angular_velocity.z.data(),
+                            s.position.x.data(),
+                            s.position.y.data(),
+                            s.position.z.data(),
+                            s.force.x.data(),
+                            s.force.y.data(),
+                            s.force.z.data(),
+                            s.torque.x.data(),
+                            s.torque.y.data(),
+                            s.torque.z.data(),
+                            s.inverse_mass.data(),
+                            build_reference_.x.data(),
+                            build_reference_.y.data(),
+                            build_reference_.z.data(),
+                            geometry_.data(),
+                            motion_.data()};
+  const DriftField field{drift.offset, drift.strain, drift.origin};
+  const double alpha = damped ? settings_.local_damping : 0.0;
   double largest = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : largest) if (n >= parallel_min_spheres)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double* gi = geometry + 4 * i;
-    double* mi = motion + 8 * i;
-    const double im = half * inverse_mass[i], ii = half * mi[7];
-    double f0 = fx[i], f1 = fy[i], f2 = fz[i], t0 = tx[i], t1 = ty[i], t2 = tz[i];
-    if constexpr (damped) {  // by the velocity at the start of the step
-      f0 = locally_damped(f0, vx[i], alpha), f1 = locally_damped(f1, vy[i], alpha);
-      f2 = locally_damped(f2, vz[i], alpha), t0 = locally_damped(t0, wx[i], alpha);
-      t1 = locally_damped(t1, wy[i], alpha), t2 = locally_damped(t2, wz[i], alpha);
-    }
-    vx[i] += f0 * im;
-    vy[i] += f1 * im;
-    vz[i] += f2 * im;
-    wx[i] += t0 * ii;
-    wy[i] += t1 * ii;
-    wz[i] += t2 * ii;
-    px[i] += dt * vx[i];
-    py[i] += dt * vy[i];
-    pz[i] += dt * vz[i];
-    gi[0] = px[i], gi[1] = py[i], gi[2] = pz[i];
-    mi[0] = vx[i] + f0 * im, mi[1] = vy[i] + f1 * im, mi[2] = vz[i] + f2 * im;
-    mi[3] = wx[i] + t0 * ii, mi[4] = wy[i] + t1 * ii, mi[5] = wz[i] + t2 * ii;
-    const double dx = px[i] - rx[i], dy = py[i] - ry[i];
-    const double dz = pz[i] - rz[i] - (drift_offset + drift_strain * (rz[i] - drift_origin));
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    largest = largest > d2 ? largest : d2;
+  const int threads = n >= parallel_min_spheres ? omp_get_max_threads() : 1;
+#pragma omp parallel num_threads(threads) reduction(max : largest)
+  {
+    const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
+    largest = kick_drift_range(arrays, n * rank / team, n * (rank + 1) / team, settings_.time_step,
+                               alpha, field);
   }
   return largest;
 }

@@ -217,6 +217,7 @@ class Engine {
   std::vector<std::int32_t> pair_slot_;  // per list pair: its slot in pair_results_
   std::vector<double> geometry_;         // per sphere x, y, z, r (pair_forces)
   std::vector<double> motion_;           // per sphere predicted v, ω, then m, 1/I
+  int sphere_material_ = -1;             // the spheres' one material, or -1 (pack_spheres)
   // One byte per pair: the gather skips non-touching pairs without reading their 72-byte
   // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
   std::vector<std::uint8_t> pair_touching_;

@@ -11,8 +11,10 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
+#include "simulate/contact_block.hpp"
 #include "simulate/engine.hpp"
 
 namespace shapepress::simulate {
@@ -32,6 +34,9 @@ void Engine::pack_spheres() {
   motion_.resize(8 * static_cast<std::size_t>(n));
   double* __restrict geometry = geometry_.data();
   double* __restrict motion = motion_.data();
+  sphere_material_ = n > 0 ? s.material[0] : -1;
+  for (std::int64_t i = 1; i < n && sphere_material_ >= 0; ++i)
+    if (s.material[i] != sphere_material_) sphere_material_ = -1;
 #pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
     geometry[4 * i] = s.position.x[i];
@@ -64,20 +69,14 @@ void with_scene_law(const MaterialTable& materials, F&& f) {
 // Σ l·f of sphere i's intact bonds with the sign of a contact's rc Fn (> 0 compressive): the
 // bond force acts at the bond centre, which divides the centre distance d = x_second - x_first
 // as ri : rj, so both ends give share × (d · F), F the force on `second` (a broken bond's is 0).
-// Bonds join sub-spheres of one body, smaller than half the box: the nearest image.
-double bond_arm_force(const BondSet& bonds, const SphereState& s, const Box& box, std::int64_t i) {
+// The bond loop leaves d · F in the bond's result.
+double bond_arm_force(const BondSet& bonds, std::int64_t i) {
   double sum = 0.0;
   for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
     const std::int32_t entry = bonds.gather[e];
     const BondSet::Constants& k = bonds.constants[entry >> 1];
-    const double* force = bonds.result[entry >> 1].force;
-    double dx = s.position.x[k.second] - s.position.x[k.first];
-    double dy = s.position.y[k.second] - s.position.y[k.first];
-    const double dz = s.position.z[k.second] - s.position.z[k.first];
-    if (box.periodic_x()) dx -= box.length_x * std::nearbyint(dx / box.length_x);
-    if (box.periodic_y()) dy -= box.length_y * std::nearbyint(dy / box.length_y);
     const double share = (entry & 1) == 0 ? k.arm_first : k.arm_second;
-    sum += share * (dx * force[0] + dy * force[1] + dz * force[2]);
+    sum += share * bonds.result[entry >> 1].separation_force;
   }
   return sum;
 }
@@ -135,9 +134,14 @@ void Engine::pair_forces_with() {
   sphere_sums_.resize(static_cast<std::size_t>(spheres));
   SphereSums* __restrict sums = sphere_sums_.data();
   PairResult* __restrict results = pair_results_.data();
+  // Spheres of one material have one pair constant: the Hertz law then runs over blocks of
+  // contacts, vectorized (contact_block.hpp).
+  [[maybe_unused]] const PairConstants* block_pair =
+      sphere_material_ >= 0 ? &materials_.pair(sphere_material_, sphere_material_) : nullptr;
   const int threads = count >= parallel_min_pairs ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads) reduction(+ : touching)
   {
+    [[maybe_unused]] ContactBlock block;
     // Each thread takes whole chunks of spheres (force_chunks_, fixed by the sphere count):
     // the order of every sum is then the same for any number of threads.
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
@@ -176,52 +180,93 @@ void Engine::pair_forces_with() {
       if constexpr (!stress_on)
         for (std::int64_t i = sphere_begin; i < sphere_end; ++i)
           sums[i] = SphereSums{};
+      // Touching pair q's force on second and torques to their spheres. Without Love–Weber they
+      // are added to both ends here, in list order: a sphere of the chunk receives its partners
+      // below it (i second) in increasing order, then those above (i first). A partner in a
+      // later chunk belongs to another thread: it reads the result in the gather instead.
+      const auto deliver = [&](std::int64_t q, int i, int j, const double force[3],
+                               const double torque_first[3], const double torque_second[3])
+          __attribute__((always_inline)) {
+        if constexpr (!stress_on) {
+          SphereSums& a = sums[i];
+          a.force[0] -= force[0], a.force[1] -= force[1], a.force[2] -= force[2];
+          a.torque[0] += torque_first[0], a.torque[1] += torque_first[1];
+          a.torque[2] += torque_first[2];
+          if (j < sphere_end) {
+            SphereSums& b = sums[j];
+            b.force[0] += force[0], b.force[1] += force[1], b.force[2] += force[2];
+            b.torque[0] += torque_second[0], b.torque[1] += torque_second[1];
+            b.torque[2] += torque_second[2];
+            return;
+          }
+        }
+        PairResult& out = results[q + 1];
+        for (int axis = 0; axis < 3; ++axis) {
+          out.force[axis] = force[axis];
+          out.torque_first[axis] = torque_first[axis];
+          out.torque_second[axis] = torque_second[axis];
+        }
+      };
+      if constexpr (!stress_on && std::is_same_v<Law, HertzLaw>) {
+        if (block_pair != nullptr) {
+          // The law vectorized over blocks of touching pairs (contact_block.hpp): copied in,
+          // computed, then delivered in list order; the same bits as the loop below.
+          for (std::int64_t q0 = begin; q0 < k; q0 += ContactBlock::capacity) {
+            const int lanes =
+                static_cast<int>(std::min<std::int64_t>(ContactBlock::capacity, k - q0));
+            for (int l = 0; l < lanes; ++l) {
+              const std::int64_t p = selected[q0 + l];
+              const double* gi = geometry + 4 * first[p];
+              const double* gj = geometry + 4 * second[p];
+              const double* shift = image_shift + 2 * image[p];
+              block.separation[0][l] = gj[0] - gi[0] + shift[0];
+              block.separation[1][l] = gj[1] - gi[1] + shift[1];
+              block.separation[2][l] = gj[2] - gi[2];
+              block.radius_first[l] = gi[3];
+              block.radius_second[l] = gj[3];
+              const double* mi = motion + 8 * first[p];
+              const double* mj = motion + 8 * second[p];
+              for (int axis = 0; axis < 3; ++axis) {
+                block.velocity_first[axis][l] = mi[axis];
+                block.spin_first[axis][l] = mi[3 + axis];
+                block.velocity_second[axis][l] = mj[axis];
+                block.spin_second[axis][l] = mj[3 + axis];
+                block.spring[axis][l] = history_[p].tangential[axis];
+              }
+              block.mass_first[l] = mi[6];
+              block.mass_second[l] = mj[6];
+              block.inverse_inertia_first[l] = mi[7];
+              block.inverse_inertia_second[l] = mj[7];
+            }
+            hertz_contact_block(block, lanes, *block_pair, dt);
+            for (int l = 0; l < lanes; ++l) {
+              const std::int64_t p = selected[q0 + l];
+              const double force[3] = {block.force[0][l], block.force[1][l], block.force[2][l]};
+              const double torque_first[3] = {block.torque_first[0][l], block.torque_first[1][l],
+                                              block.torque_first[2][l]};
+              const double torque_second[3] = {block.torque_second[0][l], block.torque_second[1][l],
+                                               block.torque_second[2][l]};
+              for (int axis = 0; axis < 3; ++axis)
+                history_[p].tangential[axis] = block.spring[axis][l];
+              deliver(q0 + l, first[p], second[p], force, torque_first, torque_second);
+            }
+          }
+          continue;
+        }
+      }
       for (std::int64_t q = begin; q < k; ++q) {
         const std::int64_t p = selected[q];
         const int i = first[p], j = second[p];
         const double* gi = geometry + 4 * i;
         const double* gj = geometry + 4 * j;
         const double* shift = image_shift + 2 * image[p];
-        const double dx = gj[0] - gi[0] + shift[0];
-        const double dy = gj[1] - gi[1] + shift[1];
-        const double dz = gj[2] - gi[2];
-        const double ri = gi[3], rj = gj[3];
-        const double reach = ri + rj;
-        const double d2 = dx * dx + dy * dy + dz * dz;
-        const double d = std::sqrt(d2);
-        ContactKinematics c;
-        const double inv_d = 1.0 / d;
-        c.normal[0] = dx * inv_d;
-        c.normal[1] = dy * inv_d;
-        c.normal[2] = dz * inv_d;
-        c.overlap = std::max(reach - d, 0.0);  // > 0 as selected; guards a contracted d2
-        const double* nn = c.normal;
-        const double rci = ri - 0.5 * c.overlap, rcj = rj - 0.5 * c.overlap;
-        const double* mi_ = motion + 8 * i;
-        const double* mj_ = motion + 8 * j;
-        const double wix = mi_[3], wiy = mi_[4], wiz = mi_[5];
-        const double wjx = mj_[3], wjy = mj_[4], wjz = mj_[5];
-        // Contact point velocities: v + ω × (arm), arm = +rci n for i, -rcj n for j.
-        const double vcix = mi_[0] + rci * (wiy * nn[2] - wiz * nn[1]);
-        const double vciy = mi_[1] + rci * (wiz * nn[0] - wix * nn[2]);
-        const double vciz = mi_[2] + rci * (wix * nn[1] - wiy * nn[0]);
-        const double vcjx = mj_[0] - rcj * (wjy * nn[2] - wjz * nn[1]);
-        const double vcjy = mj_[1] - rcj * (wjz * nn[0] - wjx * nn[2]);
-        const double vcjz = mj_[2] - rcj * (wjx * nn[1] - wjy * nn[0]);
-        c.relative_velocity[0] = vcjx - vcix;
-        c.relative_velocity[1] = vcjy - vciy;
-        c.relative_velocity[2] = vcjz - vciz;
-        c.relative_rotation[0] = wix - wjx;
-        c.relative_rotation[1] = wiy - wjy;
-        c.relative_rotation[2] = wiz - wjz;
-        // R* = ri rj / (ri + rj) and m* = mi mj / (mi + mj) with one division.
-        const double mi = mi_[6], mj = mj_[6];
-        const double mass_sum = mi + mj;
-        const double inverse = 1.0 / (reach * mass_sum);
-        c.effective_radius = ri * rj * mass_sum * inverse;
-        c.effective_mass = mi * mj * reach * inverse;
-        c.inverse_inertia_sum = mi_[7] + mj_[7];
-        c.pair_pressure = 0.0;  // P_ij of Eq. 6 from the last gather
+        const double d[3] = {gj[0] - gi[0] + shift[0], gj[1] - gi[1] + shift[1], gj[2] - gi[2]};
+        const double* mi = motion + 8 * i;
+        const double* mj = motion + 8 * j;
+        PairKinematics kinematics = pair_kinematics(
+            d, gi[3], gj[3], {{mi[0], mi[1], mi[2]}, {mi[3], mi[4], mi[5]}, mi[6], mi[7]},
+            {{mj[0], mj[1], mj[2]}, {mj[3], mj[4], mj[5]}, mj[6], mj[7]});
+        ContactKinematics& c = kinematics.contact;
         if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
         const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
         const ContactForce f = contact_force<Law>(c, pc, history_[p], dt);
@@ -229,38 +274,10 @@ void Engine::pair_forces_with() {
           virial[2 * p] = f.normal_force;
           virial[2 * p + 1] = 0.5 * c.overlap;
         }
-        // Torques: τi = (rci n) × Fi = -rci (n × F), τj = (-rcj n) × F = -rcj (n × F).
-        const double cx = nn[1] * f.force[2] - nn[2] * f.force[1];
-        const double cy = nn[2] * f.force[0] - nn[0] * f.force[2];
-        const double cz = nn[0] * f.force[1] - nn[1] * f.force[0];
-        const double torque_first[3] = {-rci * cx + f.rolling_torque[0],
-                                        -rci * cy + f.rolling_torque[1],
-                                        -rci * cz + f.rolling_torque[2]};
-        const double torque_second[3] = {-rcj * cx - f.rolling_torque[0],
-                                         -rcj * cy - f.rolling_torque[1],
-                                         -rcj * cz - f.rolling_torque[2]};
-        if constexpr (!stress_on) {
-          // Added to both ends here, in list order: a sphere of the chunk receives its partners
-          // below it (i second) in increasing order, then those above (i first). A partner in a
-          // later chunk belongs to another thread: it reads the result in the gather instead.
-          SphereSums& a = sums[i];
-          a.force[0] -= f.force[0], a.force[1] -= f.force[1], a.force[2] -= f.force[2];
-          a.torque[0] += torque_first[0], a.torque[1] += torque_first[1];
-          a.torque[2] += torque_first[2];
-          if (j < sphere_end) {
-            SphereSums& b = sums[j];
-            b.force[0] += f.force[0], b.force[1] += f.force[1], b.force[2] += f.force[2];
-            b.torque[0] += torque_second[0], b.torque[1] += torque_second[1];
-            b.torque[2] += torque_second[2];
-            continue;
-          }
-        }
-        PairResult& out = results[q + 1];
-        for (int axis = 0; axis < 3; ++axis) {
-          out.force[axis] = f.force[axis];
-          out.torque_first[axis] = torque_first[axis];
-          out.torque_second[axis] = torque_second[axis];
-        }
+        double torque_first[3], torque_second[3];
+        contact_torques(c.normal, f, kinematics.arm_first, kinematics.arm_second, torque_first,
+                        torque_second);
+        deliver(q, i, j, f.force, torque_first, torque_second);
       }
     }
   }
@@ -397,7 +414,7 @@ void Engine::gather_forces_with(double kick) {
           // A bonded sub-sphere's stress includes its bonds (models.md, "Stress of a bonded
           // sub-sphere"): summed over a body's sub-spheres the bond terms leave the body's stress
           // from its external contacts.
-          if constexpr (stress_on) arm_force += bond_arm_force(bonds_, s, box_, i);
+          if constexpr (stress_on) arm_force += bond_arm_force(bonds_, i);
         }
         // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
         // Only the spheres near a wall at the last list build can touch it (build_list), and
