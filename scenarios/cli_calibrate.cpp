@@ -58,8 +58,8 @@ int run(const CalibrateCli& cli, const RunContext& context) {
   meta.input("reference", cli.reference);
   CalibrationOptions options;
   options.parameters = split_names(cli.fit);
-  options.reference_deformation = reference.column(cli.x_column);
-  options.reference_force = reference.column(cli.y_column);
+  options.reference_deformation = reference.finite_column(cli.x_column);
+  options.reference_force = reference.finite_column(cli.y_column);
   for (const std::string& item : split_names(cli.start)) {
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos)
