@@ -132,10 +132,6 @@ void check_range(const std::string& location, const std::string& key, double val
   if (std::isnan(value))
     throw InputError(fmt::format("{}: key '{}' is NaN, a number {} was expected", location, key,
                                  range.describe()));
-  // No key means "none" by infinity: an infinite value is a typo or an overflow (1e999).
-  if (std::isinf(value))
-    throw InputError(fmt::format("{}: key '{}' is {}, a finite number {} was expected", location,
-                                 key, value, range.describe()));
   if (!range.contains(value))
     throw InputError(fmt::format("{}: key '{}' = {:g}{}{} is out of range: must be {}", location,
                                  key, value, unit.empty() ? "" : " ", unit, range.describe()));

@@ -210,8 +210,8 @@ std::vector<Row> catalogue(const fs::path& v) {
       {"box.x", "furlong"});
   add("compact: NaN", compact_with("target_strain = 0.05", "target_strain = nan"), compact_c, 2,
       {"punch.target_strain", "NaN"});
-  add("compact: infinite", compact_with("speed = \"0.5 m/s\"", "speed = inf"), compact_c, 2,
-      {"punch.speed", "inf"});
+  add("compact: infinite", compact_with("target_strain = 0.05", "target_strain = inf"), compact_c,
+      2, {"punch.target_strain", "inf"});
   add("compact: negative", compact_with("count = 30", "count = -30"), compact_c, 2,
       {"generate.count", "-30"});
   add("compact: a string for a number", compact_with("steps = 400", "steps = \"many\""), compact_c,
