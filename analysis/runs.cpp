@@ -80,11 +80,11 @@ std::vector<std::string> csv_comments(const std::filesystem::path& path) {
 PunchCurve read_punch_curve(const std::filesystem::path& path) {
   const CsvTable table = read_csv(path);
   PunchCurve curve;
-  curve.time = table.column("time_s");
-  curve.gap = table.column("gap_m");
-  curve.top_force = table.column("top_force_N");
-  curve.stress = table.column("stress_Pa");
-  curve.solid_fraction = table.column("solid_fraction");
+  curve.time = table.finite_column("time_s");
+  curve.gap = table.finite_column("gap_m");
+  curve.top_force = table.finite_column("top_force_N");
+  curve.stress = table.finite_column("stress_Pa");
+  curve.solid_fraction = table.finite_column("solid_fraction");
   for (double p : table.column("phase")) {
     if (p < 0 || p > 3 || p != static_cast<int>(p))
       throw InputError(
@@ -113,9 +113,9 @@ PunchCurve read_punch_curve(const std::filesystem::path& path) {
 PlateCurve read_plate_curve(const std::filesystem::path& path) {
   const CsvTable table = read_csv(path);
   PlateCurve curve;
-  curve.deformation = table.column("deformation");
-  curve.approach = table.column("approach_m");
-  curve.top_force = table.column("top_force_N");
+  curve.deformation = table.finite_column("deformation");
+  curve.approach = table.finite_column("approach_m");
+  curve.top_force = table.finite_column("top_force_N");
   curve.hertz_force = table.column("hertz_force_N");
   if (curve.approach.size() < 3)
     throw InputError(

@@ -13,6 +13,15 @@ if(SHAPEPRESS_SANITIZE)
                                                       -fno-omit-frame-pointer -fno-sanitize-recover=all)
   target_link_options(shapepress_options INTERFACE -fsanitize=address,undefined)
 endif()
+if(SHAPEPRESS_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "SHAPEPRESS_FUZZ needs clang (libFuzzer): -DCMAKE_CXX_COMPILER=clang++")
+  endif()
+  # Coverage for libFuzzer in all of shapepress's code; the fuzz targets link the fuzzer's main.
+  target_compile_options(shapepress_options INTERFACE -fsanitize=fuzzer-no-link,address
+                                                      -fno-omit-frame-pointer)
+  target_link_options(shapepress_options INTERFACE -fsanitize=address)
+endif()
 # Release: -O3 without -march so the binary runs on any x86-64 (SHAPEPRESS_NATIVE=ON tunes it).
 set(CMAKE_CXX_FLAGS_RELEASE "-O3 -DNDEBUG" CACHE STRING "" FORCE)
 set(CMAKE_CXX_FLAGS_RELWITHDEBINFO "-O2 -g -DNDEBUG" CACHE STRING "" FORCE)

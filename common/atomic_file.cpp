@@ -60,7 +60,8 @@ void AtomicOutputFile::commit() {
   bool ok = static_cast<bool>(out_);
   out_.close();
   if (!ok || out_.fail())
-    throw ComputationError(fmt::format("{}: writing failed (disk full?)", final_path_.string()));
+    throw ComputationError(fmt::format(
+        "{}: writing failed (the disk full, or over a file size limit?)", final_path_.string()));
   commit_temporary_file(temporary_path_, final_path_);
   committed_ = true;
 }

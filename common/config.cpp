@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "common/error.hpp"
+#include "common/suggest.hpp"
 
 namespace shapepress {
 
@@ -16,7 +17,8 @@ struct ConfigTable::Document {
   std::string source_name;
   std::string text;
   toml::table root;
-  mutable std::set<std::string> used;  // dotted paths a getter asked for
+  mutable std::set<std::string> used;   // dotted paths a getter asked for and found
+  mutable std::set<std::string> asked;  // every path a getter asked for (the known keys)
 };
 
 bool Range::contains(double v) const {
@@ -100,6 +102,7 @@ ConfigTable::Lookup ConfigTable::lookup(std::string_view key) const {
   const toml::node* node = as_table(node_).get(key);
   std::string full = path_of(key);
   if (node != nullptr) document_->used.insert(full);
+  document_->asked.insert(full);
   std::string location = node ? where(document_->source_name, *node) : document_->source_name;
   return {node, std::move(full), std::move(location)};
 }
@@ -107,8 +110,16 @@ ConfigTable::Lookup ConfigTable::lookup(std::string_view key) const {
 namespace {
 
 [[noreturn]] void wrong_type(const std::string& location, const std::string& key,
-                             std::string_view expected) {
-  throw InputError(fmt::format("{}: key '{}' must be {}", location, key, expected));
+                             std::string_view expected, const toml::node* given = nullptr) {
+  std::string value;
+  if (given != nullptr) {
+    std::ostringstream text;
+    given->visit([&](const auto& value) { text << value; });
+    value = text.str();
+    if (value.size() > 60) value = value.substr(0, 57) + "...";
+    value = fmt::format(", not {}", value);
+  }
+  throw InputError(fmt::format("{}: key '{}' must be {}{}", location, key, expected, value));
 }
 
 [[noreturn]] void missing(const std::string& source, const std::string& key,
@@ -142,7 +153,7 @@ double ConfigTable::number(std::string_view key, std::optional<double> fallback,
     return *fallback;
   }
   std::optional<double> value = numeric(*node);
-  if (!value) wrong_type(location, full, "a number");
+  if (!value) wrong_type(location, full, "a number", node);
   check_range(location, full, *value, range);
   return *value;
 }
@@ -155,7 +166,7 @@ std::int64_t ConfigTable::integer(std::string_view key, std::optional<std::int64
     return *fallback;
   }
   auto value = node->as_integer();
-  if (value == nullptr) wrong_type(location, full, "an integer");
+  if (value == nullptr) wrong_type(location, full, "an integer", node);
   check_range(location, full, static_cast<double>(value->get()), range);
   return value->get();
 }
@@ -167,7 +178,7 @@ bool ConfigTable::boolean(std::string_view key, std::optional<bool> fallback) co
     return *fallback;
   }
   auto value = node->as_boolean();
-  if (value == nullptr) wrong_type(location, full, "true or false");
+  if (value == nullptr) wrong_type(location, full, "true or false", node);
   return value->get();
 }
 
@@ -178,7 +189,7 @@ std::string ConfigTable::string(std::string_view key, std::optional<std::string>
     return *fallback;
   }
   auto value = node->as_string();
-  if (value == nullptr) wrong_type(location, full, "a string");
+  if (value == nullptr) wrong_type(location, full, "a string", node);
   return value->get();
 }
 
@@ -212,7 +223,7 @@ double ConfigTable::quantity(std::string_view key, Dimension dimension,
       throw InputError(fmt::format("{}: {}", location, e.what()));
     }
   } else {
-    wrong_type(location, full, expected);
+    wrong_type(location, full, expected, node);
   }
   check_range(location, full, value, range, si_unit(dimension));
   return value;
@@ -227,7 +238,7 @@ std::vector<double> ConfigTable::quantities(std::string_view key, Dimension dime
   auto [node, full, location] = lookup(key);
   if (node == nullptr) missing(location, full, "an array of numbers");
   const toml::array* array = node->as_array();
-  if (array == nullptr) wrong_type(location, full, "an array of numbers");
+  if (array == nullptr) wrong_type(location, full, "an array of numbers", node);
   std::vector<double> values;
   for (std::size_t i = 0; i < array->size(); ++i) {
     const toml::node& item = *array->get(i);
@@ -242,7 +253,7 @@ std::vector<double> ConfigTable::quantities(std::string_view key, Dimension dime
         throw InputError(fmt::format("{}: {}", location, e.what()));
       }
     } else {
-      wrong_type(location, item_key, "a number");
+      wrong_type(location, item_key, "a number", &item);
     }
     check_range(location, item_key, value, range);
     values.push_back(value);
@@ -254,7 +265,7 @@ ConfigTable ConfigTable::table(std::string_view key) const {
   auto [node, full, location] = lookup(key);
   if (node == nullptr) missing(location, full, "a table [" + full + "]");
   const toml::table* t = node->as_table();
-  if (t == nullptr) wrong_type(location, full, "a table");
+  if (t == nullptr) wrong_type(location, full, "a table", node);
   return ConfigTable(document_, t, full + ".");
 }
 
@@ -263,7 +274,7 @@ std::vector<ConfigTable> ConfigTable::tables(std::string_view key) const {
   std::vector<ConfigTable> out;
   if (node == nullptr) return out;
   const toml::array* array = node->as_array();
-  if (array == nullptr) wrong_type(location, full, "an array of tables [[" + full + "]]");
+  if (array == nullptr) wrong_type(location, full, "an array of tables [[" + full + "]]", node);
   for (std::size_t i = 0; i < array->size(); ++i) {
     const toml::table* t = array->get(i)->as_table();
     if (t == nullptr) wrong_type(location, fmt::format("{}[{}]", full, i), "a table");
@@ -276,21 +287,34 @@ std::vector<ConfigTable> ConfigTable::tables(std::string_view key) const {
 
 namespace {
 
+// The keys a getter asked for in the table at `prefix` ("run." , "material[0]."): what a
+// misspelt key there was probably meant to be.
+std::vector<std::string> known_keys(const std::set<std::string>& asked, const std::string& prefix) {
+  std::vector<std::string> keys;
+  for (const std::string& path : asked)
+    if (path.starts_with(prefix) && path.find_first_of(".[", prefix.size()) == std::string::npos)
+      keys.push_back(path.substr(prefix.size()));
+  return keys;
+}
+
 void collect_unknown(const toml::table& table, const std::string& prefix,
-                     const std::set<std::string>& used, const std::string& source,
-                     std::vector<std::string>& unknown) {
+                     const std::set<std::string>& used, const std::set<std::string>& asked,
+                     const std::string& source, std::vector<std::string>& unknown) {
   for (const auto& [k, node] : table) {
     std::string path = prefix + std::string(k.str());
     if (!used.contains(path)) {
-      unknown.push_back(fmt::format("{}: unknown key '{}'", where(source, node), path));
+      const std::optional<std::string> meant = closest_match(k.str(), known_keys(asked, prefix));
+      unknown.push_back(fmt::format(
+          "{}: unknown key '{}'{}", where(source, node), path,
+          meant ? fmt::format(" (did you mean '{}{}'?)", prefix, *meant) : std::string()));
       continue;
     }
     if (const toml::table* sub = node.as_table()) {
-      collect_unknown(*sub, path + ".", used, source, unknown);
+      collect_unknown(*sub, path + ".", used, asked, source, unknown);
     } else if (const toml::array* array = node.as_array()) {
       for (std::size_t i = 0; i < array->size(); ++i)
         if (const toml::table* element = array->get(i)->as_table())
-          collect_unknown(*element, fmt::format("{}[{}].", path, i), used, source, unknown);
+          collect_unknown(*element, fmt::format("{}[{}].", path, i), used, asked, source, unknown);
     }
   }
 }
@@ -299,7 +323,8 @@ void collect_unknown(const toml::table& table, const std::string& prefix,
 
 void ConfigTable::check_unknown_keys() const {
   std::vector<std::string> unknown;
-  collect_unknown(document_->root, "", document_->used, document_->source_name, unknown);
+  collect_unknown(document_->root, "", document_->used, document_->asked, document_->source_name,
+                  unknown);
   if (!unknown.empty())
     throw InputError(fmt::format("{}\n(a misspelt key would otherwise be silently ignored)",
                                  fmt::join(unknown, "\n")));

@@ -68,6 +68,15 @@ std::vector<double> CsvTable::column(std::string_view name) const {
       fmt::format("{}: no column '{}' (columns: {})", source, name, fmt::join(columns, ", ")));
 }
 
+std::vector<double> CsvTable::finite_column(std::string_view name) const {
+  std::vector<double> values = column(name);
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (!std::isfinite(values[k]))
+      throw InputError(fmt::format("{}: column '{}', data row {}: {} is not a finite number",
+                                   source, name, k + 1, values[k]));
+  return values;
+}
+
 CsvTable read_csv(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot open the CSV file", path.string()));
@@ -77,6 +86,7 @@ CsvTable read_csv(const std::filesystem::path& path) {
   std::size_t line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // a file saved on Windows
     if (line.empty() || line[0] == '#') continue;
     std::vector<std::string> cells;
     std::stringstream ss(line);
@@ -92,11 +102,17 @@ CsvTable read_csv(const std::filesystem::path& path) {
                                    cells.size(), table.columns.size()));
     std::vector<double> row;
     for (const std::string& c : cells) {
+      std::size_t used = 0;
+      double value = NAN;
       try {
-        row.push_back(c == "nan" ? NAN : std::stod(c));
+        if (c != "nan") value = std::stod(c, &used);
       } catch (const std::exception&) {
-        throw InputError(fmt::format("{}:{}: '{}' is not a number", path.string(), line_number, c));
+        used = 0;
       }
+      // The whole cell, not a number's prefix ("12abc", "1,5" split in two are wrong).
+      if (c != "nan" && (used == 0 || c.find_first_not_of(" \t", used) != std::string::npos))
+        throw InputError(fmt::format("{}:{}: '{}' is not a number", path.string(), line_number, c));
+      row.push_back(value);
     }
     table.rows.push_back(std::move(row));
   }

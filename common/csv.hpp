@@ -39,6 +39,9 @@ struct CsvTable {
   std::vector<std::vector<double>> rows;
   // The values of one column; InputError naming the file and the column if it is missing.
   std::vector<double> column(std::string_view name) const;
+  // The same, every value finite: InputError naming the file, the column and the line's row
+  // otherwise (a measured curve has no NaN).
+  std::vector<double> finite_column(std::string_view name) const;
   std::string source;
 };
 CsvTable read_csv(const std::filesystem::path& path);

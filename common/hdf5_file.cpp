@@ -2,6 +2,7 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <numeric>
@@ -51,22 +52,19 @@ hid_t string_type() {
 }  // namespace
 
 H5Writer::H5Writer(std::filesystem::path final_path, Provenance provenance)
-    : final_path_(std::move(final_path)),
-      temporary_path_(temporary_path_for(final_path_)),
-      provenance_(std::move(provenance)) {
+    : final_path_(std::move(final_path)), output_(final_path_), provenance_(std::move(provenance)) {
   silence_hdf5_errors();
-  ensure_parent_directory(final_path_);
-  file_ = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  Handle access{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+  // The core driver without a backing store: the file lives in memory until commit().
+  H5Pset_fapl_core(access.id, 1 << 20, 0);
+  file_ = H5Fcreate(final_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id);
   if (file_ < 0)
-    throw InputError(fmt::format("{}: cannot create the HDF5 file here", final_path_.string()));
+    throw ComputationError(
+        fmt::format("{}: cannot create the HDF5 file in memory", final_path_.string()));
 }
 
 H5Writer::~H5Writer() {
   if (file_ >= 0) H5Fclose(static_cast<hid_t>(file_));
-  if (!committed_) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary_path_, ignored);
-  }
 }
 
 void H5Writer::group(std::string_view path) {
@@ -174,11 +172,16 @@ void H5Writer::commit() {
   attribute("/", "config_text", provenance_.config_text);
   attribute("/", "created_utc", iso_time_now());
   if (provenance_.seed) attribute("/", "seed", static_cast<std::int64_t>(*provenance_.seed));
-  if (H5Fclose(file_) < 0)
-    throw ComputationError(fmt::format("{}: closing the HDF5 file failed", final_path_.string()));
+  if (H5Fflush(file_, H5F_SCOPE_GLOBAL) < 0)
+    throw ComputationError(fmt::format("{}: flushing the HDF5 file failed", final_path_.string()));
+  const ssize_t size = H5Fget_file_image(file_, nullptr, 0);
+  std::string image(static_cast<std::size_t>(std::max<ssize_t>(size, 0)), '\0');
+  if (size <= 0 || H5Fget_file_image(file_, image.data(), image.size()) != size)
+    throw ComputationError(fmt::format("{}: no image of the HDF5 file", final_path_.string()));
+  H5Fclose(file_);
   file_ = -1;
-  commit_temporary_file(temporary_path_, final_path_);
-  committed_ = true;
+  output_.stream().write(image.data(), static_cast<std::streamsize>(image.size()));
+  output_.commit();  // ComputationError naming the file when the disk is full
 }
 
 H5Reader::H5Reader(std::filesystem::path path) : path_(std::move(path)) {
@@ -221,6 +224,16 @@ std::vector<std::size_t> H5Reader::shape_of(std::string_view dataset) const {
   return {dims.begin(), dims.end()};
 }
 
+void H5Reader::check_count(std::string_view dataset, std::size_t count, std::size_t size) const {
+  // A damaged header may announce any extent: no dataset of ours compresses a thousandfold, so
+  // more values than that is a damaged file, not an allocation to try (found by tests/fuzz).
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(path_, ec);
+  if (!ec && count > 0 && count / 1000 > (bytes + (1u << 20)) / size)
+    throw InputError(fmt::format("{}: dataset {} announces {} values, more than the file holds",
+                                 path_.string(), dataset, count));
+}
+
 void H5Reader::read_raw(std::string_view dataset, void* out, std::int64_t type) const {
   Handle set{H5Dopen2(file_, z(dataset).c_str(), H5P_DEFAULT), H5Dclose};
   if (set.id < 0 || H5Dread(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0)
@@ -233,6 +246,7 @@ std::vector<T> H5Reader::read_numbers(std::string_view dataset, std::int64_t typ
   std::vector<std::size_t> dims = shape_of(dataset);
   std::size_t count =
       std::accumulate(dims.begin(), dims.end(), std::size_t{1}, std::multiplies<>());
+  check_count(dataset, count, sizeof(T));
   std::vector<T> values(count);
   if (count > 0) read_raw(dataset, values.data(), type);
   if (shape != nullptr) *shape = std::move(dims);
@@ -259,6 +273,7 @@ std::vector<std::uint8_t> H5Reader::uint8s(std::string_view dataset,
 std::vector<std::string> H5Reader::strings(std::string_view dataset) const {
   std::vector<std::size_t> dims = shape_of(dataset);
   std::size_t count = dims.empty() ? 1 : dims[0];
+  check_count(dataset, count, sizeof(char*));
   std::vector<char*> pointers(count, nullptr);
   Handle type{string_type(), H5Tclose};
   if (count > 0) read_raw(dataset, pointers.data(), type.id);
@@ -279,6 +294,9 @@ std::vector<std::string> H5Reader::members(std::string_view group) const {
   for (hsize_t i = 0; i < info.nlinks; ++i) {
     ssize_t size =
         H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (size < 0)  // a damaged link table (found by tests/fuzz)
+      throw InputError(
+          fmt::format("{}: cannot read the name of member {} of {}", path_.string(), i, group));
     std::string name(static_cast<std::size_t>(size), '\0');
     H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(),
                        static_cast<std::size_t>(size) + 1, H5P_DEFAULT);

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/atomic_file.hpp"
 #include "common/provenance.hpp"
 
 namespace shapepress {
@@ -18,7 +19,7 @@ class H5Writer {
   H5Writer(std::filesystem::path final_path, Provenance provenance);
   H5Writer(const H5Writer&) = delete;
   H5Writer& operator=(const H5Writer&) = delete;
-  ~H5Writer();  // an uncommitted file is removed
+  ~H5Writer();  // an uncommitted file is not written
 
   // `shape` empty means one dimension of values.size(). Intermediate groups are created.
   void write(std::string_view dataset, std::span<const double> values,
@@ -47,10 +48,12 @@ class H5Writer {
   void write_raw(std::string_view dataset, const void* data, std::int64_t type,
                  std::span<const std::size_t> shape);
   std::filesystem::path final_path_;
-  std::filesystem::path temporary_path_;
+  // The file is made in memory and written out whole by commit() through an atomic, checked
+  // write: a full disk is then an error of ours, where inside HDF5's close it cannot be
+  // recovered from (a failed H5Fclose leaves a file HDF5 crashes on at exit).
+  AtomicOutputFile output_;
   Provenance provenance_;
   std::int64_t file_ = -1;  // hid_t
-  bool committed_ = false;
 };
 
 class H5Reader {
@@ -82,6 +85,8 @@ class H5Reader {
 
  private:
   void read_raw(std::string_view dataset, void* out, std::int64_t type) const;
+  // InputError when `count` values of `size` bytes cannot come from a file this size.
+  void check_count(std::string_view dataset, std::size_t count, std::size_t size) const;
   template <typename T>
   std::vector<T> read_numbers(std::string_view dataset, std::int64_t type,
                               std::vector<std::size_t>* shape) const;

@@ -103,22 +103,31 @@ TriangleMesh read_indexed(std::istream& in, std::size_t vertex_count, std::size_
     }
     mesh.vertices.push_back(p);
   }
-  for (std::size_t f = 0; f < face_count && std::getline(in, line);) {
+  std::size_t faces = 0;
+  for (; faces < face_count && std::getline(in, line);) {
     std::istringstream row(line);
-    int n = 0;
+    long long n = 0;
     if (!(row >> n)) continue;
-    std::vector<std::int32_t> ids(static_cast<std::size_t>(std::max(n, 0)));
+    // A face has at least three corners and no more than there are vertices (a corrupt count
+    // must not size an allocation).
+    if (n < 3 || static_cast<std::size_t>(n) > std::max<std::size_t>(mesh.vertices.size(), 3))
+      throw InputError(fmt::format("mesh '{}': face {} has {} corners", path.string(), faces, n));
+    std::vector<std::int32_t> ids(static_cast<std::size_t>(n));
     for (auto& id : ids)
-      row >> id;
+      if (!(row >> id))
+        throw InputError(fmt::format("mesh '{}': face {} lists fewer than its {} corners",
+                                     path.string(), faces, n));
     for (auto id : ids)
       if (id < 0 || static_cast<std::size_t>(id) >= mesh.vertices.size())
         throw InputError(fmt::format("mesh '{}': face {} refers to vertex {} of {}", path.string(),
-                                     f, id, mesh.vertices.size()));
-    for (int k = 1; k + 1 < n; ++k)  // fan-triangulate polygons
-      mesh.triangles.push_back(
-          {ids[0], ids[static_cast<std::size_t>(k)], ids[static_cast<std::size_t>(k + 1)]});
-    ++f;
+                                     faces, id, mesh.vertices.size()));
+    for (std::size_t k = 1; k + 1 < ids.size(); ++k)  // fan-triangulate polygons
+      mesh.triangles.push_back({ids[0], ids[k], ids[k + 1]});
+    ++faces;
   }
+  if (faces != face_count)
+    throw InputError(fmt::format("mesh '{}': {} faces announced, {} found (a truncated file?)",
+                                 path.string(), face_count, faces));
   if (mesh.vertices.size() != vertex_count)
     throw InputError(fmt::format("mesh '{}': {} vertices announced, {} found", path.string(),
                                  vertex_count, mesh.vertices.size()));
@@ -197,6 +206,11 @@ TriangleMesh read_mesh(const std::filesystem::path& path) {
                                  path.string(), ext));
   if (mesh.triangles.empty())
     throw InputError(fmt::format("mesh '{}': contains no triangles", path.string()));
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (!mesh.vertices[v].allFinite())
+      throw InputError(fmt::format("mesh '{}': vertex {} is not finite ({} {} {})", path.string(),
+                                   v, mesh.vertices[v].x(), mesh.vertices[v].y(),
+                                   mesh.vertices[v].z()));
   return mesh;
 }
 

@@ -182,7 +182,13 @@ void write_packing(const std::filesystem::path& path, const BodyPacking& p,
   std::filesystem::path sidecar = path;
   sidecar.replace_extension(".xmf");
   write_file_atomically(sidecar, xdmf_for(path, p));
-  file.commit();
+  try {
+    file.commit();
+  } catch (...) {  // no sidecar without its packed.h5
+    std::error_code ignored;
+    std::filesystem::remove(sidecar, ignored);
+    throw;
+  }
 }
 
 namespace {

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,9 +15,12 @@
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/provenance.hpp"
+#include "common/resume.hpp"
 #include "common/run_metadata.hpp"
+#include "common/sha256.hpp"
 #include "packing/cli.hpp"
 #include "packing/pack_config.hpp"
+#include "simulate/checkpoint.hpp"
 
 namespace shapepress::packing {
 namespace {
@@ -29,7 +33,73 @@ struct PackCli {
   std::optional<std::int64_t> count;
   std::string summary;
   std::vector<std::string> template_names;
+  std::string resume;
 };
+
+// The checkpoints of `pack --out packed.h5` go to packed.h5.checkpoints/ beside it (pack's output
+// is a file, not a folder); removed when the run ends whole.
+std::filesystem::path checkpoint_folder(const std::filesystem::path& out) {
+  return out.string() + ".checkpoints";
+}
+
+constexpr std::string_view history_magic = "shapepress pack checkpoint 1";
+
+std::string phase_text(const PackPhaseState& s) {
+  return fmt::format(
+      "{}\nphase {}\nphase_start {}\nphase_step {}\nsettled {}\nsettled_solid_fraction {}\n"
+      "precompression_solid_fraction {}\n",
+      history_magic, static_cast<int>(s.phase), exact_text(s.phase_start), s.phase_step,
+      s.settled ? 1 : 0, exact_text(s.settled_solid_fraction),
+      exact_text(s.precompression_solid_fraction));
+}
+
+PackPhaseState read_phase(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  if (!in || !std::getline(in, line) || line != history_magic)
+    throw InputError(fmt::format("{}: not a pack checkpoint", path.string()));
+  const auto value = [&](std::string_view key) {
+    std::string word, token;
+    if (!(in >> word >> token) || word != key)
+      throw InputError(fmt::format("{}: no '{}' (a damaged checkpoint)", path.string(), key));
+    return parse_exact(token, path);
+  };
+  PackPhaseState s;
+  const double phase = value("phase");
+  if (phase != 0.0 && phase != 1.0 && phase != 2.0)
+    throw InputError(fmt::format("{}: phase {} (a damaged checkpoint)", path.string(), phase));
+  s.phase = static_cast<PackPhase>(static_cast<int>(phase));
+  s.phase_start = value("phase_start");
+  s.phase_step = static_cast<std::int64_t>(value("phase_step"));
+  s.settled = value("settled") != 0.0;
+  s.settled_solid_fraction = value("settled_solid_fraction");
+  s.precompression_solid_fraction = value("precompression_solid_fraction");
+  return s;
+}
+
+// --resume OUT: the arguments the run was started with, from its working directory.
+PackCli resumed_arguments(const std::string& given, std::string& command_line) {
+  const std::filesystem::path out = std::filesystem::absolute(given);
+  const RunInvocation invocation = resume_invocation(checkpoint_folder(out) / "resume.json", given);
+  command_line = invocation.command_line;
+  PackCli cli;
+  cli.config = invocation.config;
+  cli.out = out.string();
+  if (const auto it = invocation.arguments.find("templates"); it != invocation.arguments.end())
+    cli.templates = it->second;
+  if (const auto it = invocation.arguments.find("seed");
+      it != invocation.arguments.end() && !it->second.empty())
+    cli.seed = std::stoull(it->second.front());
+  if (const auto it = invocation.arguments.find("summary");
+      it != invocation.arguments.end() && !it->second.empty())
+    cli.summary = it->second.front();
+  if (const auto it = invocation.arguments.find("count");
+      it != invocation.arguments.end() && !it->second.empty())
+    cli.count = std::stoll(it->second.front());
+  if (const auto it = invocation.arguments.find("template"); it != invocation.arguments.end())
+    cli.template_names = it->second;
+  return cli;
+}
 
 // run.json names a length's fact with its unit, as the other stages do (bed_height_m).
 void add_measures(RunMetadata& meta, const PackMeasures& m) {
@@ -38,8 +108,19 @@ void add_measures(RunMetadata& meta, const PackMeasures& m) {
   });
 }
 
-int run(const PackCli& cli, const RunContext& context) {
-  RunMetadata meta("pack", context.command_line);
+int run(const PackCli& given, const RunContext& context) {
+  std::string command_line = context.command_line;
+  // Killed between its last output and its exit, a run is whole: nothing left to resume.
+  if (!given.resume.empty() &&
+      !std::filesystem::exists(checkpoint_folder(given.resume) / "resume.json") &&
+      std::filesystem::exists(run_metadata_beside(given.resume))) {
+    spdlog::info("pack: {} is finished (its run.json is written): nothing to resume", given.resume);
+    return 0;
+  }
+  const PackCli cli = given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
+  if (cli.config.empty()) throw InputError("pack: give --config FILE (or --resume OUT)");
+  if (cli.out.empty()) throw InputError("pack: give --out FILE (or --resume OUT)");
+  RunMetadata meta("pack", command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
   meta.input("config", cli.config);
   PackConfig config = read_pack_config(root, cli.config, cli.summary);
@@ -67,6 +148,34 @@ int run(const PackCli& cli, const RunContext& context) {
 
   const std::filesystem::path out(cli.out);
   if (out.has_parent_path()) ensure_output_folder(out.parent_path());
+  const std::filesystem::path checkpoints = checkpoint_folder(out);
+  std::optional<PackResume> resume;
+  if (!given.resume.empty()) {
+    remove_stale_temporaries(checkpoints);
+    remove_stale_temporaries(out.has_parent_path() ? out.parent_path() : ".",
+                             out.stem().string() + ".");
+    if (const auto latest = latest_checkpoint(checkpoints)) {
+      spdlog::info("pack: resuming {} from the checkpoint at step {}", out.string(), latest->step);
+      resume = PackResume{read_snapshot(latest->snapshot), read_phase(latest->history)};
+    } else {
+      spdlog::info("pack: {} has no checkpoint yet: starting the run again", out.string());
+    }
+  }
+  if (!resume) {
+    // A fresh start must not be resumed from another run's checkpoints.
+    std::filesystem::remove_all(checkpoints);
+    ensure_output_folder(checkpoints);
+    RunInvocation invocation{
+        command_line, std::filesystem::current_path(), cli.config, sha256_file(cli.config), {}};
+    if (!cli.templates.empty()) invocation.arguments["templates"] = cli.templates;
+    if (cli.seed) invocation.arguments["seed"] = {std::to_string(*cli.seed)};
+    if (!cli.summary.empty()) invocation.arguments["summary"] = {cli.summary};
+    if (cli.count) invocation.arguments["count"] = {std::to_string(*cli.count)};
+    if (!cli.template_names.empty()) invocation.arguments["template"] = cli.template_names;
+    write_invocation(checkpoints / "resume.json", invocation);
+  }
+  const CheckpointFolderGuard checkpoints_guard(checkpoints);
+  const Provenance provenance{command_line, root.text(), config.request.seed};
   std::optional<ProgressReporter> progress;
   std::string phase;
   PackProgress hooks;
@@ -79,10 +188,25 @@ int run(const PackCli& cli, const RunContext& context) {
     }
     progress->update(time);
   };
-  const PackRun result = pack(config.request, templates, hooks);
+  CheckpointClock clock(config.checkpoints);
+  hooks.after_step = [&](const Engine& engine, const PackPhaseState& state) {
+    if (clock.due(engine.step_index())) {
+      write_checkpoint(checkpoints, engine, {}, provenance, phase_text(state));
+      clock.taken();
+    }
+    return SignalCheckpoints::received() == 0;
+  };
+  const SignalCheckpoints signals;
+  const PackRun result = pack(config.request, templates, hooks, std::move(resume));
   if (progress) progress->finish();
+  if (result.interrupted) {
+    spdlog::warn(
+        "pack: stopped by signal {} at step {}; checkpoint written: continue with "
+        "`shapepress pack --resume {}`",
+        SignalCheckpoints::received(), result.steps, out.string());
+    return 128 + SignalCheckpoints::received();
+  }
 
-  const Provenance provenance{context.command_line, root.text(), config.request.seed};
   write_packing(out, result.packing, provenance);
   std::filesystem::path sidecar = out;
   sidecar.replace_extension(".xmf");
@@ -105,6 +229,9 @@ int run(const PackCli& cli, const RunContext& context) {
   add_measures(meta, m);
   meta.fact("effective_config", pack_config_toml(config));
   meta.write(run_metadata_beside(out));
+  // The run is whole: its checkpoints have done their work.
+  std::error_code ignored;
+  std::filesystem::remove_all(checkpoints, ignored);
   std::printf(
       "pack: %zu bodies, %zu sub-spheres, %zu bonds; bed height %.4g m\n"
       "  solid fraction %.4f by shape volume, %.4f by sub-sphere volume\n"
@@ -130,20 +257,34 @@ StageOptions pack_options() {
 
 StageRunner setup_pack_cli(CLI::App& app) {
   auto cli = std::make_shared<PackCli>();
-  app.add_option("templates", cli->templates,
-                 "templates files of fill (their /bms and /cms groups); none for spheres only");
-  app.add_option("--config", cli->config, "pack config TOML ([pack], [[template]], [sizes], ...)")
-      ->required();
-  app.add_option("--out", cli->out, "packed.h5 (packed.xmf and packed.h5.run.json beside it)")
-      ->required();
-  app.add_option("--seed", cli->seed, "random seed (overrides pack.seed)");
-  app.add_option("--summary", cli->summary,
-                 "sizes from this shape-stats summary.json (its Q3 x10/x50/x90) instead of the "
-                 "config's [sizes] summary or size_quantiles");
-  app.add_option("--count", cli->count, "number of bodies (overrides pack.count and target_mass)");
-  app.add_option("--template", cli->template_names,
-                 "a template to pack, \"bms/<name>\", \"cms/<name>\" or \"sphere\"; repeated: "
-                 "equal weights (replaces the config's [[template]] blocks)");
+  auto* templates =
+      app.add_option("templates", cli->templates,
+                     "templates files of fill (their /bms and /cms groups); none for spheres only");
+  auto* config = app.add_option("--config", cli->config,
+                                "pack config TOML ([pack], [[template]], [sizes], ...)");
+  auto* out =
+      app.add_option("--out", cli->out, "packed.h5 (packed.xmf and packed.h5.run.json beside it)");
+  auto* seed = app.add_option("--seed", cli->seed, "random seed (overrides pack.seed)");
+  auto* summary = app.add_option(
+      "--summary", cli->summary,
+      "sizes from this shape-stats summary.json (its Q3 x10/x50/x90) instead of the config's "
+      "[sizes] summary or size_quantiles");
+  auto* count = app.add_option("--count", cli->count,
+                               "number of bodies (overrides pack.count and target_mass)");
+  auto* names =
+      app.add_option("--template", cli->template_names,
+                     "a template to pack, \"bms/<name>\", \"cms/<name>\" or \"sphere\"; "
+                     "repeated: equal weights (replaces the config's [[template]] blocks)");
+  app.add_option("--resume", cli->resume,
+                 "continue the killed run that writes this packed.h5 from its last checkpoint, "
+                 "with the arguments it was started with")
+      ->excludes(templates)
+      ->excludes(config)
+      ->excludes(out)
+      ->excludes(seed)
+      ->excludes(summary)
+      ->excludes(count)
+      ->excludes(names);
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -326,13 +326,6 @@ MaterialTable pack_materials(const PackRequest& r, double friction, double wall_
   return MaterialTable(materials, {bodies, walls});
 }
 
-// The same bed, walls and contact history, with other friction (the press slides the bodies).
-std::unique_ptr<Engine> with_friction(const Engine& e, const PackRequest& r, double friction,
-                                      double wall_friction) {
-  return std::make_unique<Engine>(e.state(), e.box(), pack_materials(r, friction, wall_friction),
-                                  e.settings(), e.checkpoint());
-}
-
 // The rigid-clump period bound (simulate/timestep.hpp clump_contact_period) for a body in a
 // packed bed: at most contacts_per_body of its sub-spheres touch at once, taken as its outermost
 // ones (the longest lever arms) at 0.1 of their radius. The engine's generic bound lets every
@@ -384,35 +377,47 @@ void apply_drag(Engine& engine, double factor) {
   }
 }
 
-struct Phase {
-  std::string name;
-  double min_time = 0.0;  // s, before the rest test counts (a poured bed starts at rest)
-};
+const char* phase_name(PackPhase phase) {
+  switch (phase) {
+    case PackPhase::settle:
+      return "settle";
+    case PackPhase::press:
+      return "press";
+    case PackPhase::relax:
+      return "relax";
+  }
+  return "?";
+}
 
-// Runs until the kinetic energy is below `rest` after min_time, or max_time. `each_step` runs
-// before every step (the punch's motion) and returns false to end the phase.
+enum class PhaseEnd { rest, time_out, interrupted };
+
+// Runs the phase state.phase from state.phase_step on until the kinetic energy is below `rest`
+// after min_time (a poured bed starts at rest), or max_time. `each_step` runs before every step
+// (the punch's motion) and returns false to end the phase.
 template <class EachStep>
-bool run_phase(Engine& engine, const PackRequest& r, const Phase& phase, double rest,
-               const PackProgress& progress, EachStep&& each_step) {
-  const double start = engine.time();
+PhaseEnd run_phase(Engine& engine, const PackRequest& r, double min_time, double rest,
+                   const PackProgress& progress, PackPhaseState& state, EachStep&& each_step) {
   constexpr int check_every = 200;
-  for (std::int64_t k = 0;; ++k) {
-    const double t = engine.time() - start;
-    if (k % check_every == 0) {
-      if (progress.update) progress.update(phase.name, t, r.max_settle_time);
-      if (t >= phase.min_time && kinetic_energy(engine) < rest) return true;
+  const char* name = phase_name(state.phase);
+  for (;;) {
+    const double t = engine.time() - state.phase_start;
+    if (state.phase_step % check_every == 0) {
+      if (progress.update) progress.update(name, t, r.max_settle_time);
+      if (t >= min_time && kinetic_energy(engine) < rest) return PhaseEnd::rest;
     }
     if (t >= r.max_settle_time) {
       spdlog::warn(
           "pack: {} did not come to rest in {} s (settle.max_time): kinetic energy "
           "{:.3g} J against the threshold {:.3g} J",
-          phase.name, r.max_settle_time, kinetic_energy(engine), rest);
-      return false;
+          name, r.max_settle_time, kinetic_energy(engine), rest);
+      return PhaseEnd::time_out;
     }
-    if (!each_step()) return true;
+    if (!each_step()) return PhaseEnd::rest;
     engine.step();
     if (r.damping_time > 0.0)
       apply_drag(engine, std::exp(-engine.settings().time_step / r.damping_time));
+    ++state.phase_step;
+    if (progress.after_step && !progress.after_step(engine, state)) return PhaseEnd::interrupted;
   }
 }
 
@@ -426,7 +431,7 @@ double solid_shape_volume(const std::vector<PackedBody>& bodies) {
 }  // namespace
 
 PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
-             const PackProgress& progress) {
+             const PackProgress& progress, std::optional<PackResume> resume) {
   PackRun run;
   std::vector<PackedBody> bodies = draw_bodies(request, templates);
   const double region_top = insert_bodies(request, templates, bodies);
@@ -468,8 +473,28 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
       "pack: {} sub-spheres in {} bodies, time step {:.3g} s (Rayleigh {:.3g} s, clump "
       "bound {:.3g} s)",
       bed.state.size(), bodies.size(), step.time_step, step.rayleigh_time, step.clump_period);
-  auto engine = std::make_unique<Engine>(std::move(bed.state), Box{request.box_x, request.box_y},
-                                         table, walls, settings, BondSet{}, std::move(bed.clumps));
+  PackPhaseState state = resume ? resume->phase : PackPhaseState{};
+  const auto friction_of = [&](PackPhase phase) {
+    // Frictionless by default while pressing: the bodies slide into a denser bed, as DEM fills
+    // are made.
+    return phase == PackPhase::press
+               ? pack_materials(request, request.press_friction, request.press_friction)
+               : table;
+  };
+  auto engine =
+      resume ? std::make_unique<Engine>(std::move(resume->snapshot.state), resume->snapshot.box,
+                                        friction_of(state.phase), settings,
+                                        std::move(resume->snapshot.checkpoint))
+             : std::make_unique<Engine>(std::move(bed.state), Box{request.box_x, request.box_y},
+                                        table, walls, settings, BondSet{}, std::move(bed.clumps));
+  // The next phase on the same bed, walls and contact history.
+  const auto next_phase = [&](PackPhase phase) {
+    engine = std::make_unique<Engine>(engine->state(), engine->box(), friction_of(phase),
+                                      engine->settings(), engine->checkpoint());
+    state.phase = phase;
+    state.phase_start = engine->time();
+    state.phase_step = 0;
+  };
 
   double rest = 0.0;  // Σ m g d: KE below ratio × this is rest
   for (const PackedBody& b : bodies)
@@ -477,46 +502,79 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
             std::cbrt(6.0 * b.shape_volume / std::numbers::pi);
   rest *= request.kinetic_energy_ratio;
   const auto started = std::chrono::steady_clock::now();
+  const std::int64_t first_step = engine->step_index();
   const double free_fall = std::sqrt(2.0 * fall / request.gravity);
-  run.settled =
-      run_phase(*engine, request, {"settle", free_fall}, rest, progress, [] { return true; });
   const double area = request.box_x * request.box_y;
-  run.settled_solid_fraction = solid_shape_volume(bodies) /
-                               (area * (bed_top(engine->state(), request.floor) - request.floor));
-  spdlog::info("pack: settled at solid fraction {:.4f} by shape volume",
-               run.settled_solid_fraction);
-  if (request.target_solid_fraction) {
-    const double gap = solid_shape_volume(bodies) / (area * *request.target_solid_fraction);
-    // Frictionless by default: the bodies slide into a denser bed, as DEM fills are made.
-    engine = with_friction(*engine, request, request.press_friction, request.press_friction);
-    PlaneWall& punch = engine->walls()[1];
-    punch.position = std::max(bed_top(engine->state(), request.floor), request.floor + gap);
-    engine->rebase_energy();
-    const double dt = step.time_step;
-    run_phase(*engine, request, {"press", std::numeric_limits<double>::infinity()}, 0.0, progress,
-              [&] {
-                PlaneWall& p = engine->walls()[1];
-                if (p.position - request.floor <= gap) {
-                  p.velocity = 0.0;
-                  return false;
-                }
-                p.velocity = -request.punch_speed;
-                p.position = std::max(request.floor + gap, p.position - request.punch_speed * dt);
-                return true;
-              });
-    run.precompression_solid_fraction =
-        solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
-    // Release: the punch back to where it was parked; the bed relaxes under gravity.
-    engine->walls()[1].velocity = 0.0;
-    engine->walls()[1].position = walls[1].position;
-    engine = with_friction(*engine, request, request.friction, request.wall_friction);
-    run.settled =
-        run_phase(*engine, request, {"relax", 0.0}, rest, progress, [] { return true; }) &&
-        run.settled;
+  const double gap = request.target_solid_fraction
+                         ? solid_shape_volume(bodies) / (area * *request.target_solid_fraction)
+                         : 0.0;
+  const auto same = [] { return true; };
+  for (bool done = false; !done;) {
+    switch (state.phase) {
+      case PackPhase::settle: {
+        const PhaseEnd end = run_phase(*engine, request, free_fall, rest, progress, state, same);
+        if (end == PhaseEnd::interrupted) {
+          run.interrupted = done = true;
+          break;
+        }
+        state.settled = end == PhaseEnd::rest;
+        state.settled_solid_fraction =
+            solid_shape_volume(bodies) /
+            (area * (bed_top(engine->state(), request.floor) - request.floor));
+        spdlog::info("pack: settled at solid fraction {:.4f} by shape volume",
+                     state.settled_solid_fraction);
+        if (!request.target_solid_fraction) {
+          done = true;
+          break;
+        }
+        next_phase(PackPhase::press);
+        PlaneWall& punch = engine->walls()[1];
+        punch.position = std::max(bed_top(engine->state(), request.floor), request.floor + gap);
+        engine->rebase_energy();
+        break;
+      }
+      case PackPhase::press: {
+        const double dt = step.time_step;
+        const PhaseEnd end = run_phase(
+            *engine, request, std::numeric_limits<double>::infinity(), 0.0, progress, state, [&] {
+              PlaneWall& p = engine->walls()[1];
+              if (p.position - request.floor <= gap) {
+                p.velocity = 0.0;
+                return false;
+              }
+              p.velocity = -request.punch_speed;
+              p.position = std::max(request.floor + gap, p.position - request.punch_speed * dt);
+              return true;
+            });
+        if (end == PhaseEnd::interrupted) {
+          run.interrupted = done = true;
+          break;
+        }
+        state.precompression_solid_fraction =
+            solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
+        // Release: the punch back to where it was parked; the bed relaxes under gravity.
+        engine->walls()[1].velocity = 0.0;
+        engine->walls()[1].position = walls[1].position;
+        next_phase(PackPhase::relax);
+        break;
+      }
+      case PackPhase::relax: {
+        const PhaseEnd end = run_phase(*engine, request, 0.0, rest, progress, state, same);
+        run.interrupted = end == PhaseEnd::interrupted;
+        state.settled = state.settled && end == PhaseEnd::rest;
+        done = true;
+        break;
+      }
+    }
   }
+  run.settled = state.settled;
+  run.settled_solid_fraction = state.settled_solid_fraction;
+  run.precompression_solid_fraction = state.precompression_solid_fraction;
+  run.loop_steps = engine->step_index() - first_step;
   run.loop_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   run.steps = engine->step_index();
+  if (run.interrupted) return run;
 
   // The bodies where the engine left them.
   const SphereState& s = engine->state();

@@ -21,6 +21,7 @@
 
 #include "packing/body_packing.hpp"
 #include "packing/packing.hpp"
+#include "simulate/snapshot.hpp"
 
 namespace shapepress::packing {
 
@@ -109,8 +110,29 @@ double bounding_radius(const BodyTemplate& shape);
 double insert_bodies(const PackRequest& request, const std::vector<BodyTemplate>& templates,
                      std::vector<PackedBody>& bodies);
 
+// Where a pack run stands between two steps: what a checkpoint keeps beside the engine's
+// snapshot, so that a resumed run takes the steps the uninterrupted one takes.
+enum class PackPhase { settle = 0, press = 1, relax = 2 };
+struct PackPhaseState {
+  PackPhase phase = PackPhase::settle;
+  double phase_start = 0.0;     // s, the engine's time when the phase began
+  std::int64_t phase_step = 0;  // steps into the phase (the rest test runs every 200th)
+  bool settled = true;          // the phases before this one came to rest
+  double settled_solid_fraction = 0.0;
+  double precompression_solid_fraction = 0.0;
+};
+
 struct PackProgress {
   std::function<void(const std::string& phase, double time, double max_time)> update;
+  // After every step: a checkpoint may be taken here. Returning false stops the run there (a
+  // signal asked for it): PackRun::interrupted.
+  std::function<bool(const Engine&, const PackPhaseState&)> after_step;
+};
+
+// A checkpoint to continue from: the engine's snapshot and the phase it was taken in.
+struct PackResume {
+  LoadedSnapshot snapshot;
+  PackPhaseState phase;
 };
 
 struct PackRun {
@@ -121,11 +143,15 @@ struct PackRun {
   double settled_solid_fraction = 0.0;  // by shape volume after the gravity settle
   double precompression_solid_fraction = 0.0;  // reached by the punch (0: no press)
   double loop_seconds = 0.0;
+  std::int64_t loop_steps = 0;  // steps taken in this process (after the checkpoint if resumed)
+  bool interrupted = false;     // PackProgress::after_step stopped the run; no packing
 };
 
 // Draws, inserts, settles (and presses), and measures. ComputationError on divergence.
+// `resume`: continue from a checkpoint of the same request (the bodies are drawn and inserted
+// again, deterministically, for their set-up; the engine is the checkpoint's).
 PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
-             const PackProgress& progress = {});
+             const PackProgress& progress = {}, std::optional<PackResume> resume = {});
 
 // The measures of a placed packing (place_bodies done): solid fractions, bed height,
 // body–body contacts, sizes of the weighting against `target`, ⟨P2⟩ of the long axes, overlaps.

@@ -154,6 +154,18 @@ const OptionTable<PackRequest>& press_table() {
   return t;
 }
 
+const OptionTable<CheckpointPolicy>& run_table() {
+  static const OptionTable<CheckpointPolicy> t = [] {
+    OptionTable<CheckpointPolicy> r("run", "checkpoints for pack --resume");
+    r.integer("checkpoint_every", &CheckpointPolicy::every_steps, Range::non_negative(),
+              "steps between checkpoints (0: by wall time only)")
+        .number("checkpoint_minutes", &CheckpointPolicy::minutes, Range::non_negative(),
+                "minutes of wall time between checkpoints (0: by steps only)");
+    return r;
+  }();
+  return t;
+}
+
 }  // namespace
 
 SizeQuantiles read_summary_sizes(const std::filesystem::path& path) {
@@ -211,6 +223,7 @@ PackConfig read_pack_config(const ConfigTable& root, const std::filesystem::path
   if (root.has("material")) material_table().read(root.table("material"), r);
   if (root.has("settle")) settle_table().read(root.table("settle"), r);
   if (root.has("press")) press_table().read(root.table("press"), r);
+  if (root.has("run")) run_table().read(root.table("run"), c.checkpoints);
   for (const ConfigTable& t : root.tables("template"))
     r.templates.push_back(template_table().read(t));
   if (r.templates.empty()) r.templates.push_back({"sphere", 1.0});
@@ -258,7 +271,8 @@ std::string pack_config_toml(const PackConfig& c) {
   out += sizes_table().lines(sizes);
   if (c.summary.empty()) out += quantiles_table().lines(c.request.sizes);
   out += "\n" + material_table().write(c.request) + "\n" + settle_table().write(c.request) + "\n";
-  if (c.request.target_solid_fraction) out += press_table().write(c.request);
+  if (c.request.target_solid_fraction) out += press_table().write(c.request) + "\n";
+  out += run_table().write(c.checkpoints);
   return out;
 }
 
@@ -277,6 +291,7 @@ StageOptions pack_config_options() {
   o.sections.push_back(sizes);
   for (const auto* t : {&material_table(), &settle_table(), &press_table()})
     o.sections.push_back(t->docs());
+  o.sections.push_back(run_table().docs());
   return o;
 }
 

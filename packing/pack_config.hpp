@@ -5,6 +5,7 @@
 
 #include "common/config.hpp"
 #include "common/options.hpp"
+#include "common/resume.hpp"
 #include "packing/pack.hpp"
 
 namespace shapepress::packing {
@@ -12,6 +13,7 @@ namespace shapepress::packing {
 struct PackConfig {
   PackRequest request;
   std::string summary;  // shape-stats summary.json the sizes came from; empty: size_quantiles
+  CheckpointPolicy checkpoints;  // [run]: for pack --resume
 };
 
 // InputError naming the file and key. A `sizes.summary` path is taken relative to the config's

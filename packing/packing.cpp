@@ -28,7 +28,7 @@ SphereList read_sphere_text(const std::filesystem::path& path) {
     if (!(fields >> x)) continue;  // blank or comment line
     std::string extra;
     if (!(fields >> y >> z >> r) || (fields >> extra) || !(r > 0.0) || !std::isfinite(x) ||
-        !std::isfinite(y) || !std::isfinite(z))
+        !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(r))
       throw InputError(path.string() + ":" + std::to_string(number) +
                        ": expected 'x y z r' in metres with r > 0");
     list.x.push_back(x);
@@ -54,8 +54,12 @@ SphereList read_sphere_hdf5(const std::filesystem::path& path) {
     list.x.push_back(position[3 * i]);
     list.y.push_back(position[3 * i + 1]);
     list.z.push_back(position[3 * i + 2]);
-    if (!(list.radius[i] > 0.0))
-      throw InputError(path.string() + ": /particles/radius[" + std::to_string(i) + "] <= 0");
+    if (!(list.radius[i] > 0.0) || !std::isfinite(list.radius[i]))
+      throw InputError(path.string() + ": /particles/radius[" + std::to_string(i) +
+                       "] is not a finite length > 0");
+    if (!std::isfinite(list.x[i]) || !std::isfinite(list.y[i]) || !std::isfinite(list.z[i]))
+      throw InputError(path.string() + ": /particles/position[" + std::to_string(i) +
+                       "] is not finite");
   }
   return list;
 }

@@ -18,8 +18,8 @@
 #include "common/logging.hpp"
 #include "common/options.hpp"
 #include "common/provenance.hpp"
+#include "common/suggest.hpp"
 #include "pipelines/stages.hpp"
-#include "pipelines/suggest.hpp"
 
 namespace {
 

@@ -408,8 +408,8 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, double radius) {
     curve.force_column = "top_force_N";
   }
   const CsvTable table = read_csv(curve.csv);
-  curve.deformation = table.column(x_column);
-  curve.force = table.column(curve.force_column);
+  curve.deformation = table.finite_column(x_column);
+  curve.force = table.finite_column(curve.force_column);
   return curve;
 }
 

@@ -2,9 +2,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -14,11 +12,13 @@
 #include "common/csv.hpp"
 #include "common/progress.hpp"
 #include "common/provenance.hpp"
+#include "common/resume.hpp"
 #include "common/sha256.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/compact_checkpoint.hpp"
 #include "scenarios/compact_setup.hpp"
 #include "scenarios/run_facts.hpp"
+#include "simulate/checkpoint.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -32,74 +32,55 @@ struct CompactCli {
   std::int64_t steps = -1;
 };
 
-// The signal SIGINT or SIGTERM delivered, 0 before one is. The program's one global: a signal
-// handler can reach nothing else safely (C++ [support.signal]: a lock-free volatile
-// sig_atomic_t of static storage), and the stepping loop polls it to write a checkpoint and
-// stop (docs/stages.md, "Checkpoints and --resume").
-volatile std::sig_atomic_t received_signal = 0;
-
-extern "C" void note_signal(int signal) {
-  received_signal = signal;
-  std::signal(signal, SIG_DFL);  // a second one stops the run at once
-}
-
-// Installs note_signal for SIGINT and SIGTERM while a compaction runs.
-class SignalCheckpoints {
- public:
-  SignalCheckpoints()
-      : interrupt_(std::signal(SIGINT, note_signal)),
-        terminate_(std::signal(SIGTERM, note_signal)) {}
-  SignalCheckpoints(const SignalCheckpoints&) = delete;
-  SignalCheckpoints& operator=(const SignalCheckpoints&) = delete;
-  ~SignalCheckpoints() {
-    std::signal(SIGINT, interrupt_);
-    std::signal(SIGTERM, terminate_);
-  }
-
- private:
-  void (*interrupt_)(int);
-  void (*terminate_)(int);
-};
-
 // --resume OUT: the arguments the run was started with, from the working directory it was
 // started in (relative paths in them and in the config mean what they meant then).
 CompactCli resumed_arguments(const std::string& folder, std::string& command_line) {
   const std::filesystem::path out = std::filesystem::absolute(folder);
-  const CompactInvocation invocation = read_invocation(out);
-  std::error_code ec;
-  std::filesystem::current_path(invocation.working_directory, ec);
-  if (ec)
-    throw InputError(fmt::format("{}: the run was started in {}, which is gone ({})", folder,
-                                 invocation.working_directory.string(), ec.message()));
-  if (!std::filesystem::is_regular_file(invocation.config) ||
-      sha256_file(invocation.config) != invocation.config_sha256)
-    throw InputError(fmt::format(
-        "{}: the config {} is missing or changed since the run started; a resumed run needs "
-        "the same one",
-        folder, invocation.config));
+  const RunInvocation invocation =
+      resume_invocation(out / std::string(checkpoint_folder) / "resume.json", folder);
   command_line = invocation.command_line;
+  const auto argument = [&](const char* name) {
+    const auto it = invocation.arguments.find(name);
+    return it == invocation.arguments.end() || it->second.empty() ? std::string()
+                                                                  : it->second.front();
+  };
   CompactCli cli;
   cli.config = invocation.config;
-  cli.packing = invocation.packing;
-  cli.restart = invocation.restart;
-  cli.steps = invocation.steps;
+  cli.packing = argument("packing");
+  cli.restart = argument("restart");
+  if (const std::string steps = argument("steps"); !steps.empty()) cli.steps = std::stoll(steps);
   cli.out = out.string();
   return cli;
 }
 
 int run(const CompactCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
+  // Killed between its last output and its exit, a run is whole: nothing left to resume.
+  const std::filesystem::path resumed(given.resume);
+  if (!given.resume.empty() &&
+      !std::filesystem::exists(resumed / std::string(checkpoint_folder) / "resume.json") &&
+      std::filesystem::exists(resumed / std::string(run_metadata_name))) {
+    spdlog::info("compact: {} is finished (its run.json is written): nothing to resume",
+                 given.resume);
+    return 0;
+  }
   const CompactCli cli =
       given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
   if (cli.config.empty()) throw InputError("compact: give --config FILE (or --resume OUT)");
   if (cli.out.empty()) throw InputError("compact: give --out FOLDER (or --resume OUT)");
   const std::filesystem::path out(cli.out);
-  std::optional<CheckpointFiles> checkpoint;
+  const std::filesystem::path checkpoints = out / std::string(checkpoint_folder);
+  // A checkpoint of the compaction, else one of the settle of a generated bed before it.
+  std::optional<CheckpointFiles> checkpoint, settle_checkpoint;
   if (!given.resume.empty()) {
-    checkpoint = latest_checkpoint(out);
+    checkpoint = latest_checkpoint(checkpoints);
+    if (!checkpoint) settle_checkpoint = latest_checkpoint(checkpoints, settle_checkpoint_prefix);
     if (checkpoint)
       spdlog::info("compact: resuming {} from the checkpoint at step {}", out.string(),
                    checkpoint->step);
+    else if (settle_checkpoint)
+      spdlog::info("compact: resuming {} from the settle's checkpoint at step {}", out.string(),
+                   settle_checkpoint->step);
     else
       spdlog::info("compact: {} has no checkpoint yet: starting the run again", out.string());
     for (const auto* sub : {"", "snapshots", "checkpoints"})
@@ -113,13 +94,43 @@ int run(const CompactCli& given, const RunContext& context) {
   root.check_unknown_keys();
   if (cli.steps >= 0) config.setup.max_steps = cli.steps;
   ensure_output_folder(out / "snapshots");
+  const bool fresh = !checkpoint && !settle_checkpoint;
   // A fresh start must not be resumed from another run's checkpoints.
-  if (!checkpoint) std::filesystem::remove_all(out / std::string(checkpoint_folder));
-  ensure_output_folder(out / std::string(checkpoint_folder));
+  if (fresh) std::filesystem::remove_all(checkpoints);
+  ensure_output_folder(checkpoints);
+  const CheckpointFolderGuard checkpoints_guard(checkpoints);
   // Before the settle, so --resume can start a run killed before its first checkpoint again.
-  if (!checkpoint)
-    write_invocation(out, {command_line, std::filesystem::current_path(), cli.config, cli.packing,
-                           cli.restart, cli.steps, sha256_file(cli.config)});
+  if (fresh) {
+    RunInvocation invocation{
+        command_line, std::filesystem::current_path(), cli.config, sha256_file(cli.config), {}};
+    if (!cli.packing.empty()) invocation.arguments["packing"] = {cli.packing};
+    if (!cli.restart.empty()) invocation.arguments["restart"] = {cli.restart};
+    if (cli.steps >= 0) invocation.arguments["steps"] = {std::to_string(cli.steps)};
+    write_invocation(checkpoints / "resume.json", invocation);
+  }
+  const Provenance provenance{
+      command_line, root.text(),
+      config.generate ? std::optional(config.generate->seed) : std::nullopt};
+  CheckpointClock clock({config.checkpoint_every, config.checkpoint_minutes});
+  const SignalCheckpoints signals;
+  const auto stopped = [&](std::int64_t step) {
+    spdlog::warn(
+        "compact: stopped by signal {} at step {}; checkpoint written: continue with "
+        "`shapepress compact --resume {}`",
+        SignalCheckpoints::received(), step, out.string());
+    return 128 + SignalCheckpoints::received();
+  };
+  SettleCheckpoints settle_checkpoints;
+  if (settle_checkpoint) settle_checkpoints.resume = read_snapshot(settle_checkpoint->snapshot);
+  std::int64_t settle_steps = 0;
+  settle_checkpoints.after_step = [&](const Engine& e) {
+    settle_steps = e.step_index();
+    if (clock.due(e.step_index())) {
+      write_settle_checkpoint(out, e, provenance);
+      clock.taken();
+    }
+    return SignalCheckpoints::received() == 0;
+  };
   PreparedCompaction prepared;
   CheckpointHistory history;
   if (checkpoint) {
@@ -139,7 +150,8 @@ int run(const CompactCli& given, const RunContext& context) {
     } else {
       std::optional<SphereList> spheres;
       if (!cli.packing.empty()) spheres = read_spheres(cli.packing);
-      prepared = prepare_compaction(config, spheres);
+      prepared = prepare_compaction(config, spheres, std::move(settle_checkpoints));
+      if (!prepared.engine) return stopped(settle_steps);
     }
     if (!cli.packing.empty()) meta.input("packing", cli.packing);
     if (config.clumps && !config.clumps->templates.empty())
@@ -157,15 +169,12 @@ int run(const CompactCli& given, const RunContext& context) {
 
   // What the run used, every key with its value (defaults and --steps included); a resumed run
   // has it from its start (where the punch started is no longer in the engine).
-  if (!checkpoint) {
+  if (!checkpoint) {  // (again after a settle checkpoint: the same text)
     write_file_atomically(
         out / "effective.toml",
         fmt::format("# {}\n# the effective config of this compact run\n", command_line) +
             compact_config_toml(config));
   }
-  const Provenance provenance{
-      command_line, root.text(),
-      config.generate ? std::optional(config.generate->seed) : std::nullopt};
   CsvWriter csv(out / "punch.csv", punch_csv_columns());
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
@@ -205,20 +214,14 @@ int run(const CompactCli& given, const RunContext& context) {
   // The rows before the checkpoint, as the run wrote them (the same numbers, the same text).
   for (const PunchRecord& r : history.compaction.records)
     hooks.record(r);
-  auto last_checkpoint = std::chrono::steady_clock::now();
-  const std::chrono::duration<double> checkpoint_interval(60.0 * config.checkpoint_minutes);
   hooks.after_step = [&](const Engine& e, const PunchState& punch, const CompactionHistory& h) {
-    const int signal = received_signal;
-    const auto now = std::chrono::steady_clock::now();
-    if (signal != 0 ||
-        (config.checkpoint_every > 0 && e.step_index() % config.checkpoint_every == 0) ||
-        (config.checkpoint_minutes > 0.0 && now - last_checkpoint >= checkpoint_interval)) {
-      write_checkpoint(out, e, compaction_scenario_state(punch, setup), provenance, {h, index});
-      last_checkpoint = now;
+    if (clock.due(e.step_index())) {
+      write_compact_checkpoint(out, e, compaction_scenario_state(punch, setup), provenance,
+                               {h, index});
+      clock.taken();
     }
-    return signal == 0;
+    return SignalCheckpoints::received() == 0;
   };
-  const SignalCheckpoints signals;
   const double total =
       config.setup.max_steps > 0 ? static_cast<double>(config.setup.max_steps) : 0.0;
   ProgressReporter progress("compact", total, {.quiet = context.quiet});
@@ -228,13 +231,7 @@ int run(const CompactCli& given, const RunContext& context) {
   const CompactionSummary summary =
       run_compaction(engine, prepared.setup, prepared.punch, hooks, std::move(history.compaction));
   progress.finish();
-  if (summary.interrupted) {
-    spdlog::warn(
-        "compact: stopped by signal {} at step {}; checkpoint written: continue with "
-        "`shapepress compact --resume {}`",
-        static_cast<int>(received_signal), engine.step_index(), out.string());
-    return 128 + received_signal;
-  }
+  if (summary.interrupted) return stopped(engine.step_index());
   const QuasiStaticCheck& qs = summary.quasi_static;
   if (qs.records > 0 && !qs.quasi_static())
     spdlog::warn(

@@ -99,7 +99,8 @@ std::vector<ClumpTemplate> clump_templates(const ClumpsConfig& k) {
 
 }  // namespace
 
-PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<SphereList> spheres) {
+PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<SphereList> spheres,
+                                      SettleCheckpoints settle_checkpoints) {
   if (std::isnan(c.punch))
     throw InputError(
         "box.punch: required for a bed that is not a packing made by `pack` (it sets where the "
@@ -138,8 +139,11 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
   const double dt = out.time_step.time_step;
   if (generated && c.settle_time > 0.0) {
     SettleRequest request{box, walls, settings_for(c, state, dt), c.settle_time, c.settle_friction};
-    state =
-        settle(std::move(state), clumps, c.materials.materials, c.materials.interactions, request);
+    std::optional<SphereState> settled =
+        settle(std::move(state), clumps, c.materials.materials, c.materials.interactions, request,
+               std::move(settle_checkpoints));
+    if (!settled) return {};
+    state = std::move(*settled);
     walls[1].position = std::min(c.punch, bed_top(state, c.bottom));
   }
   for (std::size_t i = 0; i < state.size(); ++i)

@@ -6,6 +6,7 @@
 #include "scenarios/namespaces.hpp"
 
 #include "packing/body_packing.hpp"
+#include "packing/settle.hpp"
 #include "scenarios/compact.hpp"
 #include "scenarios/config_io.hpp"
 #include "simulate/snapshot.hpp"
@@ -14,15 +15,17 @@
 namespace shapepress::scenarios {
 
 struct PreparedCompaction {
-  std::unique_ptr<Engine> engine;
+  std::unique_ptr<Engine> engine;  // none: the settle was stopped (SettleCheckpoints)
   CompactionSetup setup;
   PunchState punch;
   TimeStepChoice time_step;
 };
 
-// `spheres` empty: generate from config.generate (InputError if absent) and settle.
+// `spheres` empty: generate from config.generate (InputError if absent) and settle, with
+// checkpoints of the settle (its resume: the bed is generated again, then the snapshot's).
 PreparedCompaction prepare_compaction(const CompactConfig& config,
-                                      std::optional<SphereList> spheres);
+                                      std::optional<SphereList> spheres,
+                                      SettleCheckpoints settle_checkpoints = {});
 // A bed of bodies made by `pack` (spheres, BMS bodies bonded by config.bond, CMS bodies as rigid
 // clumps): the box and floor must be the packing's, the punch starts at box.punch or, without
 // it, at the packing's top. Not settled again.

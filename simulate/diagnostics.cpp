@@ -73,13 +73,19 @@ EnergySummary Engine::energy() const {
 }
 
 void Engine::check_divergence() const {
+  // Each message names the step size: one too large for the scene is the usual cause.
+  const auto diverged = [&](const std::string& what) {
+    return ComputationError(fmt::format(
+        "{}; time step {:.3g} s (too large for the scene? lower time_step or time_step_fraction)",
+        what, settings_.time_step));
+  };
   const SphereState& s = state_;
   for (std::size_t i = 0; i < s.size(); ++i) {
     const double values[6] = {s.position.x[i], s.position.y[i], s.position.z[i],
                               s.velocity.x[i], s.velocity.y[i], s.velocity.z[i]};
     for (double v : values)
       if (!std::isfinite(v))
-        throw ComputationError(fmt::format(
+        throw diverged(fmt::format(
             "diverged at step {}: sphere {} has a non-finite position or velocity", step_, i));
   }
   const double fraction = settings_.max_overlap_fraction;
@@ -97,7 +103,7 @@ void Engine::check_divergence() const {
     if (bond_only) {
       const double radii_sum = s.radius[i] + s.radius[j];
       if (overlap > bond_only_overlap_limit * radii_sum)
-        throw ComputationError(fmt::format(
+        throw diverged(fmt::format(
             "diverged at step {}: bonded spheres {} and {} overlap by {:.3g} m, {:.3f} of their "
             "radii sum, past the limit {} (their centres nearer than {:.2g} of it): with "
             "contact_when_bonded = false only the linear bond holds them apart (time step too "
@@ -108,7 +114,7 @@ void Engine::check_divergence() const {
       continue;
     }
     if (overlap > fraction * std::min(s.radius[i], s.radius[j]))
-      throw ComputationError(fmt::format(
+      throw diverged(fmt::format(
           "diverged at step {}: spheres {} and {} overlap by {:.3g} m, more than {} of the "
           "smaller radius (time step too large or the load too fast?)",
           step_, i, j, overlap, fraction));
@@ -118,7 +124,7 @@ void Engine::check_divergence() const {
       const double overlap =
           s.radius[i] - walls_[k].facing * (s.position.z[i] - walls_[k].position);
       if (overlap > fraction * s.radius[i])
-        throw ComputationError(fmt::format(
+        throw diverged(fmt::format(
             "diverged at step {}: sphere {} overlaps wall {} by {:.3g} m, more than {} of its "
             "radius",
             step_, i, k, overlap, fraction));
@@ -142,7 +148,7 @@ void Engine::check_divergence() const {
                         s.velocity.z[i] * s.velocity.z[i];
       if (v2 > fastest_v2) fastest_v2 = v2, fastest = i;
     }
-    throw ComputationError(fmt::format(
+    throw diverged(fmt::format(
         "diverged at step {}: energy {:.3g} J grew beyond the {:.3g} J held and put in; fastest "
         "sphere {} at {:.3g} m/s",
         step_, e.kinetic + e.elastic, budget, fastest, std::sqrt(fastest_v2)));

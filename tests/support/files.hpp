@@ -1,9 +1,11 @@
 #pragma once
 // Scratch folders and files for end-to-end tests.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace shapepress::testing {
 
@@ -48,6 +50,15 @@ inline std::string read_text(const std::filesystem::path& path) {
 // (tests/data/scenarios/powder.toml).
 inline std::string test_data_text(const std::filesystem::path& relative) {
   return read_text(std::filesystem::path(SHAPEPRESS_TEST_DATA) / relative);
+}
+
+// Every file under `folder`, relative to it, sorted (hidden temporaries included).
+inline std::vector<std::filesystem::path> files_under(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) files.push_back(std::filesystem::relative(entry.path(), folder));
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 }  // namespace shapepress::testing

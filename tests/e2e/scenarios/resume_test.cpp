@@ -4,25 +4,29 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <chrono>
+#include <algorithm>
 #include <filesystem>
-#include <random>
-#include <regex>
 #include <string>
 #include <vector>
 
 #include "simulate/snapshot.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
+#include "tests/support/kill_resume.hpp"
 
 namespace shapepress {
 namespace {
 
+using shapepress::testing::CommandResult;
+using shapepress::testing::files_under;
 using shapepress::testing::fresh_directory;
+using shapepress::testing::kill_three_times_and_resume;
+using shapepress::testing::KilledRuns;
 using shapepress::testing::read_text;
 using shapepress::testing::run_command;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::timed_run;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
@@ -58,14 +62,6 @@ unload_speed = "0.5 m/s"
 )";
 }
 
-std::vector<std::filesystem::path> files_under(const std::filesystem::path& folder) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder))
-    if (entry.is_regular_file()) files.push_back(std::filesystem::relative(entry.path(), folder));
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 // Two snapshots hold the same state, contacts and walls (their creation times aside).
 void expect_same_snapshot(const std::filesystem::path& a, const std::filesystem::path& b) {
   const simulate::LoadedSnapshot x = simulate::read_snapshot(a), y = simulate::read_snapshot(b);
@@ -91,51 +87,20 @@ TEST(CompactResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
   write_text(dir / "compact.toml", resumable_config());
   const std::string start = "compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
                             shell_quoted(dir / "run");
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto whole = run_shapepress(start);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CommandResult whole;
+  const double seconds = timed_run(start, whole);
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "checkpoints"));  // gone once whole
   // The same --out, so run.json's command and effective.toml's header are the same too.
   std::filesystem::rename(dir / "run", dir / "uninterrupted");
 
-  // Three kills, each a seeded fraction of the whole run's wall time into an attempt.
-  std::mt19937 random(23);
-  std::uniform_real_distribution<double> fraction(0.4, 0.9);
-  std::vector<std::string> resumed_from;
-  bool finished_early = false;  // an attempt outran its kill: nothing left to resume
-  for (int attempt = 0; attempt < 3 && !finished_early; ++attempt) {
-    // A resumed attempt skips the pour and settle, most of the run's start: it is killed sooner.
-    const double kill_after = fraction(random) * seconds * (attempt == 0 ? 1.0 : 0.4);
-    const std::string arguments =
-        attempt == 0 ? start : "compact --resume " + shell_quoted(dir / "run");
-    std::string command = "timeout -s KILL ";
-    command += std::to_string(kill_after);
-    command += " ";
-    command += SHAPEPRESS_BINARY;
-    command += " ";
-    command += arguments;
-    const auto killed = run_command(command);
-    std::smatch step;
-    resumed_from.push_back(
-        std::regex_search(killed.output, step, std::regex(R"(checkpoint at step (\d+))"))
-            ? step[1].str()
-            : "start");
-    std::printf("attempt %d: killed after %.2f s of %.2f s (resumed from %s), exit %d\n",
-                attempt + 1, kill_after, seconds, resumed_from.back().c_str(), killed.exit_code);
-    finished_early = killed.exit_code == 0;
-  }
-  EXPECT_NE(resumed_from.back(), "start");  // at least one resume from a checkpoint
-  if (!finished_early) {
-    const auto finished = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
-    ASSERT_EQ(finished.exit_code, 0) << finished.output;
-    std::smatch step;
-    std::printf("last resume: from %s\n",
-                std::regex_search(finished.output, step, std::regex(R"(checkpoint at step (\d+))"))
-                    ? step[1].str().c_str()
-                    : "the start");
-  }
+  // A resumed attempt skips the pour and settle, most of the run's start: it is killed sooner.
+  const KilledRuns runs = kill_three_times_and_resume(
+      start, "compact --resume " + shell_quoted(dir / "run"), seconds, 1.0, 0.4, 23);
+  // At least one attempt resumed from a checkpoint (a later one may find the run finished).
+  EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
+            static_cast<std::ptrdiff_t>(runs.resumed_from.size()));
+  ASSERT_TRUE(runs.finished) << runs.output;
 
   const auto ref = dir / "uninterrupted", run = dir / "run";
   EXPECT_EQ(files_under(run), files_under(ref));  // no checkpoint, no hidden temporary left
@@ -166,6 +131,33 @@ TEST(CompactResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_THAT(resumed.output, HasSubstr("checkpoint at step"));
+}
+
+// The settle of a generated bed checkpoints too: stopped while settling, the run resumes in the
+// settle and ends with the uninterrupted run's punch.csv.
+TEST(CompactResume, StoppedWhileSettlingResumesInTheSettle) {
+  const auto dir = fresh_directory("compact_settle_resume");
+  write_text(dir / "compact.toml", resumable_config());
+  const auto whole =
+      run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                     shell_quoted(dir / "whole"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  std::string command = "(";
+  command += SHAPEPRESS_BINARY;
+  command += " compact --config ";
+  command += shell_quoted(dir / "compact.toml");
+  command += " --out ";
+  command += shell_quoted(dir / "run");
+  command += " & pid=$!; while [ ! -e ";
+  command += shell_quoted(dir / "run" / "checkpoints" / "settle_0000000300.history");
+  command += " ] && kill -0 $pid 2>/dev/null; do sleep 0.02; done; kill -TERM $pid; wait $pid)";
+  const auto stopped = run_command(command);
+  ASSERT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
+  const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr("settle's checkpoint at step"));
+  EXPECT_EQ(read_text(dir / "run" / "punch.csv"), read_text(dir / "whole" / "punch.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "run" / "checkpoints"));
 }
 
 TEST(CompactResume, NothingToResumeIsExitTwoNamingTheFolder) {

@@ -1,4 +1,4 @@
-#include "pipelines/suggest.hpp"
+#include "common/suggest.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-// "did you mean" for mistyped stages and options.
+// "did you mean" for mistyped stages, options and config keys.
 #include <optional>
 #include <span>
 #include <string>

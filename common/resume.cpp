@@ -1,0 +1,131 @@
+#include "common/resume.hpp"
+
+#include <fmt/format.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+
+#include <nlohmann/json.hpp>
+
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/sha256.hpp"
+
+namespace shapepress {
+namespace {
+
+// The signal SIGINT or SIGTERM delivered, 0 before one is. The program's one global: a signal
+// handler can reach nothing else safely (C++ [support.signal]: a lock-free volatile
+// sig_atomic_t of static storage), and the stepping loops poll it through CheckpointClock.
+volatile std::sig_atomic_t received_signal = 0;
+
+extern "C" void note_signal(int signal) {
+  received_signal = signal;
+  std::signal(signal, SIG_DFL);  // a second one stops the run at once
+}
+
+}  // namespace
+
+SignalCheckpoints::SignalCheckpoints()
+    : interrupt_(std::signal(SIGINT, note_signal)), terminate_(std::signal(SIGTERM, note_signal)) {}
+
+SignalCheckpoints::~SignalCheckpoints() {
+  std::signal(SIGINT, interrupt_);
+  std::signal(SIGTERM, terminate_);
+}
+
+int SignalCheckpoints::received() {
+  return received_signal;
+}
+
+CheckpointClock::CheckpointClock(CheckpointPolicy policy)
+    : policy_(policy), last_(std::chrono::steady_clock::now()) {}
+
+bool CheckpointClock::due(std::int64_t step) const {
+  const std::chrono::duration<double> interval(60.0 * policy_.minutes);
+  return SignalCheckpoints::received() != 0 ||
+         (policy_.every_steps > 0 && step % policy_.every_steps == 0) ||
+         (policy_.minutes > 0.0 && std::chrono::steady_clock::now() - last_ >= interval);
+}
+
+void CheckpointClock::taken() {
+  last_ = std::chrono::steady_clock::now();
+}
+
+void write_invocation(const std::filesystem::path& path, const RunInvocation& i) {
+  const nlohmann::ordered_json json{{"command", i.command_line},
+                                    {"working_directory", i.working_directory.string()},
+                                    {"config", i.config},
+                                    {"config_sha256", i.config_sha256},
+                                    {"arguments", i.arguments}};
+  write_file_atomically(path, json.dump(2) + "\n");
+}
+
+RunInvocation resume_invocation(const std::filesystem::path& path, const std::string& run) {
+  std::ifstream in(path);
+  if (!in)
+    throw InputError(
+        fmt::format("{}: no run to resume here ({} is missing: not the output of a resumable run, "
+                    "or the run finished)",
+                    run, path.string()));
+  RunInvocation i;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    i.command_line = j.at("command").get<std::string>();
+    i.working_directory = j.at("working_directory").get<std::string>();
+    i.config = j.at("config").get<std::string>();
+    i.config_sha256 = j.at("config_sha256").get<std::string>();
+    i.arguments = j.at("arguments").get<std::map<std::string, std::vector<std::string>>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: not a resume record ({})", path.string(), e.what()));
+  }
+  std::error_code ec;
+  std::filesystem::current_path(i.working_directory, ec);
+  if (ec)
+    throw InputError(fmt::format("{}: the run was started in {}, which is gone ({})", run,
+                                 i.working_directory.string(), ec.message()));
+  if (!std::filesystem::is_regular_file(i.config) || sha256_file(i.config) != i.config_sha256)
+    throw InputError(fmt::format(
+        "{}: the config {} is missing or changed since the run started; a resumed run needs the "
+        "same one",
+        run, i.config));
+  return i;
+}
+
+CheckpointFolderGuard::CheckpointFolderGuard(std::filesystem::path folder)
+    : folder_(std::move(folder)), exceptions_(std::uncaught_exceptions()) {}
+
+CheckpointFolderGuard::~CheckpointFolderGuard() {
+  if (std::uncaught_exceptions() <= exceptions_) return;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder_, ec))
+    if (entry.path().extension() == ".history") return;
+  std::filesystem::remove_all(folder_, ec);
+}
+
+std::string exact_text(double value) {
+  return fmt::format("{:a}", value);
+}
+
+double parse_exact(const std::string& token, const std::filesystem::path& file) {
+  char* end = nullptr;
+  const double value = std::strtod(token.c_str(), &end);
+  if (end == token.c_str() || *end != '\0')
+    throw InputError(
+        fmt::format("{}: '{}' is not a number (a damaged checkpoint)", file.string(), token));
+  return value;
+}
+
+void remove_stale_temporaries(const std::filesystem::path& folder, const std::string& prefix) {
+  static const std::regex temporary(R"(\..+\.tmp\.\d+)");
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (std::regex_match(name, temporary) && name.substr(1).starts_with(prefix))
+      std::filesystem::remove(entry.path(), ec);
+  }
+}
+
+}  // namespace shapepress

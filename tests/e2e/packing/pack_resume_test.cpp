@@ -1,0 +1,148 @@
+// `pack --resume`: a pack (settle, press, relax) killed with SIGKILL at three seeded points and
+// resumed each time ends with the uninterrupted run's packed.h5 (every dataset, bit for bit),
+// packed.xmf, and run.json (its wall times aside); SIGTERM writes a checkpoint and exits 143.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "packing/body_packing.hpp"
+#include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
+#include "tests/support/kill_resume.hpp"
+
+namespace shapepress::packing {
+namespace {
+
+using shapepress::testing::CommandResult;
+using shapepress::testing::files_under;
+using shapepress::testing::fresh_directory;
+using shapepress::testing::kill_three_times_and_resume;
+using shapepress::testing::KilledRuns;
+using shapepress::testing::read_text;
+using shapepress::testing::run_command;
+using shapepress::testing::run_shapepress;
+using shapepress::testing::shell_quoted;
+using shapepress::testing::timed_run;
+using shapepress::testing::write_text;
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+// Spheres and rigid (CMS) ellipsoids settled, pressed to 0.5 and relaxed, checkpointing every
+// 400 steps, so kills land in each phase and between checkpoints.
+std::string resumable_config() {
+  return "[pack]\ncount = 12\nseed = 5\nbox_x = 3.0e-3\nbox_y = 3.0e-3\n"
+         "[[template]]\nname = \"cms/ellipsoid\"\nweight = 1\n"
+         "[[template]]\nname = \"sphere\"\nweight = 1\n"
+         "[sizes]\nsize_quantiles = [0.8e-3, 1.0e-3, 1.2e-3]\n"
+         "size_quantile_levels = [0.1, 0.5, 0.9]\n"
+         "diameter_min = 0.8e-3\ndiameter_max = 1.2e-3\n"
+         "[settle]\nkinetic_energy_ratio = 1e-3\n"
+         "[press]\nsolid_fraction = 0.5\nspeed = 0.2\n"
+         "[run]\ncheckpoint_every = 400\n";
+}
+
+fs::path rigid_templates(const fs::path& dir) {
+  const fs::path t = dir / "t.h5";
+  const auto r = run_shapepress(
+      "--quiet fill --ellipsoid 150um,100um,80um --kind cms --count 20 --out " + shell_quoted(t));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return t;
+}
+
+// The two packings hold the same bodies, sub-spheres, bonds and measures, bit for bit.
+void expect_same_packing(const fs::path& a, const fs::path& b) {
+  const BodyPacking x = read_packing(a), y = read_packing(b);
+  ASSERT_EQ(x.size(), y.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    EXPECT_EQ(x.bodies[k].template_index, y.bodies[k].template_index) << k;
+    EXPECT_EQ(x.bodies[k].scale, y.bodies[k].scale) << k;
+    EXPECT_EQ(x.bodies[k].centre, y.bodies[k].centre) << k;
+    EXPECT_EQ(x.bodies[k].orientation.w, y.bodies[k].orientation.w) << k;
+    EXPECT_EQ(x.bodies[k].orientation.x, y.bodies[k].orientation.x) << k;
+  }
+  EXPECT_EQ(x.particles.x, y.particles.x);
+  EXPECT_EQ(x.particles.y, y.particles.y);
+  EXPECT_EQ(x.particles.z, y.particles.z);
+  EXPECT_EQ(x.particles.radius, y.particles.radius);
+  EXPECT_EQ(x.bonds, y.bonds);
+  EXPECT_EQ(x.top, y.top);
+  EXPECT_EQ(x.measures.solid_fraction_shape, y.measures.solid_fraction_shape);
+  EXPECT_EQ(x.measures.coordination, y.measures.coordination);
+}
+
+// run.json without what depends on the machine's speed.
+nlohmann::json timeless(const fs::path& run_json) {
+  nlohmann::json j = nlohmann::json::parse(read_text(run_json));
+  j["facts"].erase("loop_s");
+  return j;
+}
+
+TEST(PackResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
+  const fs::path dir = fresh_directory("pack_resume");
+  const fs::path templates = rigid_templates(dir);
+  write_text(dir / "pack.toml", resumable_config());
+  fs::create_directories(dir / "run");
+  const std::string start = "pack " + shell_quoted(templates) + " --config " +
+                            shell_quoted(dir / "pack.toml") + " --out " +
+                            shell_quoted(dir / "run" / "packed.h5");
+  CommandResult whole;
+  const double seconds = timed_run(start, whole);
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_THAT(whole.output, HasSubstr("settled at solid fraction"));
+  EXPECT_FALSE(fs::exists(dir / "run" / "packed.h5.checkpoints"));  // gone once whole
+  fs::rename(dir / "run", dir / "uninterrupted");
+  fs::create_directories(dir / "run");
+
+  // The first attempt is killed within 0.24 to 0.54 of the run, a resumed one (which starts
+  // near its checkpoint) within 0.1 to 0.23 of it, so that the three kills land before the end.
+  const KilledRuns runs = kill_three_times_and_resume(
+      start, "pack --resume " + shell_quoted(dir / "run" / "packed.h5"), seconds, 0.6, 0.25, 29);
+  // At least one attempt resumed from a checkpoint (a later one may find the run finished).
+  EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
+            static_cast<std::ptrdiff_t>(runs.resumed_from.size()));
+  ASSERT_TRUE(runs.finished) << runs.output;
+
+  const fs::path ref = dir / "uninterrupted", run = dir / "run";
+  EXPECT_EQ(files_under(run), files_under(ref));  // no checkpoint, no hidden temporary left
+  expect_same_packing(ref / "packed.h5", run / "packed.h5");
+  EXPECT_EQ(read_text(run / "packed.xmf"), read_text(ref / "packed.xmf"));
+  EXPECT_EQ(timeless(run / "packed.h5.run.json"), timeless(ref / "packed.h5.run.json"));
+}
+
+TEST(PackResume, SigtermWritesACheckpointAndExitsWithItsCode) {
+  const fs::path dir = fresh_directory("pack_sigterm");
+  const fs::path templates = rigid_templates(dir);
+  write_text(dir / "pack.toml", resumable_config());
+  // SIGTERM once the first checkpoint is out.
+  std::string command = "(";
+  command += SHAPEPRESS_BINARY;
+  command += " pack " + shell_quoted(templates) + " --config ";
+  command += shell_quoted(dir / "pack.toml");
+  command += " --out ";
+  command += shell_quoted(dir / "packed.h5");
+  command += " & pid=$!; while [ ! -e ";
+  command += shell_quoted(dir / "packed.h5.checkpoints" / "step_0000000400.history");
+  command += " ] && kill -0 $pid 2>/dev/null; do sleep 0.05; done; kill -TERM $pid; wait $pid)";
+  const auto stopped = run_command(command);
+  EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
+  EXPECT_THAT(stopped.output, HasSubstr("--resume"));
+  EXPECT_FALSE(fs::exists(dir / "packed.h5"));
+  const auto resumed = run_shapepress("pack --resume " + shell_quoted(dir / "packed.h5"));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr("checkpoint at step"));
+  EXPECT_TRUE(fs::exists(dir / "packed.h5"));
+}
+
+TEST(PackResume, NothingToResumeIsExitTwoNamingTheFile) {
+  const fs::path dir = fresh_directory("pack_resume_nothing");
+  const auto result = run_shapepress("pack --resume " + shell_quoted(dir / "nowhere.h5"));
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("nowhere.h5"));
+}
+
+}  // namespace
+}  // namespace shapepress::packing

@@ -1,0 +1,7 @@
+// libFuzzer target: tests/fuzz/harnesses.hpp (run by scripts/run-fuzzers.sh).
+#include "tests/fuzz/harnesses_mesh.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  shapepress::fuzz::mesh(data, size);
+  return 0;
+}
