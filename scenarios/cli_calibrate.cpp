@@ -108,7 +108,7 @@ CalibrateCli resumed_arguments(const std::string& folder, std::string& command_l
         throw InputError(fmt::format(
             "--resume {}: the {} {} is missing or changed since the calibration started; a "
             "resumed calibration needs the same one",
-            folder, file, name));
+            folder, file, name.string()));
     }
     cli.config = j.at("config");
     cli.reference = j.at("reference");
