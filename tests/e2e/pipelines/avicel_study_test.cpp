@@ -1,0 +1,98 @@
+// The Avicel PH 200 study (pipelines/avicel-ph200/Makefile) reduced to what runs in the default
+// suite: synthetic SEM images → shape-stats → generate → three shape classes → fill → pack →
+// compact (BMS beds and the spheres) → report. Every stage's output is consumed by the next (each
+// run.json names its inputs by content hash, and the hashes chain from the images to the report),
+// and a second `make` has nothing to do.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "common/sha256.hpp"
+#include "tests/support/command.hpp"
+#include "tests/support/files.hpp"
+
+namespace shapepress {
+namespace {
+
+namespace fs = std::filesystem;
+using shapepress::testing::fresh_directory;
+using shapepress::testing::repository_root;
+using shapepress::testing::run_command;
+using shapepress::testing::shell_quoted;
+
+nlohmann::json run_json(const fs::path& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  return nlohmann::json::parse(in);
+}
+
+// The SHA-256 run.json records for the input of `role` (the first such).
+std::string input_hash(const nlohmann::json& record, const std::string& role) {
+  for (const auto& input : record["inputs"])
+    if (input["role"] == role) return input["sha256"].get<std::string>();
+  return {};
+}
+
+TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing) {
+  const fs::path out = fresh_directory("avicel_study");
+  // Twelve bodies lie in one layer of the 1 mm die: rigid, they cannot be pressed to 0.59, so
+  // the reduced study packs them settled only (the shipped config without its [press]).
+  std::string pack_config = shapepress::testing::read_text(repository_root() / "pipelines" /
+                                                           "configs" / "pack-avicel-bms.toml");
+  pack_config.erase(pack_config.find("[press]"));
+  shapepress::testing::write_text(out.parent_path() / "avicel_study_pack.toml", pack_config);
+  // Mass-scaled 10⁴ times a run is a few thousand steps: a record every 50 leaves the report's
+  // Heckel and Kawakita fits enough points.
+  std::string study_configs;
+  for (const std::string kind : {"bms", "spheres"}) {
+    std::string text = shapepress::testing::read_text(repository_root() / "pipelines" / "configs" /
+                                                      ("avicel-ph200-" + kind + ".toml"));
+    const std::size_t at = text.find("record_every = ");
+    text.replace(at, text.find('\n', at) - at, "record_every = 50");
+    const fs::path file = out.parent_path() / ("avicel_study_" + kind + ".toml");
+    shapepress::testing::write_text(file, text);
+    study_configs += (kind == "bms" ? " BMS_CONFIG=" : " SPHERE_CONFIG=") + shell_quoted(file);
+  }
+  const std::string study =
+      "make -s -C " + shell_quoted(repository_root() / "pipelines" / "avicel-ph200") +
+      " SHAPEPRESS=" + shell_quoted(SHAPEPRESS_BINARY) + " OUT=" + shell_quoted(out) +
+      " PACK_CONFIG=" + shell_quoted(out.parent_path() / "avicel_study_pack.toml") + study_configs +
+      " BODIES=12 SUBSPHERES=40 POPULATION=6 DENSITY_SCALE=10000 THREADS=2";
+  const auto first = run_command(study + " -j2");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_TRUE(fs::exists(out / "report" / "report.html"));
+
+  // Images → statistics → shapes → the three classes → templates → beds → runs → report.
+  const auto stats = run_json(out / "stats" / "run.json");
+  const auto shapes = run_json(out / "shapes" / "run.json");
+  EXPECT_EQ(input_hash(shapes, "targets"), sha256_file(out / "stats" / "summary.json"));
+  for (const std::string c : {"asr084", "asr071", "asr053"}) {
+    SCOPED_TRACE(c);
+    const auto pack = run_json(out / c / "packed.h5.run.json");
+    EXPECT_EQ(input_hash(pack, "templates"), sha256_file(out / c / "templates.h5"));
+    EXPECT_EQ(input_hash(pack, "summary"), sha256_file(out / "stats" / "summary.json"));
+    EXPECT_EQ(pack["facts"]["bodies"], 12);
+    const auto compact = run_json(out / c / "run" / "run.json");
+    EXPECT_EQ(input_hash(compact, "packing"), sha256_file(out / c / "packed.h5"));
+    EXPECT_EQ(compact["facts"]["particle_kind"], "bms");
+    EXPECT_EQ(compact["facts"]["density_scale"], 10000.0);
+  }
+  EXPECT_FALSE(stats["inputs"].empty());
+  const auto report = run_json(out / "report" / "run.json");
+  int runs = 0;
+  for (const auto& input : report["inputs"])
+    if (input["path"].get<std::string>().ends_with("punch.csv")) ++runs;
+  EXPECT_EQ(runs, 4);  // three shapes and the spheres
+
+  // Nothing is out of date: `make -q` exits 0 only when no rule would run.
+  const auto again = run_command(study + " -q");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+}
+
+}  // namespace
+}  // namespace shapepress
