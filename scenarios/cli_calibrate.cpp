@@ -241,6 +241,18 @@ void report_evaluation(std::size_t index, const CalibrationEvaluation& e,
   progress.update(static_cast<double>(index));
 }
 
+// run.json's "fitted" and "start": each parameter's value, by name.
+RunMetadata& add_fitted_values(RunMetadata& meta, const std::vector<std::string>& names,
+                               const std::vector<double>& start,
+                               const std::vector<double>& fitted) {
+  nlohmann::json fitted_json = nlohmann::json::object(), start_json = nlohmann::json::object();
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    fitted_json[names[k]] = fitted[k];
+    start_json[names[k]] = start[k];
+  }
+  return meta.fact("fitted", fitted_json).fact("start", start_json);
+}
+
 int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
                                const Invocation& invocation) {
   RunMetadata meta("calibrate", invocation.command_line);
@@ -335,13 +347,7 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   if (options.density_scale) scene.density_scale = *options.density_scale;
   add_compaction_facts(meta, scene, best.setup, best.punch.reference_gap, best.time_step,
                        *best.engine, result.best.summary);
-  nlohmann::json fitted = nlohmann::json::object(), start = nlohmann::json::object();
-  for (std::size_t k = 0; k < options.parameters.size(); ++k) {
-    fitted[options.parameters[k]] = result.values[k];
-    start[options.parameters[k]] = result.start[k];
-  }
-  meta.fact("fitted", fitted)
-      .fact("start", start)
+  add_fitted_values(meta, options.parameters, result.start, result.values)
       .fact("reference_axes", analysis::axes_name(options.reference.axes))
       .fact("points_compared", error.points)
       .fact("rms", error.rms)
@@ -485,13 +491,7 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   summary.commit();
   // The folder is also a plate run (force.csv of the best fit): the plate facts, then the fit's.
   add_plate_facts(meta, result.config, PlateParticleKind::bms, result.best);
-  nlohmann::json fitted = nlohmann::json::object(), start = nlohmann::json::object();
-  for (std::size_t k = 0; k < options.parameters.size(); ++k) {
-    fitted[options.parameters[k]] = result.values[k];
-    start[options.parameters[k]] = result.start[k];
-  }
-  meta.fact("fitted", fitted)
-      .fact("start", start)
+  add_fitted_values(meta, options.parameters, result.start, result.values)
       .fact("rms_relative", result.rms_relative)
       .fact("max_relative", result.max_relative)
       .fact("window_deformation", nlohmann::json::array({from, to}))

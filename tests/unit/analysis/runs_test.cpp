@@ -69,7 +69,10 @@ TEST(Runs, APunchCsvWithoutTheH0CommentIsRejected) {
 // A copy of a synthetic run folder, its CSV's comment lines replaced and its run.json edited.
 std::filesystem::path edited_copy(const std::string& run, const std::string& csv,
                                   const std::function<void(nlohmann::json&)>& edit) {
-  const auto folder = std::filesystem::temp_directory_path() / ("shapepress_runs_" + run);
+  // One folder per test: ctest runs the tests of this file side by side.
+  const auto folder = std::filesystem::temp_directory_path() /
+                      ("shapepress_runs_" + run + "_" +
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
   std::ifstream in(data / run / csv);
