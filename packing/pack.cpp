@@ -535,17 +535,32 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
       }
       case PackPhase::press: {
         const double dt = step.time_step;
-        const PhaseEnd end = run_phase(
-            *engine, request, std::numeric_limits<double>::infinity(), 0.0, progress, state, [&] {
-              PlaneWall& p = engine->walls()[1];
-              if (p.position - request.floor <= gap) {
-                p.velocity = 0.0;
-                return false;
-              }
-              p.velocity = -request.punch_speed;
-              p.position = std::max(request.floor + gap, p.position - request.punch_speed * dt);
-              return true;
-            });
+        PhaseEnd end = PhaseEnd::rest;
+        try {
+          end = run_phase(
+              *engine, request, std::numeric_limits<double>::infinity(), 0.0, progress, state, [&] {
+                PlaneWall& p = engine->walls()[1];
+                if (p.position - request.floor <= gap) {
+                  p.velocity = 0.0;
+                  return false;
+                }
+                p.velocity = -request.punch_speed;
+                p.position = std::max(request.floor + gap, p.position - request.punch_speed * dt);
+                return true;
+              });
+        } catch (const ComputationError& e) {
+          // Rigid bodies that cannot rearrange (a single layer, a jammed bed) stop the punch
+          // short of the target: it then drives a sub-sphere into its neighbour until the
+          // overlap check trips. The target is what cannot be had.
+          const double reached =
+              solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
+          throw InputError(fmt::format(
+              "pack: the press jammed at a solid fraction of {:.4f} by shape volume, short of "
+              "press.solid_fraction = {}: the rigid bodies cannot be pressed further without "
+              "overlapping ({}); lower press.solid_fraction, or pack more bodies so that they "
+              "can rearrange",
+              reached, *request.target_solid_fraction, e.what()));
+        }
         if (end == PhaseEnd::interrupted) {
           run.interrupted = done = true;
           break;

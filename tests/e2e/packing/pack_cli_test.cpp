@@ -127,6 +127,15 @@ TEST(PackCli, BadInputExitsTwoNamingTheCauseAndLeavesNoFile) {
   expect_refused(dir, t, "not less than the box");
   write_text(dir / "c.toml", config(two_templates, "[press]\nsolid_fraction = 0.8\n"));
   expect_refused(dir, t, "solid_fraction_ceiling");
+  // Four rigid bodies lie in one layer: they cannot rearrange to 0.59, the punch jams on them.
+  write_text(dir / "c.toml",
+             "[pack]\ncount = 4\nseed = 3\nbox_x = 0.8e-3\nbox_y = 0.8e-3\n"
+             "[[template]]\nname = \"bms/ellipsoid\"\n"
+             "[sizes]\nsize_quantiles = [82.9e-6, 224.6e-6, 379.3e-6]\n"
+             "size_quantile_levels = [0.1, 0.5, 0.9]\ndiameter_min = 250e-6\n"
+             "diameter_max = 350e-6\n[settle]\nkinetic_energy_ratio = 1e-4\n"
+             "[press]\nsolid_fraction = 0.59\n");
+  expect_refused(dir, t, "short of press.solid_fraction = 0.59");
   write_text(dir / "c.toml", config(two_templates, "[material]\ndensity = -1500\n"));
   expect_refused(dir, t, "material.density");
   write_text(dir / "c.toml", config(two_templates, "[material]\nyoungs_modulus = nan\n"));
