@@ -38,7 +38,7 @@ std::string resumable_config() {
 [run]
 record_every = 50
 snapshot_every = 1000
-checkpoint_every = 300
+checkpoint_every = 100
 gravity = [0.0, 0.0, -9.81]
 
 [box]
