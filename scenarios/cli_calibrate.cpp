@@ -382,8 +382,10 @@ struct ReferenceCurve {
 };
 
 ReferenceCurve read_plate_reference(const CalibrateCli& cli, double radius) {
-  ReferenceCurve curve{
-      cli.reference, {}, {}, cli.y_column.empty() ? std::string("F_tatara_N") : cli.y_column};
+  ReferenceCurve curve{reference_file(cli.reference),
+                       {},
+                       {},
+                       cli.y_column.empty() ? std::string("F_tatara_N") : cli.y_column};
   std::string x_column = cli.x_column.empty() ? std::string("deformation") : cli.x_column;
   if (std::filesystem::is_directory(cli.reference)) {
     const RunRecord record =
@@ -409,7 +411,6 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, double radius) {
           fmt::format("--reference {}: the FEM particle's radius {} m and polar radius {} m are "
                       "not the config's sphere radius {} m",
                       cli.reference, fem_radius, fem_polar, radius));
-    curve.csv = std::filesystem::path(cli.reference) / "force.csv";
     x_column = "deformation";
     curve.force_column = "top_force_N";
   }

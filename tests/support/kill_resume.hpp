@@ -26,6 +26,24 @@ inline double timed_run(const std::string& arguments, CommandResult& result) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// Runs shapepress `arguments` in the background and sends it SIGTERM once a file matches the
+// shell pattern `ready` (already quoted where it needs to be), or when the run has ended: the
+// run's exit code and output. Polled every `poll` (a `sleep` argument, seconds).
+// (Appended piece by piece: GCC 12 at -O3 warns falsely (-Wrestrict) on one long sum.)
+inline CommandResult terminate_when(const std::string& arguments, const std::string& ready,
+                                    const std::string& poll) {
+  std::string command = "(";
+  command += SHAPEPRESS_BINARY;
+  command += " ";
+  command += arguments;
+  command += " & pid=$!; while ! ls ";
+  command += ready;
+  command += " >/dev/null 2>&1 && kill -0 $pid 2>/dev/null; do sleep ";
+  command += poll;
+  command += "; done; kill -TERM $pid; wait $pid)";
+  return run_command(command);
+}
+
 // Starts `start` (shapepress arguments) and kills it with SIGKILL after a seeded fraction (0.4 to
 // 0.9) of `seconds` (the uninterrupted run's wall time) times `first_share`, then `resume`
 // likewise times `resumed_share` (a resumed attempt skips the set-up before its checkpoint),

@@ -23,9 +23,9 @@ using shapepress::testing::fresh_directory;
 using shapepress::testing::kill_three_times_and_resume;
 using shapepress::testing::KilledRuns;
 using shapepress::testing::read_text;
-using shapepress::testing::run_command;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::terminate_when;
 using shapepress::testing::timed_run;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
@@ -118,19 +118,11 @@ TEST(PackResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   const fs::path templates = rigid_templates(dir);
   write_text(dir / "pack.toml", resumable_config());
   // SIGTERM once the first checkpoint is out.
-  std::string command = "(";
-  command += SHAPEPRESS_BINARY;
-  command += " pack " + shell_quoted(templates) + " --config ";
-  command += shell_quoted(dir / "pack.toml");
-  command += " --out ";
-  command += shell_quoted(dir / "packed.h5");
   // Any checkpoint: the newest two are kept, so the first may be gone when the loop looks.
-  command += " & pid=$!; while ! ls ";
-  command += shell_quoted(dir / "packed.h5.checkpoints");
-  command +=
-      "/*.history >/dev/null 2>&1 && kill -0 $pid 2>/dev/null; do sleep 0.02; done; "
-      "kill -TERM $pid; wait $pid)";
-  const auto stopped = run_command(command);
+  const auto stopped = terminate_when(
+      "pack " + shell_quoted(templates) + " --config " + shell_quoted(dir / "pack.toml") +
+          " --out " + shell_quoted(dir / "packed.h5"),
+      shell_quoted(dir / "packed.h5.checkpoints") + "/*.history", "0.02");
   EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   EXPECT_THAT(stopped.output, HasSubstr("--resume"));
   EXPECT_FALSE(fs::exists(dir / "packed.h5"));

@@ -23,9 +23,9 @@ using shapepress::testing::fresh_directory;
 using shapepress::testing::kill_three_times_and_resume;
 using shapepress::testing::KilledRuns;
 using shapepress::testing::read_text;
-using shapepress::testing::run_command;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::terminate_when;
 using shapepress::testing::timed_run;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
@@ -114,17 +114,10 @@ TEST(CompactResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   const auto dir = fresh_directory("compact_sigterm");
   write_text(dir / "compact.toml", resumable_config());
   // SIGTERM once the run is well into its steps (the first snapshot is out).
-  // (Appended piece by piece: GCC 12 at -O3 warns falsely (-Wrestrict) on one long sum.)
-  std::string command = "(";
-  command += SHAPEPRESS_BINARY;
-  command += " compact --config ";
-  command += shell_quoted(dir / "compact.toml");
-  command += " --out ";
-  command += shell_quoted(dir / "run");
-  command += " & pid=$!; while [ ! -e ";
-  command += shell_quoted(dir / "run" / "snapshots" / "step_0000001000.h5");
-  command += " ] && kill -0 $pid 2>/dev/null; do sleep 0.05; done; kill -TERM $pid; wait $pid)";
-  const auto stopped = run_command(command);
+  const auto stopped =
+      terminate_when("compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                         shell_quoted(dir / "run"),
+                     shell_quoted(dir / "run" / "snapshots" / "step_0000001000.h5"), "0.05");
   EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   EXPECT_THAT(stopped.output, HasSubstr("--resume"));
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "punch.csv"));
@@ -142,20 +135,12 @@ TEST(CompactResume, StoppedWhileSettlingResumesInTheSettle) {
       run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
                      shell_quoted(dir / "whole"));
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
-  std::string command = "(";
-  command += SHAPEPRESS_BINARY;
-  command += " compact --config ";
-  command += shell_quoted(dir / "compact.toml");
-  command += " --out ";
-  command += shell_quoted(dir / "run");
   // Any settle checkpoint: the newest two are kept, and on an idle machine the first is gone
   // within milliseconds.
-  command += " & pid=$!; while ! ls ";
-  command += shell_quoted(dir / "run" / "checkpoints");
-  command +=
-      "/settle_*.history >/dev/null 2>&1 && kill -0 $pid 2>/dev/null; do sleep 0.005; "
-      "done; kill -TERM $pid; wait $pid)";
-  const auto stopped = run_command(command);
+  const auto stopped =
+      terminate_when("compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                         shell_quoted(dir / "run"),
+                     shell_quoted(dir / "run" / "checkpoints") + "/settle_*.history", "0.005");
   ASSERT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
