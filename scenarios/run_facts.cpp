@@ -1,17 +1,24 @@
 #include "scenarios/run_facts.hpp"
 
 #include <cmath>
+#include <variant>
 
 #include "simulate/contact_law_config.hpp"
 #include "simulate/engine.hpp"
+#include "simulate/multicontact_law.hpp"
 
 namespace shapepress::scenarios {
 nlohmann::json interaction_laws(const MaterialConfig& materials) {
   nlohmann::json laws = nlohmann::json::array();
-  for (const Interaction& in : materials.interactions)
-    laws.push_back({{"first", in.first},
-                    {"second", in.second},
-                    {"normal_law", normal_law_name(in.normal_law)}});
+  for (const Interaction& in : materials.interactions) {
+    nlohmann::json law = {
+        {"first", in.first}, {"second", in.second}, {"normal_law", normal_law_name(in.normal_law)}};
+    // A stated k1 replaces Hertz's 4/3 E* √R*: a calibrated run says which one it ran with.
+    if (const auto* multicontact = std::get_if<simulate::MulticontactLaw>(&in.normal_law))
+      if (multicontact->parameters.loading_stiffness)
+        law["loading_stiffness_N_per_m1_5"] = *multicontact->parameters.loading_stiffness;
+    laws.push_back(std::move(law));
+  }
   return laws;
 }
 

@@ -49,9 +49,12 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
   // Mass-scaled 10⁴ times a run is a few thousand steps: a record every 50 leaves the report's
   // Heckel and Kawakita fits enough points.
   std::string study_configs;
-  for (const std::string kind : {"bms", "spheres"}) {
+  double calibrated_loading_stiffness = 0.0;
+  for (const std::string kind : {"bms", "spheres-calibrated"}) {
     std::string text = shapepress::testing::read_text(repository_root() / "pipelines" / "configs" /
                                                       ("avicel-ph200-" + kind + ".toml"));
+    if (const std::size_t k1 = text.find("\nloading_stiffness = "); k1 != std::string::npos)
+      calibrated_loading_stiffness = std::stod(text.substr(k1 + 21));
     const std::size_t at = text.find("record_every = ");
     text.replace(at, text.find('\n', at) - at, "record_every = 50");
     const fs::path file = out.parent_path() / ("avicel_study_" + kind + ".toml");
@@ -63,6 +66,7 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
       " SHAPEPRESS=" + shell_quoted(SHAPEPRESS_BINARY) + " OUT=" + shell_quoted(out) +
       " PACK_CONFIG=" + shell_quoted(out.parent_path() / "avicel_study_pack.toml") + study_configs +
       " BODIES=12 SUBSPHERES=40 POPULATION=6 DENSITY_SCALE=10000 THREADS=2";
+  ASSERT_GT(calibrated_loading_stiffness, 0.0);
   const auto first = run_command(study + " -j2");
   ASSERT_EQ(first.exit_code, 0) << first.output;
   EXPECT_TRUE(fs::exists(out / "report" / "report.html"));
@@ -81,6 +85,10 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
     EXPECT_EQ(input_hash(compact, "packing"), sha256_file(out / c / "packed.h5"));
     EXPECT_EQ(compact["facts"]["particle_kind"], "bms");
     EXPECT_EQ(compact["facts"]["density_scale"], 10000.0);
+    // The shapes run with the calibrated spheres' k1 between bodies and against the tools.
+    for (const auto& law : compact["facts"]["laws"])
+      EXPECT_EQ(law.value("loading_stiffness_N_per_m1_5", 0.0), calibrated_loading_stiffness)
+          << law.dump();
   }
   EXPECT_FALSE(stats["inputs"].empty());
   const auto report = run_json(out / "report" / "run.json");
