@@ -26,6 +26,12 @@ struct SegmentOptions {
   double denoise_radius_px = 1.0;  // Gaussian sigma, or median half-size
   Background background = Background::quadratic;
   double rolling_radius_px = 50.0;  // structuring radius of the rolling background
+  // The quadratic background is fitted only when Otsu's background pixels cover at least this
+  // fraction of the image. Below it the field is dense (scikit-image's gravel: 0.16; the other
+  // real and synthetic images of the tests: 0.37-0.79), its dark pixels are the gaps and
+  // shadows between touching particles, and a surface fitted through them cuts off the darker
+  // particles (docs/imaging.md).
+  double background_min_fraction = 0.25;
   ThresholdMethod threshold = ThresholdMethod::otsu;
   double fixed_level = 0.5;       // fraction of the flattened intensity range
   int adaptive_block_px = 51;     // odd window of the adaptive threshold
