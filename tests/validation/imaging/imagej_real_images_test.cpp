@@ -218,6 +218,23 @@ void expect_dense_field(const std::string& image, const std::string& stem, bool 
   EXPECT_NEAR(ours.area, ij.area, area_fraction * ij.area);
 }
 
+// The quadratic background is fitted where Otsu's background pixels are at least a quarter of
+// the image, and not on gravel's dense field (11 %), where a surface fitted through the gaps and
+// shadows cut off the darker stones (195 particles instead of 210).
+TEST(ImageJRealImages, NoBackgroundIsFittedOnADenseField) {
+  const ImageReport gravel = process_image(data + "gravel256.png", defaults(true)).report;
+  EXPECT_EQ(gravel.background, "none");
+  EXPECT_LT(gravel.background_fraction, 0.25);
+  for (const auto& [file, bright] : {std::pair{"coins.png", true},
+                                     {"blobs.gif", false},
+                                     {"water_coins.png", false},
+                                     {"smarties.png", false}}) {
+    const ImageReport report = process_image(data + file, defaults(bright)).report;
+    EXPECT_EQ(report.background, "quadratic") << file;
+    EXPECT_GE(report.background_fraction, 0.25) << file;
+  }
+}
+
 TEST(ImageJRealImages, DefaultsSplitTouchingParticles) {
   expect_dense_field("blobs.gif", "blobs", false, 0.10, 0.05);
   expect_dense_field("gravel256.png", "gravel256", true, 0.10, 0.10);
