@@ -183,6 +183,10 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
   app.add_option("--background-radius", cli->segment.rolling_radius_px,
                  "px, radius of the rolling background")
       ->capture_default_str();
+  app.add_option("--background-min-fraction", cli->segment.background_min_fraction,
+                 "the quadratic background is fitted only when the background pixels cover at "
+                 "least this fraction of the image (a dense field has no background to model)")
+      ->capture_default_str();
   bind_choice(app, "--threshold", cli->threshold, threshold_choices,
               "otsu, triangle, fixed, adaptive or isodata (ImageJ's Default)");
   app.add_option("--threshold-level", cli->segment.fixed_level,

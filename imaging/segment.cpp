@@ -22,6 +22,8 @@ void SegmentOptions::check() const {
   };
   if (denoise_radius_px < 0) fail("denoise-radius", denoise_radius_px, "a radius >= 0 px");
   if (rolling_radius_px < 2) fail("background-radius", rolling_radius_px, "a radius >= 2 px");
+  if (!(background_min_fraction >= 0 && background_min_fraction <= 1))
+    fail("background-min-fraction", background_min_fraction, "0 <= fraction <= 1");
   if (!(fixed_level > 0 && fixed_level < 1)) fail("threshold-level", fixed_level, "0 < level < 1");
   if (adaptive_block_px < 3 || adaptive_block_px % 2 == 0)
     fail("adaptive-block", adaptive_block_px, "an odd window >= 3 px");
@@ -53,6 +55,18 @@ std::string to_string(ThresholdMethod method) {
       return "isodata";
   }
   return "otsu";
+}
+
+std::string to_string(Background background) {
+  switch (background) {
+    case Background::none:
+      return "none";
+    case Background::quadratic:
+      return "quadratic";
+    case Background::rolling:
+      return "rolling";
+  }
+  return "none";
 }
 
 namespace {
@@ -155,8 +169,23 @@ cv::Mat otsu_background(const cv::Mat& image) {
 // background, and a surface fitted through them rises under them and cuts them into pieces
 // (a dark coin on scikit-image's coins). So the split is redone on the flattened image and the
 // surface refitted until the background pixels stop changing (at most 4 rounds).
-cv::Mat subtract_quadratic_background(const cv::Mat& image) {
+// In a dense field (background pixels below `min_fraction` of the image) there is no background
+// to model: the dark pixels are the gaps and shadows between touching particles, whose level
+// follows the particles around them, and each refit moves them: on scikit-image's gravel (11 %
+// of the pixels) the surface grew from 0.14 to 0.36 of the range in four rounds, against a
+// contrast of 0.23 between stones and gaps, and lifted the level over the darker stones in two
+// corners. Such an image is left as it is.
+struct Flattened {
+  cv::Mat image;
+  bool fitted = false;
+  double background_fraction = 0.0;  // of Otsu's background pixels in the image as given
+};
+
+Flattened subtract_quadratic_background(const cv::Mat& image, double min_fraction) {
   cv::Mat background = otsu_background(image), flat = image.clone();
+  const double fraction =
+      cv::countNonZero(background) / static_cast<double>(std::max<std::size_t>(image.total(), 1));
+  if (fraction < min_fraction) return {flat, false, fraction};
   for (int round = 0; round < 4; ++round) {
     auto c = fit_quadratic(image, background);
     if (!c) break;
@@ -166,7 +195,7 @@ cv::Mat subtract_quadratic_background(const cv::Mat& image) {
     background = next;
     if (settled) break;
   }
-  return flat;
+  return {flat, true, fraction};
 }
 
 // Rolling background: a grey opening (erosion then dilation) removes everything narrower than
@@ -692,10 +721,16 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
           : options.polarity == Polarity::bright;
   if (!result.bright_particles) smooth = 1.0 - smooth;  // particles are bright from here on
 
-  cv::Mat flat = options.background == Background::quadratic ? subtract_quadratic_background(smooth)
-                 : options.background == Background::rolling
-                     ? subtract_rolling_background(smooth, options.rolling_radius_px)
-                     : smooth;
+  cv::Mat flat = smooth;
+  if (options.background == Background::quadratic) {
+    Flattened flattened = subtract_quadratic_background(smooth, options.background_min_fraction);
+    flat = flattened.image;
+    result.background = flattened.fitted ? Background::quadratic : Background::none;
+    result.background_fraction = flattened.background_fraction;
+  } else if (options.background == Background::rolling) {
+    flat = subtract_rolling_background(smooth, options.rolling_radius_px);
+    result.background = Background::rolling;
+  }
   cv::Mat flat8 = to_8bit(flat), mask, unit;
   cv::normalize(flat, unit, 0.0, 1.0, cv::NORM_MINMAX, CV_32F);
   switch (options.threshold) {

@@ -26,6 +26,12 @@ struct SegmentOptions {
   double denoise_radius_px = 1.0;  // Gaussian sigma, or median half-size
   Background background = Background::quadratic;
   double rolling_radius_px = 50.0;  // structuring radius of the rolling background
+  // The quadratic background is fitted only when Otsu's background pixels cover at least this
+  // fraction of the image. Below it the field is dense (scikit-image's gravel: 0.11; the other
+  // real and synthetic images of the tests: 0.37-0.81), its dark pixels are the gaps and
+  // shadows between touching particles, and a surface fitted through them cuts off the darker
+  // particles (docs/imaging.md).
+  double background_min_fraction = 0.25;
   ThresholdMethod threshold = ThresholdMethod::otsu;
   double fixed_level = 0.5;       // fraction of the flattened intensity range
   int adaptive_block_px = 51;     // odd window of the adaptive threshold
@@ -82,6 +88,11 @@ struct Segmentation {
   GrayImage flattened;
   int excluded_on_edge = 0;
   int excluded_by_size = 0;
+  // The background flattening applied: none where a quadratic one was asked for on a dense
+  // field; background_fraction is the share of Otsu's background pixels it was judged by (the
+  // quadratic background only, else -1).
+  Background background = Background::none;
+  double background_fraction = -1.0;
 };
 
 Segmentation segment_particles(const GrayImage& image, const SegmentOptions& options);
@@ -105,5 +116,6 @@ LabelImage split_touching_particles(const std::vector<std::uint8_t>& mask, int w
 int imagej_default_threshold(std::array<long, 256> histogram);
 
 std::string to_string(ThresholdMethod method);
+std::string to_string(Background background);
 
 }  // namespace shapepress::imaging

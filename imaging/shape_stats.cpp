@@ -52,6 +52,15 @@ ImageResult process_image(const std::filesystem::path& path, const ShapeStatsOpt
   report.threshold = segmentation.threshold;
   report.excluded_on_edge = segmentation.excluded_on_edge;
   report.excluded_by_size = segmentation.excluded_by_size;
+  report.background = to_string(segmentation.background);
+  report.background_fraction = segmentation.background_fraction;
+  if (options.segment.background == Background::quadratic &&
+      segmentation.background != Background::quadratic)
+    spdlog::info(
+        "{}: no background fitted: its pixels are {:.0f} % of the image, under "
+        "--background-min-fraction {:g} (a dense field of touching particles)",
+        path.string(), 100.0 * segmentation.background_fraction,
+        options.segment.background_min_fraction);
   if (segmentation.labels.count == 0)
     throw InputError(fmt::format(
         "{}: no particle found ({} on the edge and {} outside the size range were excluded); "

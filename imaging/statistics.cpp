@@ -261,7 +261,9 @@ std::string summary_to_json(const ShapeSummary& s, const std::vector<ImageReport
                     {"threshold", r.threshold},
                     {"particles", r.particles},
                     {"excluded_on_edge", r.excluded_on_edge},
-                    {"excluded_by_size", r.excluded_by_size}});
+                    {"excluded_by_size", r.excluded_by_size},
+                    {"background", r.background},
+                    {"background_pixel_fraction", r.background_fraction}});
   j["images"] = list;
   j["skipped"] = skipped;
   return j.dump(2) + "\n";

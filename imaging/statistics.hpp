@@ -83,6 +83,8 @@ struct ImageReport {
   int particles = 0;
   int excluded_on_edge = 0;
   int excluded_by_size = 0;
+  std::string background = "none";    // the flattening applied (none on a dense field)
+  double background_fraction = -1.0;  // Otsu's background pixels / image (quadratic only)
 };
 
 std::string summary_to_json(const ShapeSummary& summary, const std::vector<ImageReport>& images,

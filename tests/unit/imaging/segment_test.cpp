@@ -142,6 +142,9 @@ TEST(Segment, BadOptionsNameTheField) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--split-neck"), std::string::npos);
   }
+  options = SegmentOptions{};
+  options.background_min_fraction = 1.5;
+  EXPECT_THROW(options.check(), InputError);
 }
 
 // ImageJ 1.53t's "Default" levels on real images, as imagej_analyze.ijm printed them
