@@ -141,7 +141,12 @@ const OptionTable<PlateConfig>& plate_run_table() {
     r.unused("steps", "plate runs until plate.max_deformation")
         .unused("record_every", "plate records plate.records rows, evenly spaced in approach")
         .unused("snapshot_every", "plate --snapshot writes the state at the last row")
-        .unused("gravity", "the plate rig presses its particle without gravity");
+        .unused("gravity", "the plate rig presses its particle without gravity")
+        .integer("checkpoint_every", &PlateConfig::checkpoint_every, Range::non_negative(),
+                 "steps of a fill between checkpoints for plate --resume (0: by wall time "
+                 "only; calibrate resumes by evaluation instead)")
+        .number("checkpoint_minutes", &PlateConfig::checkpoint_minutes, Range::non_negative(),
+                "minutes of wall time between checkpoints for plate --resume (0: by steps only)");
     return r;
   }();
   return t;

@@ -124,6 +124,10 @@ struct PlateConfig {
   std::string sphere_material, plate_material;
   std::optional<BmsConfig> bms;  // when the config has [bms]
   std::optional<CmsConfig> cms;  // when the config has [cms]
+  // Checkpoints for `plate --resume` (as CompactConfig's): every this many steps of a fill (0:
+  // none by steps) and every this many minutes of wall time (0: none by time).
+  std::int64_t checkpoint_every = 0;
+  double checkpoint_minutes = 10.0;
 };
 // `normal_law` (plate --model) replaces the normal law of every interaction.
 PlateConfig read_plate_config(const ConfigTable& root,

@@ -51,7 +51,8 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
 
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
                                 const EngineSettings& engine_settings, PlateParticle particle,
-                                const std::function<void(const PlateRow&, const Engine&)>& row) {
+                                const std::function<void(const PlateRow&, const Engine&)>& row,
+                                PlateHooks hooks) {
   if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
   if (!(setup.speed > 0.0)) throw InputError("plate: speed must be > 0");
   if (!(setup.max_deformation > 0.0 && setup.max_deformation < 0.5))
@@ -90,8 +91,13 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
       PlaneWall{high, -1, -top_share * plate_speed(0.0, 0.0), setup.plate_material}};
   EngineSettings settings = engine_settings;
   settings.check_every = 1000;
-  Engine engine(std::move(s), Box{}, materials, std::move(walls), settings,
-                std::move(particle.bonds), std::move(particle.clumps));
+  // A resumed run takes the engine as it was saved; the particle made again gives gap0, where
+  // the approach counts from.
+  Engine engine = hooks.resume
+                      ? Engine(std::move(hooks.resume->snapshot.state), hooks.resume->snapshot.box,
+                               materials, settings, std::move(hooks.resume->snapshot.checkpoint))
+                      : Engine(std::move(s), Box{}, materials, std::move(walls), settings,
+                               std::move(particle.bonds), std::move(particle.clumps));
   const double e_star =
       materials.pair(setup.sphere_material, setup.plate_material).effective_modulus;
   const double final_approach = setup.max_deformation * diameter;
@@ -99,11 +105,21 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
     throw InputError(
         "plate: max_deformation leaves the plates less than 10 % of the particle's "
         "height apart");
-  std::vector<PlateRow> rows;
-  const double cpu_start = cpu_seconds_of_this_run();
+  PlateProgress before;
+  if (hooks.resume) before = std::move(hooks.resume->progress);
+  std::vector<PlateRow> rows = std::move(before.rows);
+  const double cpu_start = cpu_seconds_of_this_run() - before.cpu_seconds;
   const auto wall_start = std::chrono::steady_clock::now();
-  int next = 1;
-  double approach = 0.0;  // of the walls' positions (the first touch: gap0)
+  const auto wall_seconds = [&] {
+    return before.wall_seconds +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
+  const std::function<PlateProgress()> progress = [&] {
+    return PlateProgress{rows, cpu_seconds_of_this_run() - cpu_start, wall_seconds()};
+  };
+  int next = static_cast<int>(rows.size()) + 1;
+  // Of the walls' positions (the first touch: gap0).
+  double approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
   while (next <= setup.records) {
     // The speed at the step's midpoint: the wall moves by it over the step.
     const double speed = plate_speed(engine.time() + 0.5 * settings.time_step, approach);
@@ -129,12 +145,12 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
       r.kinetic_energy = engine.energy().kinetic;
       r.work = engine.work_in();
       r.cpu_seconds = cpu_seconds_of_this_run() - cpu_start;
-      r.wall_seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      r.wall_seconds = wall_seconds();
       if (row) row(r, engine);
       rows.push_back(r);
       ++next;
     }
+    if (hooks.after_step && !hooks.after_step(engine, progress)) break;
   }
   return rows;
 }

@@ -7,6 +7,7 @@
 // the plates did, so a run shows that it was.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 #include "scenarios/namespaces.hpp"
 
@@ -14,6 +15,7 @@
 #include "simulate/clumps.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/materials.hpp"
+#include "simulate/snapshot.hpp"
 #include "simulate/state.hpp"
 
 namespace shapepress::scenarios {
@@ -78,9 +80,32 @@ double smallest_radius(const SphereState& spheres);
 // 1000 steps (the rig's loading is slow).
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
                                 const EngineSettings& engine);
+// How far a run has come: its rows so far and the CPU and wall seconds it spent (a resumed run's
+// cpu_s and wall_s columns go on from those of the attempts before).
+struct PlateProgress {
+  std::vector<PlateRow> rows;
+  double cpu_seconds = 0.0, wall_seconds = 0.0;
+};
+
+// A run continued from a checkpoint: the engine as it was saved and its progress. The particle
+// given to run_plate is still made, from the same config, for where the plates first touched.
+struct PlateResumePoint {
+  LoadedSnapshot snapshot;
+  PlateProgress progress;
+};
+
+// `after_step` (optional) is called after every step with the engine and a function giving the
+// progress (for a checkpoint); false stops the run there (a signal): run_plate then returns
+// fewer than setup.records rows.
+struct PlateHooks {
+  std::optional<PlateResumePoint> resume;
+  std::function<bool(const Engine&, const std::function<PlateProgress()>&)> after_step;
+};
+
 // Any particle. `row` (optional) sees every row as it is recorded, with the engine.
-std::vector<PlateRow> run_plate(
-    const MaterialTable& materials, const PlateSetup& setup, const EngineSettings& engine,
-    PlateParticle particle, const std::function<void(const PlateRow&, const Engine&)>& row = {});
+std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
+                                const EngineSettings& engine, PlateParticle particle,
+                                const std::function<void(const PlateRow&, const Engine&)>& row = {},
+                                PlateHooks hooks = {});
 
 }  // namespace shapepress::scenarios

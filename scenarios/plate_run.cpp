@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "scenarios/bms_particle.hpp"
 #include "scenarios/cms_particle.hpp"
+#include "scenarios/plate_checkpoint.hpp"
 #include "simulate/contact_law_config.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
@@ -122,8 +123,13 @@ PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills, int threads) {
 
 // [bms] fills > 1: the fills side by side, one thread each; their order in the mean is the
 // seeds', so the result does not depend on which thread ran which.
+PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
+                        const std::function<void(const std::string&)>& log, BmsFillCache* cache,
+                        const PlateCheckpoints* checkpoints, int fill);
+
 PlateRunOutcome run_fills(const PlateConfig& config,
-                          const std::function<void(const std::string&)>& log, BmsFillCache* cache) {
+                          const std::function<void(const std::string&)>& log, BmsFillCache* cache,
+                          const PlateCheckpoints* checkpoints) {
   const int count = config.bms->fills;
   std::vector<PlateRunOutcome> fills(static_cast<std::size_t>(count));
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
@@ -136,14 +142,15 @@ PlateRunOutcome run_fills(const PlateConfig& config,
       one.bms->fills = 1;
       one.bms->seed = config.bms->seed + static_cast<std::uint64_t>(f);
       fills[static_cast<std::size_t>(f)] =
-          run_plate_config(one, PlateParticleKind::bms,
-                           f == 0 ? log : std::function<void(const std::string&)>{}, cache);
+          run_one(one, PlateParticleKind::bms, log, cache, checkpoints, f);
     } catch (...) {
       errors[static_cast<std::size_t>(f)] = std::current_exception();
     }
   }
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
+  for (const PlateRunOutcome& fill : fills)
+    if (fill.interrupted) return fill;
   PlateRunOutcome mean = mean_of_fills(std::move(fills), threads);
   mean.description = fmt::format(
       "BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m and {} bonds on average; mean of {} "
@@ -169,9 +176,40 @@ const char* particle_name(PlateParticleKind kind) {
 
 PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
                                  const std::function<void(const std::string&)>& log,
-                                 BmsFillCache* cache) {
+                                 BmsFillCache* cache, const PlateCheckpoints* checkpoints) {
   if (kind == PlateParticleKind::bms && config.bms && config.bms->fills > 1)
-    return run_fills(config, log, cache);
+    return run_fills(config, log, cache, checkpoints);
+  return run_one(config, kind, log, cache, checkpoints, 0);
+}
+
+namespace {
+
+// One run, fill `fill` of an ensemble (0 of 1 alone). Every fill logs what it resumes; only the
+// first what it presses and with which step (the others' are the same but for the seed).
+PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
+                        const std::function<void(const std::string&)>& notes, BmsFillCache* cache,
+                        const PlateCheckpoints* checkpoints, int fill) {
+  const std::function<void(const std::string&)> log =
+      fill == 0 ? notes : std::function<void(const std::string&)>{};
+  if (checkpoints) {
+    if (std::optional<PlateRunOutcome> done = checkpoints->finished(fill)) {
+      if (notes) notes(fmt::format("plate: fill {} finished before: its rows reused", fill));
+      return std::move(*done);
+    }
+    // A signal before this fill started: nothing of it to keep.
+    if (SignalCheckpoints::received() != 0) {
+      PlateRunOutcome stopped;
+      stopped.interrupted = true;
+      return stopped;
+    }
+  }
+  PlateHooks hooks;
+  if (checkpoints) {
+    hooks = checkpoints->hooks(fill);
+    if (hooks.resume && notes)
+      notes(fmt::format("plate: fill {} resumes from its checkpoint at step {}", fill,
+                        hooks.resume->snapshot.checkpoint.step));
+  }
   const MaterialTable table = config.materials.table();
   const PlateSetup& setup = config.setup;
   double overlap_fraction = config.run.engine.max_overlap_fraction;
@@ -239,13 +277,22 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
                                       dt.time_step / dt.clump_period)
                         : std::string()));
   }
-  int recorded = 0;
-  outcome.rows =
-      run_plate(table, setup, engine, std::move(particle), [&](const PlateRow&, const Engine& e) {
+  int recorded = hooks.resume ? static_cast<int>(hooks.resume->progress.rows.size()) : 0;
+  outcome.rows = run_plate(
+      table, setup, engine, std::move(particle),
+      [&](const PlateRow&, const Engine& e) {
         if (++recorded == setup.records) outcome.final_snapshot = std::make_shared<Engine>(e);
-      });
+      },
+      std::move(hooks));
+  if (outcome.rows.size() < static_cast<std::size_t>(setup.records)) {
+    outcome.interrupted = true;
+    return outcome;
+  }
+  if (checkpoints) checkpoints->finish(fill, outcome);
   return outcome;
 }
+
+}  // namespace
 
 void write_plate_snapshot(const std::filesystem::path& folder, const PlateRunOutcome& outcome,
                           const Provenance& provenance) {

@@ -17,6 +17,7 @@
 namespace shapepress::scenarios {
 
 class BmsFillCache;
+class PlateCheckpoints;
 
 struct PlateRunOutcome {
   std::vector<PlateRow> rows;
@@ -29,6 +30,7 @@ struct PlateRunOutcome {
   std::shared_ptr<const Engine> final_snapshot;  // the engine at the last row (the first fill's)
   // [bms] fills > 1: rows are the fills' mean (plate.hpp PlateRow), fill_rows each fill's own.
   std::vector<std::vector<PlateRow>> fill_rows;
+  bool interrupted = false;  // stopped by a signal after a checkpoint (PlateCheckpoints)
   int fills() const { return fill_rows.empty() ? 1 : static_cast<int>(fill_rows.size()); }
 };
 
@@ -50,10 +52,13 @@ TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTabl
 // overlap check is widened to the deepest overlap the compression can make (logged); a blow-up is
 // still caught by the energy and non-finite checks.
 // `fills` (optional) keeps the BMS fills made, for a caller that presses the same fills again
-// with other bond parameters (calibrate).
+// with other bond parameters (calibrate). `checkpoints` (optional, plate --resume): each fill
+// finished before is reused, an unfinished one continues from its checkpoint, and a signal stops
+// the run with `interrupted` once every running fill has written a checkpoint.
 PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind kind,
                                  const std::function<void(const std::string&)>& log = {},
-                                 BmsFillCache* fills = nullptr);
+                                 BmsFillCache* fills = nullptr,
+                                 const PlateCheckpoints* checkpoints = nullptr);
 // bonded: --particle bms, else sphere.
 inline PlateRunOutcome run_plate_config(const PlateConfig& config, bool bonded,
                                         const std::function<void(const std::string&)>& log = {}) {

@@ -12,6 +12,7 @@ packages=(
   nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox clang-format
 )
 packages+=(libgif-dev)  # imaging: GIF input (ImageJ's samples; OpenCV 4.6 reads no GIF)
+packages+=(clang libclang-rt-dev)  # CI's fuzzers (scripts/fuzz.sh): clang and its libFuzzer
 packages+=(calculix-ccx)  # fem-plate: the finite element solver, run as a child process
 # A one-node Slurm for the cluster test (scripts/local-slurm.sh): installed when root; without
 # root and without them, that one test skips and nothing else needs them.

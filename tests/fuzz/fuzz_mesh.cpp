@@ -1,4 +1,4 @@
-// libFuzzer target: tests/fuzz/harnesses.hpp (run by scripts/run-fuzzers.sh).
+// libFuzzer target: tests/fuzz/harnesses.hpp (run by scripts/fuzz.sh).
 #include "tests/fuzz/harnesses_mesh.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

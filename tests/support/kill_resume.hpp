@@ -48,10 +48,13 @@ inline CommandResult terminate_when(const std::string& arguments, const std::str
 // 0.9) of `seconds` (the uninterrupted run's wall time) times `first_share`, then `resume`
 // likewise times `resumed_share` (a resumed attempt skips the set-up before its checkpoint),
 // three kills in all, then runs `resume` to the end. The shares keep the kills inside the run
-// on a machine whose load varies.
+// on a machine whose load varies. With `ready` (a shell pattern, quoted where it needs to be)
+// each attempt's time to its kill counts from when a file matches it (a checkpoint), so that a
+// set-up slowed by the machine's load cannot take every kill.
 inline KilledRuns kill_three_times_and_resume(const std::string& start, const std::string& resume,
                                               double seconds, double first_share,
-                                              double resumed_share, unsigned seed) {
+                                              double resumed_share, unsigned seed,
+                                              const std::string& ready = {}) {
   KilledRuns runs;
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> fraction(0.4, 0.9);
@@ -63,12 +66,25 @@ inline KilledRuns kill_three_times_and_resume(const std::string& start, const st
   for (int attempt = 0; attempt < 3 && !runs.finished; ++attempt) {
     const double kill_after =
         fraction(random) * seconds * (attempt == 0 ? first_share : resumed_share);
-    std::string command = "timeout -s KILL ";
-    command += std::to_string(kill_after);
-    command += " ";
-    command += SHAPEPRESS_BINARY;
-    command += " ";
-    command += attempt == 0 ? start : resume;
+    std::string command;
+    if (ready.empty()) {
+      command = "timeout -s KILL ";
+      command += std::to_string(kill_after);
+      command += " ";
+      command += SHAPEPRESS_BINARY;
+      command += " ";
+      command += attempt == 0 ? start : resume;
+    } else {
+      command = "(";
+      command += SHAPEPRESS_BINARY;
+      command += " ";
+      command += attempt == 0 ? start : resume;
+      command += " & pid=$!; while ! ls ";
+      command += ready;
+      command += " >/dev/null 2>&1 && kill -0 $pid 2>/dev/null; do sleep 0.02; done; sleep ";
+      command += std::to_string(kill_after);
+      command += "; kill -KILL $pid 2>/dev/null; wait $pid)";
+    }
     const CommandResult killed = run_command(command);
     runs.resumed_from.push_back(from(killed.output));
     std::printf("attempt %d: killed after %.2f s of %.2f s (resumed from %s), exit %d\n",

@@ -248,6 +248,14 @@ std::vector<Row> catalogue(const fs::path& v) {
   // (a divergence, were one to come, is exit 1 naming the step size: simulate/diagnostics.cpp).
   add("compact: a time step too large for the collisions",
       compact_config("time_step = \"20 us\"\n"), compact_c, 2, {"time step 2e-05 s", "time_step"});
+  // One that passes those checks and diverges all the same: a rigid clump of 50 sub-spheres at
+  // half the critical step (docs/measurements.md, the stability map: every N <= 100 blows up
+  // from 0.5). Exit 1 naming the cause, the step reached and the step size; no force.csv.
+  add("plate: a time step past the checks that diverges (a clump at 0.5 of the critical step)",
+      nullptr,
+      "--quiet plate --config {r}/pipelines/configs/rubber-sphere.toml --particle cms --spheres 50 "
+      "--time-step-fraction 0.5 --out {d}/out",
+      1, {"diverged at step", "energy", "grew beyond", "time step", "time_step_fraction"});
 
   // pack: its config, templates files.
   add("pack: misspelt key", file("k.toml", pack_base + "[press]\nsolid_fracton = 0.5\n"),
