@@ -1,6 +1,7 @@
 #include "analysis/advise.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include <fmt/format.h>
@@ -8,6 +9,34 @@
 #include "common/csv.hpp"
 
 namespace shapepress::analysis {
+
+namespace {
+
+// Where a stress–strain curve first reaches a tenth of its peak: from there on its relative
+// differences mean something (the quasi-static figures start there too, models.md).
+double tenth_of_peak(const Curve& curve) {
+  const double peak = *std::max_element(curve.y.begin(), curve.y.end());
+  for (std::size_t i = 0; i < curve.y.size(); ++i)
+    if (curve.y[i] >= 0.1 * peak) return curve.x[i];
+  return curve.x.front();
+}
+
+// NaN when either is not finite (Py of a bed that never yields is infinite): such a figure is
+// not compared, and the table says so.
+double relative(double value, double reference) {
+  if (!std::isfinite(value) || !std::isfinite(reference)) return NAN;
+  return reference != 0.0 ? (value - reference) / reference : 0.0;
+}
+
+// The finer of two stable rungs: more sub-spheres, then the smaller step, then less mass scaling.
+bool finer(const Rung& x, const Rung& y) {
+  if (x.sub_spheres != y.sub_spheres) return x.sub_spheres > y.sub_spheres;
+  if (x.time_step_fraction != y.time_step_fraction)
+    return x.time_step_fraction < y.time_step_fraction;
+  return x.density_scale < y.density_scale;
+}
+
+}  // namespace
 
 const char* status_name(RungStatus status) {
   switch (status) {
@@ -33,23 +62,16 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
   for (const Rung& rung : rungs)
     advice.rows.push_back(AdviceRow{
         &rung, rung.end == RunEnd::refused ? RungStatus::refused : RungStatus::diverged, {}});
-  // The finest stable rung: most sub-spheres, then the smallest step.
   for (std::size_t k = 0; k < rungs.size(); ++k) {
     if (!rungs[k].stable()) continue;
     rungs[k].curve.check();
     advice.to = std::min(advice.to, rungs[k].curve.x.back());
-    if (!advice.reference) {
-      advice.reference = k;
-      continue;
-    }
-    const Rung& best = rungs[*advice.reference];
-    if (rungs[k].sub_spheres > best.sub_spheres ||
-        (rungs[k].sub_spheres == best.sub_spheres &&
-         rungs[k].time_step_fraction < best.time_step_fraction))
-      advice.reference = k;
+    if (!advice.reference || finer(rungs[k], rungs[*advice.reference])) advice.reference = k;
   }
   if (!advice.reference) return advice;
-  const Curve& reference = rungs[*advice.reference].curve;
+  const Rung& finest = rungs[*advice.reference];
+  const Curve& reference = finest.curve;
+  if (finest.compaction) advice.from = std::max(advice.from, tenth_of_peak(reference));
   for (std::size_t k = 0; k < rungs.size(); ++k) {
     AdviceRow& row = advice.rows[k];
     if (!rungs[k].stable()) continue;
@@ -58,8 +80,16 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
       continue;
     }
     row.versus_reference = compare_curves(rungs[k].curve, reference, advice.from, advice.to);
-    row.status =
-        row.versus_reference.rms_relative <= tolerance ? RungStatus::within : RungStatus::off;
+    row.error = row.versus_reference.rms_relative;
+    if (rungs[k].compaction && finest.compaction) {
+      const CompactionFigures &x = *rungs[k].compaction, &r = *finest.compaction;
+      row.peak_difference = relative(x.peak_stress, r.peak_stress);
+      row.recovery_difference = relative(x.elastic_recovery, r.elastic_recovery);
+      row.yield_pressure_difference = relative(x.yield_pressure, r.yield_pressure);
+      for (double d : {row.peak_difference, row.recovery_difference, row.yield_pressure_difference})
+        if (std::isfinite(d)) row.error = std::max(row.error, std::abs(d));
+    }
+    row.status = row.error <= tolerance ? RungStatus::within : RungStatus::off;
   }
   // The cheapest rung that holds the answer; the reference always does.
   const auto cheaper = [&](std::size_t a, std::size_t b) {
@@ -77,22 +107,36 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
 }
 
 void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
-  CsvWriter csv(path, {"label", "status", "cause", "sub_spheres", "time_step_fraction", "cpu_s",
-                       "rms_vs_reference", "max_vs_reference", "picked"});
+  CsvWriter csv(path,
+                {"label", "status", "cause", "sub_spheres", "time_step_fraction", "density_scale",
+                 "cpu_s", "rms_vs_reference", "max_vs_reference", "peak_vs_reference",
+                 "recovery_vs_reference", "py_vs_reference", "peak_stress_Pa", "elastic_recovery",
+                 "yield_pressure_Pa", "error", "picked"});
   csv.comment(fmt::format(
       "shapepress advise: each rung against the reference {} (RMS and largest relative "
-      "difference of the force over deformation {:.3g}-{:.3g}), tolerance {:.3g}",
+      "difference of the curve over {:.3g}-{:.3g}; compaction rungs also the peak stress, "
+      "elastic recovery and Py; error the largest), tolerance {:.3g}",
       advice.reference ? advice.rows[*advice.reference].rung->label : std::string("(none)"),
       advice.from, advice.to, advice.tolerance));
+  const auto number_or_nan = [](bool known, double value) {
+    return known ? format_number(value) : std::string("nan");
+  };
   for (std::size_t k = 0; k < advice.rows.size(); ++k) {
     const AdviceRow& row = advice.rows[k];
-    const bool stable = row.rung->stable();
-    csv.row_text({row.rung->label, status_name(row.status),
-                  row.rung->cause.empty() ? "-" : row.rung->cause,
-                  std::to_string(row.rung->sub_spheres),
-                  format_number(row.rung->time_step_fraction), format_number(row.rung->cpu_seconds),
-                  stable ? format_number(row.versus_reference.rms_relative) : "nan",
-                  stable ? format_number(row.versus_reference.max_relative) : "nan",
+    const Rung& rung = *row.rung;
+    const bool stable = rung.stable();
+    const bool figures = stable && rung.compaction.has_value();
+    const CompactionFigures f = rung.compaction.value_or(CompactionFigures{});
+    csv.row_text({rung.label, status_name(row.status), rung.cause.empty() ? "-" : rung.cause,
+                  std::to_string(rung.sub_spheres), format_number(rung.time_step_fraction),
+                  format_number(rung.density_scale), format_number(rung.cpu_seconds),
+                  number_or_nan(stable, row.versus_reference.rms_relative),
+                  number_or_nan(stable, row.versus_reference.max_relative),
+                  number_or_nan(figures, row.peak_difference),
+                  number_or_nan(figures, row.recovery_difference),
+                  number_or_nan(figures, row.yield_pressure_difference),
+                  number_or_nan(figures, f.peak_stress), number_or_nan(figures, f.elastic_recovery),
+                  number_or_nan(figures, f.yield_pressure), number_or_nan(stable, row.error),
                   advice.pick == k ? "1" : "0"});
   }
   csv.commit();
@@ -102,9 +146,10 @@ Chart speed_accuracy_chart(const Advice& advice) {
   Chart chart{fmt::format("Each rung against the finest ({:.3g}-{:.3g} deformation)", advice.from,
                           advice.to),
               "CPU seconds of the run",
-              "RMS difference from the finest rung [%]",
+              "difference from the finest rung [%] (compaction: the largest of curve RMS, peak, "
+              "recovery, Py)",
               "cpu_s",
-              "rms_percent",
+              "error_percent",
               {}};
   std::map<double, Series> by_fraction;
   double most = 0.0;
@@ -114,7 +159,7 @@ Chart speed_accuracy_chart(const Advice& advice) {
     s.title = fmt::format("step {:.3g} of critical", row.rung->time_step_fraction);
     s.style = SeriesStyle::markers;
     s.x.push_back(row.rung->cpu_seconds);
-    s.y.push_back(100.0 * row.versus_reference.rms_relative);
+    s.y.push_back(100.0 * row.error);
     most = std::max(most, row.rung->cpu_seconds);
   }
   int colour = 1;
@@ -131,7 +176,7 @@ Chart speed_accuracy_chart(const Advice& advice) {
     const AdviceRow& row = advice.rows[*advice.pick];
     chart.series.push_back(Series{fmt::format("pick: {}", row.rung->label),
                                   {row.rung->cpu_seconds},
-                                  {100.0 * row.versus_reference.rms_relative},
+                                  {100.0 * row.error},
                                   SeriesStyle::points,
                                   7});
   }
