@@ -54,6 +54,28 @@ const char* status_name(RungStatus status) {
   return "refused";
 }
 
+// `rung` against `reference` over the advice's window: the curve's RMS, and a compaction rung's
+// figures; the error is the largest of them.
+AdviceRow compare(const Rung& rung, const Rung& reference, const Advice& advice) {
+  AdviceRow row{&rung, RungStatus::off, {}};
+  row.versus_reference = compare_curves(rung.curve, reference.curve, advice.from, advice.to);
+  row.error = row.versus_reference.rms_relative;
+  if (rung.compaction && reference.compaction) {
+    const CompactionFigures &x = *rung.compaction, &r = *reference.compaction;
+    row.peak_difference = relative(x.peak_stress, r.peak_stress);
+    row.recovery_difference = relative(x.elastic_recovery, r.elastic_recovery);
+    row.yield_pressure_difference = relative(x.yield_pressure, r.yield_pressure);
+    for (double d : {row.peak_difference, row.recovery_difference, row.yield_pressure_difference})
+      if (std::isfinite(d)) row.error = std::max(row.error, std::abs(d));
+  }
+  return row;
+}
+
+bool same_setting(const Rung& x, const Rung& y) {
+  return x.sub_spheres == y.sub_spheres && x.time_step_fraction == y.time_step_fraction &&
+         x.density_scale == y.density_scale;
+}
+
 Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, double to) {
   Advice advice;
   advice.tolerance = tolerance;
@@ -62,46 +84,67 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
   for (const Rung& rung : rungs)
     advice.rows.push_back(AdviceRow{
         &rung, rung.end == RunEnd::refused ? RungStatus::refused : RungStatus::diverged, {}});
+  // The finest stable rung of each seed, the seeds in the order they first appear.
+  std::vector<int> seeds;
+  std::map<int, std::size_t> finest_of;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
+    if (std::find(seeds.begin(), seeds.end(), rungs[k].seed) == seeds.end())
+      seeds.push_back(rungs[k].seed);
     if (!rungs[k].stable()) continue;
     rungs[k].curve.check();
     advice.to = std::min(advice.to, rungs[k].curve.x.back());
-    if (!advice.reference || finer(rungs[k], rungs[*advice.reference])) advice.reference = k;
+    const auto it = finest_of.find(rungs[k].seed);
+    if (it == finest_of.end() || finer(rungs[k], rungs[it->second])) finest_of[rungs[k].seed] = k;
   }
+  for (int seed : seeds)
+    if (const auto it = finest_of.find(seed); it != finest_of.end()) {
+      advice.references.push_back(it->second);
+      if (!advice.reference) advice.reference = it->second;
+    }
   if (!advice.reference) return advice;
-  const Rung& finest = rungs[*advice.reference];
-  const Curve& reference = finest.curve;
-  if (finest.compaction) advice.from = std::max(advice.from, tenth_of_peak(reference));
+  for (std::size_t r : advice.references)
+    if (rungs[r].compaction) advice.from = std::max(advice.from, tenth_of_peak(rungs[r].curve));
   for (std::size_t k = 0; k < rungs.size(); ++k) {
-    AdviceRow& row = advice.rows[k];
     if (!rungs[k].stable()) continue;
-    if (k == *advice.reference) {
-      row.status = RungStatus::reference;
+    const std::size_t reference = finest_of.at(rungs[k].seed);
+    if (k == reference) {
+      advice.rows[k].status = RungStatus::reference;
       continue;
     }
-    row.versus_reference = compare_curves(rungs[k].curve, reference, advice.from, advice.to);
-    row.error = row.versus_reference.rms_relative;
-    if (rungs[k].compaction && finest.compaction) {
-      const CompactionFigures &x = *rungs[k].compaction, &r = *finest.compaction;
-      row.peak_difference = relative(x.peak_stress, r.peak_stress);
-      row.recovery_difference = relative(x.elastic_recovery, r.elastic_recovery);
-      row.yield_pressure_difference = relative(x.yield_pressure, r.yield_pressure);
-      for (double d : {row.peak_difference, row.recovery_difference, row.yield_pressure_difference})
-        if (std::isfinite(d)) row.error = std::max(row.error, std::abs(d));
-    }
-    row.status = row.error <= tolerance ? RungStatus::within : RungStatus::off;
+    advice.rows[k] = compare(rungs[k], rungs[reference], advice);
+    advice.rows[k].status =
+        advice.rows[k].error <= tolerance ? RungStatus::within : RungStatus::off;
   }
-  // The cheapest rung that holds the answer; the reference always does.
-  const auto cheaper = [&](std::size_t a, std::size_t b) {
-    const Rung &x = rungs[a], &y = rungs[b];
-    if (x.cpu_seconds != y.cpu_seconds) return x.cpu_seconds < y.cpu_seconds;
-    if (x.sub_spheres != y.sub_spheres) return x.sub_spheres < y.sub_spheres;
-    return x.time_step_fraction > y.time_step_fraction;
-  };
+  // How far apart the seeds' finest rungs are: the scale below which a difference between
+  // settings cannot be told from another packing of the same bed.
+  for (std::size_t r = 1; r < advice.references.size(); ++r)
+    if (same_setting(rungs[advice.references[r]], rungs[*advice.reference]))
+      advice.seed_scatter =
+          std::max(advice.seed_scatter.value_or(0.0),
+                   compare(rungs[advice.references[r]], rungs[*advice.reference], advice).error);
+  // The cheapest setting that holds the answer on every seed (the references always do), by its
+  // CPU seconds summed over the seeds; its row of the first seed is the pick.
+  std::optional<double> pick_cost;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
-    const RungStatus s = advice.rows[k].status;
-    if (s != RungStatus::within && s != RungStatus::reference) continue;
-    if (!advice.pick || cheaper(k, *advice.pick)) advice.pick = k;
+    if (rungs[k].seed != seeds.front()) continue;
+    double cost = 0.0;
+    bool holds = true;
+    for (std::size_t j = 0; j < rungs.size(); ++j) {
+      if (!same_setting(rungs[j], rungs[k])) continue;
+      const RungStatus s = advice.rows[j].status;
+      holds = holds && (s == RungStatus::within || s == RungStatus::reference);
+      cost += rungs[j].cpu_seconds;
+    }
+    if (!holds) continue;
+    const bool cheaper = !pick_cost || cost < *pick_cost ||
+                         (cost == *pick_cost &&
+                          (rungs[k].sub_spheres < rungs[*advice.pick].sub_spheres ||
+                           (rungs[k].sub_spheres == rungs[*advice.pick].sub_spheres &&
+                            rungs[k].time_step_fraction > rungs[*advice.pick].time_step_fraction)));
+    if (cheaper) {
+      pick_cost = cost;
+      advice.pick = k;
+    }
   }
   return advice;
 }
@@ -109,7 +152,7 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
 void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
   CsvWriter csv(path,
                 {"label", "status", "cause", "sub_spheres", "time_step_fraction", "density_scale",
-                 "cpu_s", "rms_vs_reference", "max_vs_reference", "peak_vs_reference",
+                 "seed", "cpu_s", "rms_vs_reference", "max_vs_reference", "peak_vs_reference",
                  "recovery_vs_reference", "py_vs_reference", "peak_stress_Pa", "elastic_recovery",
                  "yield_pressure_Pa", "error", "picked"});
   csv.comment(fmt::format(
@@ -118,6 +161,11 @@ void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
       "elastic recovery and Py; error the largest), tolerance {:.3g}",
       advice.reference ? advice.rows[*advice.reference].rung->label : std::string("(none)"),
       advice.from, advice.to, advice.tolerance));
+  if (advice.seed_scatter)
+    csv.comment(
+        fmt::format("seeds: each rung against its own seed's finest; the seeds' finest "
+                    "rungs differ by up to {:.3g} (the seed-to-seed scatter)",
+                    *advice.seed_scatter));
   const auto number_or_nan = [](bool known, double value) {
     return known ? format_number(value) : std::string("nan");
   };
@@ -129,7 +177,8 @@ void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
     const CompactionFigures f = rung.compaction.value_or(CompactionFigures{});
     csv.row_text({rung.label, status_name(row.status), rung.cause.empty() ? "-" : rung.cause,
                   std::to_string(rung.sub_spheres), format_number(rung.time_step_fraction),
-                  format_number(rung.density_scale), format_number(rung.cpu_seconds),
+                  format_number(rung.density_scale), std::to_string(rung.seed),
+                  format_number(rung.cpu_seconds),
                   number_or_nan(stable, row.versus_reference.rms_relative),
                   number_or_nan(stable, row.versus_reference.max_relative),
                   number_or_nan(figures, row.peak_difference),
@@ -172,6 +221,13 @@ Chart speed_accuracy_chart(const Advice& advice) {
                                 {100.0 * advice.tolerance, 100.0 * advice.tolerance},
                                 SeriesStyle::dashed,
                                 8});
+  if (advice.seed_scatter)
+    chart.series.push_back(Series{
+        fmt::format("seed-to-seed scatter of the finest {:.3g} %", 100.0 * *advice.seed_scatter),
+        {0.0, most},
+        {100.0 * *advice.seed_scatter, 100.0 * *advice.seed_scatter},
+        SeriesStyle::dashed,
+        6});
   if (advice.pick) {
     const AdviceRow& row = advice.rows[*advice.pick];
     chart.series.push_back(Series{fmt::format("pick: {}", row.rung->label),

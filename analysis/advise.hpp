@@ -34,6 +34,7 @@ struct Rung {
   int sub_spheres = 0;            // the count asked of the filler (1: one sphere)
   double time_step_fraction = 0;  // of the critical step
   double density_scale = 1.0;     // a compaction's mass scaling (run.density_scale)
+  int seed = 0;                   // a compaction's packing seed: rungs of one seed share a bed
   RunEnd end = RunEnd::finished;
   std::string cause;    // a named cause ("overlap", "energy", "non-finite", …) when not finished
   std::string message;  // the run's error line when not finished
@@ -64,8 +65,12 @@ struct Advice {
   std::vector<AdviceRow> rows;  // in the order of the rungs
   double tolerance = 0.05;      // on the RMS relative difference from the reference
   double from = 0.05, to = 0.40;
-  std::optional<std::size_t> reference;  // row of the finest stable rung
-  std::optional<std::size_t> pick;       // row of the cheapest rung within the tolerance
+  std::optional<std::size_t> reference;  // row of the finest stable rung (of the first seed)
+  std::vector<std::size_t> references;   // the finest stable rung of each seed
+  // The largest error of another seed's finest rung from the first seed's (of the same setting);
+  // empty with one seed.
+  std::optional<double> seed_scatter;
+  std::optional<std::size_t> pick;  // row of the cheapest setting within the tolerance
 };
 
 // The reference is the stable rung with the most sub-spheres, of those the one with the smallest
@@ -76,13 +81,16 @@ struct Advice {
 // (those with figures) are compared from where the reference's stress first reaches a tenth of
 // its peak (below it the relative difference of a near-zero stress measures nothing, as the
 // quasi-static figures start there too), and their error also takes the peak stress, the elastic
-// recovery and Py. The pick is the within (or reference) rung of least CPU seconds; ties go to
-// fewer sub-spheres, then the larger step. No reference when no rung is stable.
+// recovery and Py. With several seeds (packings of the same bed) each rung is compared with its
+// own seed's finest; a setting holds when its rung of every seed does, and the seeds' finest
+// rungs against the first seed's give the seed-to-seed scatter. The pick is the setting that
+// holds of least CPU seconds (summed over the seeds; its row of the first seed); ties go to fewer
+// sub-spheres, then the larger step. No reference when no rung is stable.
 Advice advise(const std::vector<Rung>& rungs, double tolerance, double from = 0.05,
               double to = 0.40);
 
 // advice.csv: label, status, cause ("-" for a finished run), sub_spheres, time_step_fraction,
-// density_scale, cpu_s, rms_vs_reference, max_vs_reference, and for compaction rungs
+// density_scale, seed, cpu_s, rms_vs_reference, max_vs_reference, and for compaction rungs
 // peak_vs_reference, recovery_vs_reference, py_vs_reference (signed), peak_stress_Pa,
 // elastic_recovery, yield_pressure_Pa (nan without a curve or for plate rungs), error (what the
 // tolerance judged), picked (1 or 0).

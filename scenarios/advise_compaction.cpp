@@ -87,7 +87,8 @@ FillRecipe fill_recipe(const fs::path& templates) {
 }
 
 struct BedJob {
-  int count = 0;
+  int count = 0;  // 1: plain spheres of the same sizes, packed without templates
+  std::optional<std::uint64_t> seed;  // empty: the pack config's
   fs::path folder;
   nlohmann::json key;
 };
@@ -109,28 +110,33 @@ nlohmann::json make_bed(const BedJob& bed, const FillRecipe& recipe,
                         const CompactionAdviseRequest& request, int bodies) {
   ensure_output_folder(bed.folder);
   const std::string binary = this_binary();
-  std::vector<std::string> fill = {binary, "--quiet", "fill"};
-  fill.insert(fill.end(), recipe.meshes.begin(), recipe.meshes.end());
-  fill.insert(fill.end(), recipe.options.begin(), recipe.options.end());
-  fill.insert(fill.end(), {"--count", std::to_string(bed.count), "--out",
-                           (bed.folder / "templates.h5").string()});
   nlohmann::json record = {{"key", bed.key}};
-  ProcessEnd end = run_process(fill, bed.folder / "fill.log");
-  record["fill_cpu_s"] = end.cpu_seconds;
+  ProcessEnd end;
+  if (bed.count > 1) {
+    std::vector<std::string> fill = {binary, "--quiet", "fill"};
+    fill.insert(fill.end(), recipe.meshes.begin(), recipe.meshes.end());
+    fill.insert(fill.end(), recipe.options.begin(), recipe.options.end());
+    fill.insert(fill.end(), {"--count", std::to_string(bed.count), "--out",
+                             (bed.folder / "templates.h5").string()});
+    end = run_process(fill, bed.folder / "fill.log");
+    record["fill_cpu_s"] = end.cpu_seconds;
+    if (end.exit_code != 0)
+      record["message"] = "fill: " + error_line(bed.folder / "fill.log", "fill");
+  }
   if (end.exit_code == 0) {
-    std::vector<std::string> pack = {binary,      "--quiet",
-                                     "--threads", "1",
-                                     "pack",      (bed.folder / "templates.h5").string(),
-                                     "--config",  fs::absolute(request.pack_config).string(),
-                                     "--count",   std::to_string(bodies),
-                                     "--out",     (bed.folder / "packed.h5").string()};
-    if (request.seed) pack.insert(pack.end(), {"--seed", std::to_string(*request.seed)});
+    std::vector<std::string> pack = {binary, "--quiet", "--threads", "1", "pack"};
+    // One sub-sphere: plain spheres of the same draw of sizes (the cheapest point of a ladder).
+    if (bed.count > 1)
+      pack.push_back((bed.folder / "templates.h5").string());
+    else
+      pack.insert(pack.end(), {"--template", "sphere"});
+    pack.insert(pack.end(), {"--config", fs::absolute(request.pack_config).string(), "--count",
+                             std::to_string(bodies), "--out", (bed.folder / "packed.h5").string()});
+    if (bed.seed) pack.insert(pack.end(), {"--seed", std::to_string(*bed.seed)});
     end = run_process(pack, bed.folder / "pack.log");
     record["pack_cpu_s"] = end.cpu_seconds;
     if (end.exit_code != 0)
       record["message"] = "pack: " + error_line(bed.folder / "pack.log", "pack");
-  } else {
-    record["message"] = "fill: " + error_line(bed.folder / "fill.log", "fill");
   }
   record["exit_code"] = end.exit_code;
   write_file_atomically(bed.folder / "bed.json", record.dump(1) + "\n");
@@ -173,6 +179,7 @@ analysis::Rung load_rung(const RungJob& job, const BedJob& bed, const nlohmann::
   rung.sub_spheres = bed.count;
   rung.time_step_fraction = job.fraction;
   rung.density_scale = job.density_scale;
+  rung.seed = bed.seed ? static_cast<int>(*bed.seed) : 0;
   if (bed_record.at("exit_code").get<int>() != 0) {
     rung.end = analysis::RunEnd::refused;
     rung.cause = "bed";
@@ -259,33 +266,39 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
   const fs::path out(request.out);
   ensure_output_folder(out);
 
-  const nlohmann::json bed_key = {
-      {"templates_sha256", sha256_file(request.templates)},
-      {"pack_config_sha256", sha256_file(request.pack_config)},
-      {"bodies", bodies},
-      {"seed", request.seed ? nlohmann::json(*request.seed) : nlohmann::json("pack config's")}};
+  const nlohmann::json bed_key = {{"templates_sha256", sha256_file(request.templates)},
+                                  {"pack_config_sha256", sha256_file(request.pack_config)},
+                                  {"bodies", bodies}};
+  std::vector<std::optional<std::uint64_t>> seeds(request.seeds.begin(), request.seeds.end());
+  if (seeds.empty()) seeds.push_back(std::nullopt);  // the pack config's
+  const auto seed_text = [&](const std::optional<std::uint64_t>& seed) {
+    return seeds.size() > 1 ? fmt::format("-seed{}", *seed) : std::string();
+  };
   std::vector<BedJob> beds;
   std::vector<RungJob> rungs;
-  for (int count : request.counts) {
-    BedJob bed{count, out / fmt::format("bed-{}", count), bed_key};
-    bed.key["count"] = count;
-    for (double fraction : fractions)
-      for (double scale : scales) {
-        RungJob job;
-        job.label = fmt::format("{}-{}-f{}-s{}", recipe.kind, count, number_text(fraction),
-                                number_text(scale));
-        job.bed = beds.size();
-        job.fraction = fraction;
-        job.density_scale = scale;
-        job.folder = out / job.label;
-        job.key = bed.key;
-        job.key["config_sha256"] = sha256_file(request.config);
-        job.key["time_step_fraction"] = fraction;
-        job.key["density_scale"] = scale;
-        rungs.push_back(std::move(job));
-      }
-    beds.push_back(std::move(bed));
-  }
+  for (const auto& seed : seeds)
+    for (int count : request.counts) {
+      const std::string kind = count > 1 ? recipe.kind : "sphere";
+      BedJob bed{count, seed, out / fmt::format("bed-{}{}", count, seed_text(seed)), bed_key};
+      bed.key["count"] = count;
+      bed.key["seed"] = seed ? nlohmann::json(*seed) : nlohmann::json("pack config's");
+      for (double fraction : fractions)
+        for (double scale : scales) {
+          RungJob job;
+          job.label = fmt::format("{}-{}-f{}-s{}{}", kind, count, number_text(fraction),
+                                  number_text(scale), seed_text(seed));
+          job.bed = beds.size();
+          job.fraction = fraction;
+          job.density_scale = scale;
+          job.folder = out / job.label;
+          job.key = bed.key;
+          job.key["config_sha256"] = sha256_file(request.config);
+          job.key["time_step_fraction"] = fraction;
+          job.key["density_scale"] = scale;
+          rungs.push_back(std::move(job));
+        }
+      beds.push_back(std::move(bed));
+    }
 
   const int threads = context.threads > 0 ? context.threads : omp_get_max_threads();
   std::mutex lock;
@@ -350,12 +363,14 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
       .fact("rungs_run", run_now)
       .fact("rungs_reused", static_cast<int>(rungs.size()) - run_now)
       .fact("beds_made", static_cast<int>(beds_to_make.size()))
+      .fact("seeds", static_cast<int>(seeds.size()))
       .fact("strain_from", advice.from)
       .fact("strain_to", advice.to);
   if (!advice.pick) {
     meta.write(out / run_metadata_name);
     throw ComputationError("advise: no rung finished, so none can be recommended (advice.csv)");
   }
+  if (advice.seed_scatter) meta.fact("seed_scatter", *advice.seed_scatter);
   const analysis::Rung& pick = ladder[*advice.pick];
   const analysis::Rung& reference = ladder[*advice.reference];
   // The full run at the pick's setting: the cost of a step grows with the bodies, and in the same

@@ -18,12 +18,13 @@ struct CompactionAdviseRequest {
   std::string templates;    // fill's templates.h5; its run.json names the meshes and options
   std::string pack_config;  // pack's config of the bed
   std::string out;
-  std::vector<int> counts;             // sub-spheres per body
+  std::vector<int> counts;             // sub-spheres per body; 1: a bed of plain spheres
   std::vector<double> fractions;       // of the critical step; empty: the config's
   std::vector<double> density_scales;  // run.density_scale; empty: the config's
   int bodies = 0;                      // of the reduced bed; 0: the pack config's count
   int full_bodies = 0;                 // of the run whose cost is predicted; 0: the same
-  std::optional<std::uint64_t> seed;   // pack's seed; empty: the pack config's
+  // pack's seeds (packings of the same bed, for the seed-to-seed scatter); empty: the config's
+  std::vector<std::uint64_t> seeds;
   double tolerance = 0.05;
   bool resume = false;
 };

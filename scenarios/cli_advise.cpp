@@ -299,8 +299,11 @@ StageRunner setup_advise_cli(CLI::App& app) {
                  "config's pack.count)")
       ->needs(templates)
       ->check(CLI::Range(1, 10000000));
-  app.add_option("--seed", bed.seed, "compaction: the packing seed (default: the pack config's)")
-      ->needs(templates);
+  app.add_option("--seeds", bed.seeds,
+                 "compaction: packing seeds, each a packing of the same bed (the ladder runs on "
+                 "each; default: the pack config's seed)")
+      ->needs(templates)
+      ->delimiter(',');
   app.add_option("--density-scales", bed.density_scales,
                  "compaction: the mass scalings of the ladder (run.density_scale; default: the "
                  "config's)")
