@@ -92,6 +92,8 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
       seeds.push_back(rungs[k].seed);
     if (!rungs[k].stable()) continue;
     rungs[k].curve.check();
+    // The window every stable curve covers (beds of one solid fraction start apart).
+    advice.from = std::max(advice.from, rungs[k].curve.x.front());
     advice.to = std::min(advice.to, rungs[k].curve.x.back());
     const auto it = finest_of.find(rungs[k].seed);
     if (it == finest_of.end() || finer(rungs[k], rungs[it->second])) finest_of[rungs[k].seed] = k;

@@ -170,10 +170,12 @@ nlohmann::json press(const RungJob& job, const BedJob& bed, const CompactConfig&
   return record;
 }
 
-// The rung as it ended: its loading stress against strain, its peak, recovery and Py, or the
+// The rung as it ended: its loading stress against strain (or the solid fraction by shape
+// volume: beds that settled to different densities compared where they are equally dense), its
+// peak, recovery and Py, or the
 // named cause of its end (its bed's, when the bed could not be made).
 analysis::Rung load_rung(const RungJob& job, const BedJob& bed, const nlohmann::json& bed_record,
-                         const std::optional<nlohmann::json>& record) {
+                         const std::optional<nlohmann::json>& record, bool solid_fraction_axis) {
   analysis::Rung rung;
   rung.label = job.label;
   rung.sub_spheres = bed.count;
@@ -206,9 +208,11 @@ analysis::Rung load_rung(const RungJob& job, const BedJob& bed, const nlohmann::
   }
   rung.curve.label = job.label;
   for (std::size_t i : analysis::loading_rows(punch)) {
-    const double strain = (punch.reference_gap - punch.gap[i]) / punch.reference_gap;
-    if (rung.curve.x.empty() || strain > rung.curve.x.back()) {
-      rung.curve.x.push_back(strain);
+    const double x = solid_fraction_axis
+                         ? punch.solid_fraction[i]
+                         : (punch.reference_gap - punch.gap[i]) / punch.reference_gap;
+    if (rung.curve.x.empty() || x > rung.curve.x.back()) {
+      rung.curve.x.push_back(x);
       rung.curve.y.push_back(punch.stress[i]);
     }
   }
@@ -342,8 +346,8 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
 
   std::vector<analysis::Rung> ladder;
   for (std::size_t k = 0; k < rungs.size(); ++k)
-    ladder.push_back(
-        load_rung(rungs[k], beds[rungs[k].bed], *bed_records[rungs[k].bed], records[k]));
+    ladder.push_back(load_rung(rungs[k], beds[rungs[k].bed], *bed_records[rungs[k].bed], records[k],
+                               request.curve_axis == "solid_fraction"));
   const analysis::Advice advice = analysis::advise(ladder, request.tolerance, 0.0, 1.0);
   analysis::write_advice_csv(out / "advice.csv", advice);
   meta.output("advice.csv");
@@ -364,8 +368,9 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
       .fact("rungs_reused", static_cast<int>(rungs.size()) - run_now)
       .fact("beds_made", static_cast<int>(beds_to_make.size()))
       .fact("seeds", static_cast<int>(seeds.size()))
-      .fact("strain_from", advice.from)
-      .fact("strain_to", advice.to);
+      .fact("curve_axis", request.curve_axis)
+      .fact("curve_from", advice.from)
+      .fact("curve_to", advice.to);
   if (!advice.pick) {
     meta.write(out / run_metadata_name);
     throw ComputationError("advise: no rung finished, so none can be recommended (advice.csv)");

@@ -25,6 +25,9 @@ struct CompactionAdviseRequest {
   int full_bodies = 0;                 // of the run whose cost is predicted; 0: the same
   // pack's seeds (packings of the same bed, for the seed-to-seed scatter); empty: the config's
   std::vector<std::uint64_t> seeds;
+  // The curve's abscissa: "strain" (from the punch's start) or "solid_fraction" (by shape
+  // volume; beds packed to different densities compared where they are equally dense).
+  std::string curve_axis = "strain";
   double tolerance = 0.05;
   bool resume = false;
 };

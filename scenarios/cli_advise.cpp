@@ -304,6 +304,13 @@ StageRunner setup_advise_cli(CLI::App& app) {
                  "each; default: the pack config's seed)")
       ->needs(templates)
       ->delimiter(',');
+  app.add_option("--curve-axis", bed.curve_axis,
+                 "compaction: the stress curve's abscissa, strain (from the punch's start) or "
+                 "solid_fraction (by shape volume: beds that settled apart compared where they "
+                 "are equally dense)")
+      ->needs(templates)
+      ->check(CLI::IsMember({"strain", "solid_fraction"}))
+      ->capture_default_str();
   app.add_option("--density-scales", bed.density_scales,
                  "compaction: the mass scalings of the ladder (run.density_scale; default: the "
                  "config's)")
