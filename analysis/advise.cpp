@@ -194,39 +194,46 @@ void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
 }
 
 Chart speed_accuracy_chart(const Advice& advice) {
-  Chart chart{fmt::format("Each rung against the finest ({:.3g}-{:.3g} deformation)", advice.from,
+  // A compaction ladder spans decades, from plain spheres hundreds of times off to fine bodies a
+  // few percent off: both axes logarithmic there, and the references (zero) left out.
+  const bool compaction = std::any_of(advice.rows.begin(), advice.rows.end(),
+                                      [](const AdviceRow& r) { return r.rung->compaction; });
+  Chart chart{fmt::format("Each rung against the finest (curves over {:.3g}-{:.3g})", advice.from,
                           advice.to),
               "CPU seconds of the run",
-              "difference from the finest rung [%] (compaction: the largest of curve RMS, peak, "
-              "recovery, Py)",
+              compaction ? "largest of curve RMS, peak, recovery, Py differences [%]"
+                         : "RMS difference from the finest rung [%]",
               "cpu_s",
               "error_percent",
               {}};
+  chart.log_x = chart.log_y = compaction;
   std::map<double, Series> by_fraction;
-  double most = 0.0;
+  double least = INFINITY, most = 0.0;
   for (const AdviceRow& row : advice.rows) {
-    if (!row.rung->stable()) continue;
+    if (!row.rung->stable() || (compaction && row.status == RungStatus::reference)) continue;
     Series& s = by_fraction[row.rung->time_step_fraction];
     s.title = fmt::format("step {:.3g} of critical", row.rung->time_step_fraction);
     s.style = SeriesStyle::markers;
     s.x.push_back(row.rung->cpu_seconds);
     s.y.push_back(100.0 * row.error);
+    least = std::min(least, row.rung->cpu_seconds);
     most = std::max(most, row.rung->cpu_seconds);
   }
+  if (!compaction || !std::isfinite(least)) least = 0.0;
   int colour = 1;
   for (auto& [fraction, series] : by_fraction) {
     series.colour = colour++;
     chart.series.push_back(std::move(series));
   }
   chart.series.push_back(Series{fmt::format("tolerance {:.3g} %", 100.0 * advice.tolerance),
-                                {0.0, most},
+                                {least, most},
                                 {100.0 * advice.tolerance, 100.0 * advice.tolerance},
                                 SeriesStyle::dashed,
                                 8});
   if (advice.seed_scatter)
     chart.series.push_back(Series{
         fmt::format("seed-to-seed scatter of the finest {:.3g} %", 100.0 * *advice.seed_scatter),
-        {0.0, most},
+        {least, most},
         {100.0 * *advice.seed_scatter, 100.0 * *advice.seed_scatter},
         SeriesStyle::dashed,
         6});
