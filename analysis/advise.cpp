@@ -1,6 +1,7 @@
 #include "analysis/advise.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include <fmt/format.h>
@@ -8,6 +9,34 @@
 #include "common/csv.hpp"
 
 namespace shapepress::analysis {
+
+namespace {
+
+// Where a stress–strain curve first reaches a tenth of its peak: from there on its relative
+// differences mean something (the quasi-static figures start there too, models.md).
+double tenth_of_peak(const Curve& curve) {
+  const double peak = *std::max_element(curve.y.begin(), curve.y.end());
+  for (std::size_t i = 0; i < curve.y.size(); ++i)
+    if (curve.y[i] >= 0.1 * peak) return curve.x[i];
+  return curve.x.front();
+}
+
+// NaN when either is not finite (Py of a bed that never yields is infinite): such a figure is
+// not compared, and the table says so.
+double relative(double value, double reference) {
+  if (!std::isfinite(value) || !std::isfinite(reference)) return NAN;
+  return reference != 0.0 ? (value - reference) / reference : 0.0;
+}
+
+// The finer of two stable rungs: more sub-spheres, then the smaller step, then less mass scaling.
+bool finer(const Rung& x, const Rung& y) {
+  if (x.sub_spheres != y.sub_spheres) return x.sub_spheres > y.sub_spheres;
+  if (x.time_step_fraction != y.time_step_fraction)
+    return x.time_step_fraction < y.time_step_fraction;
+  return x.density_scale < y.density_scale;
+}
+
+}  // namespace
 
 const char* status_name(RungStatus status) {
   switch (status) {
@@ -25,6 +54,28 @@ const char* status_name(RungStatus status) {
   return "refused";
 }
 
+// `rung` against `reference` over the advice's window: the curve's RMS, and a compaction rung's
+// figures; the error is the largest of them.
+AdviceRow compare(const Rung& rung, const Rung& reference, const Advice& advice) {
+  AdviceRow row{&rung, RungStatus::off, {}};
+  row.versus_reference = compare_curves(rung.curve, reference.curve, advice.from, advice.to);
+  row.error = row.versus_reference.rms_relative;
+  if (rung.compaction && reference.compaction) {
+    const CompactionFigures &x = *rung.compaction, &r = *reference.compaction;
+    row.peak_difference = relative(x.peak_stress, r.peak_stress);
+    row.recovery_difference = relative(x.elastic_recovery, r.elastic_recovery);
+    row.yield_pressure_difference = relative(x.yield_pressure, r.yield_pressure);
+    for (double d : {row.peak_difference, row.recovery_difference, row.yield_pressure_difference})
+      if (std::isfinite(d)) row.error = std::max(row.error, std::abs(d));
+  }
+  return row;
+}
+
+bool same_setting(const Rung& x, const Rung& y) {
+  return x.sub_spheres == y.sub_spheres && x.time_step_fraction == y.time_step_fraction &&
+         x.density_scale == y.density_scale;
+}
+
 Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, double to) {
   Advice advice;
   advice.tolerance = tolerance;
@@ -33,105 +84,164 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
   for (const Rung& rung : rungs)
     advice.rows.push_back(AdviceRow{
         &rung, rung.end == RunEnd::refused ? RungStatus::refused : RungStatus::diverged, {}});
-  // The finest stable rung: most sub-spheres, then the smallest step.
+  // The finest stable rung of each seed, the seeds in the order they first appear.
+  std::vector<int> seeds;
+  std::map<int, std::size_t> finest_of;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
+    if (std::find(seeds.begin(), seeds.end(), rungs[k].seed) == seeds.end())
+      seeds.push_back(rungs[k].seed);
     if (!rungs[k].stable()) continue;
     rungs[k].curve.check();
+    // The window every stable curve covers (beds of one solid fraction start apart).
+    advice.from = std::max(advice.from, rungs[k].curve.x.front());
     advice.to = std::min(advice.to, rungs[k].curve.x.back());
-    if (!advice.reference) {
-      advice.reference = k;
-      continue;
-    }
-    const Rung& best = rungs[*advice.reference];
-    if (rungs[k].sub_spheres > best.sub_spheres ||
-        (rungs[k].sub_spheres == best.sub_spheres &&
-         rungs[k].time_step_fraction < best.time_step_fraction))
-      advice.reference = k;
+    const auto it = finest_of.find(rungs[k].seed);
+    if (it == finest_of.end() || finer(rungs[k], rungs[it->second])) finest_of[rungs[k].seed] = k;
   }
+  for (int seed : seeds)
+    if (const auto it = finest_of.find(seed); it != finest_of.end()) {
+      advice.references.push_back(it->second);
+      if (!advice.reference) advice.reference = it->second;
+    }
   if (!advice.reference) return advice;
-  const Curve& reference = rungs[*advice.reference].curve;
+  for (std::size_t r : advice.references)
+    if (rungs[r].compaction) advice.from = std::max(advice.from, tenth_of_peak(rungs[r].curve));
   for (std::size_t k = 0; k < rungs.size(); ++k) {
-    AdviceRow& row = advice.rows[k];
     if (!rungs[k].stable()) continue;
-    if (k == *advice.reference) {
-      row.status = RungStatus::reference;
+    const std::size_t reference = finest_of.at(rungs[k].seed);
+    if (k == reference) {
+      advice.rows[k].status = RungStatus::reference;
       continue;
     }
-    row.versus_reference = compare_curves(rungs[k].curve, reference, advice.from, advice.to);
-    row.status =
-        row.versus_reference.rms_relative <= tolerance ? RungStatus::within : RungStatus::off;
+    advice.rows[k] = compare(rungs[k], rungs[reference], advice);
+    advice.rows[k].status =
+        advice.rows[k].error <= tolerance ? RungStatus::within : RungStatus::off;
   }
-  // The cheapest rung that holds the answer; the reference always does.
-  const auto cheaper = [&](std::size_t a, std::size_t b) {
-    const Rung &x = rungs[a], &y = rungs[b];
-    if (x.cpu_seconds != y.cpu_seconds) return x.cpu_seconds < y.cpu_seconds;
-    if (x.sub_spheres != y.sub_spheres) return x.sub_spheres < y.sub_spheres;
-    return x.time_step_fraction > y.time_step_fraction;
-  };
+  // How far apart the seeds' finest rungs are: the scale below which a difference between
+  // settings cannot be told from another packing of the same bed.
+  for (std::size_t r = 1; r < advice.references.size(); ++r)
+    if (same_setting(rungs[advice.references[r]], rungs[*advice.reference]))
+      advice.seed_scatter =
+          std::max(advice.seed_scatter.value_or(0.0),
+                   compare(rungs[advice.references[r]], rungs[*advice.reference], advice).error);
+  // The cheapest setting that holds the answer on every seed (the references always do), by its
+  // CPU seconds summed over the seeds; its row of the first seed is the pick.
+  std::optional<double> pick_cost;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
-    const RungStatus s = advice.rows[k].status;
-    if (s != RungStatus::within && s != RungStatus::reference) continue;
-    if (!advice.pick || cheaper(k, *advice.pick)) advice.pick = k;
+    if (rungs[k].seed != seeds.front()) continue;
+    double cost = 0.0;
+    bool holds = true;
+    for (std::size_t j = 0; j < rungs.size(); ++j) {
+      if (!same_setting(rungs[j], rungs[k])) continue;
+      const RungStatus s = advice.rows[j].status;
+      holds = holds && (s == RungStatus::within || s == RungStatus::reference);
+      cost += rungs[j].cpu_seconds;
+    }
+    if (!holds) continue;
+    const bool cheaper = !pick_cost || cost < *pick_cost ||
+                         (cost == *pick_cost &&
+                          (rungs[k].sub_spheres < rungs[*advice.pick].sub_spheres ||
+                           (rungs[k].sub_spheres == rungs[*advice.pick].sub_spheres &&
+                            rungs[k].time_step_fraction > rungs[*advice.pick].time_step_fraction)));
+    if (cheaper) {
+      pick_cost = cost;
+      advice.pick = k;
+    }
   }
   return advice;
 }
 
 void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
-  CsvWriter csv(path, {"label", "status", "cause", "sub_spheres", "time_step_fraction", "cpu_s",
-                       "rms_vs_reference", "max_vs_reference", "picked"});
+  CsvWriter csv(path,
+                {"label", "status", "cause", "sub_spheres", "time_step_fraction", "density_scale",
+                 "seed", "cpu_s", "rms_vs_reference", "max_vs_reference", "peak_vs_reference",
+                 "recovery_vs_reference", "py_vs_reference", "peak_stress_Pa", "elastic_recovery",
+                 "yield_pressure_Pa", "error", "picked"});
   csv.comment(fmt::format(
       "shapepress advise: each rung against the reference {} (RMS and largest relative "
-      "difference of the force over deformation {:.3g}-{:.3g}), tolerance {:.3g}",
+      "difference of the curve over {:.3g}-{:.3g}; compaction rungs also the peak stress, "
+      "elastic recovery and Py; error the largest), tolerance {:.3g}",
       advice.reference ? advice.rows[*advice.reference].rung->label : std::string("(none)"),
       advice.from, advice.to, advice.tolerance));
+  if (advice.seed_scatter)
+    csv.comment(
+        fmt::format("seeds: each rung against its own seed's finest; the seeds' finest "
+                    "rungs differ by up to {:.3g} (the seed-to-seed scatter)",
+                    *advice.seed_scatter));
+  const auto number_or_nan = [](bool known, double value) {
+    return known ? format_number(value) : std::string("nan");
+  };
   for (std::size_t k = 0; k < advice.rows.size(); ++k) {
     const AdviceRow& row = advice.rows[k];
-    const bool stable = row.rung->stable();
-    csv.row_text({row.rung->label, status_name(row.status),
-                  row.rung->cause.empty() ? "-" : row.rung->cause,
-                  std::to_string(row.rung->sub_spheres),
-                  format_number(row.rung->time_step_fraction), format_number(row.rung->cpu_seconds),
-                  stable ? format_number(row.versus_reference.rms_relative) : "nan",
-                  stable ? format_number(row.versus_reference.max_relative) : "nan",
+    const Rung& rung = *row.rung;
+    const bool stable = rung.stable();
+    const bool figures = stable && rung.compaction.has_value();
+    const CompactionFigures f = rung.compaction.value_or(CompactionFigures{});
+    csv.row_text({rung.label, status_name(row.status), rung.cause.empty() ? "-" : rung.cause,
+                  std::to_string(rung.sub_spheres), format_number(rung.time_step_fraction),
+                  format_number(rung.density_scale), std::to_string(rung.seed),
+                  format_number(rung.cpu_seconds),
+                  number_or_nan(stable, row.versus_reference.rms_relative),
+                  number_or_nan(stable, row.versus_reference.max_relative),
+                  number_or_nan(figures, row.peak_difference),
+                  number_or_nan(figures, row.recovery_difference),
+                  number_or_nan(figures, row.yield_pressure_difference),
+                  number_or_nan(figures, f.peak_stress), number_or_nan(figures, f.elastic_recovery),
+                  number_or_nan(figures, f.yield_pressure), number_or_nan(stable, row.error),
                   advice.pick == k ? "1" : "0"});
   }
   csv.commit();
 }
 
 Chart speed_accuracy_chart(const Advice& advice) {
-  Chart chart{fmt::format("Each rung against the finest ({:.3g}-{:.3g} deformation)", advice.from,
+  // A compaction ladder spans decades, from plain spheres hundreds of times off to fine bodies a
+  // few percent off: both axes logarithmic there, and the references (zero) left out.
+  const bool compaction = std::any_of(advice.rows.begin(), advice.rows.end(),
+                                      [](const AdviceRow& r) { return r.rung->compaction; });
+  Chart chart{fmt::format("Each rung against the finest (curves over {:.3g}-{:.3g})", advice.from,
                           advice.to),
               "CPU seconds of the run",
-              "RMS difference from the finest rung [%]",
+              compaction ? "largest of curve RMS, peak, recovery, Py differences [%]"
+                         : "RMS difference from the finest rung [%]",
               "cpu_s",
-              "rms_percent",
+              "error_percent",
               {}};
+  chart.log_x = chart.log_y = compaction;
   std::map<double, Series> by_fraction;
-  double most = 0.0;
+  double least = INFINITY, most = 0.0;
   for (const AdviceRow& row : advice.rows) {
-    if (!row.rung->stable()) continue;
+    if (!row.rung->stable() || (compaction && row.status == RungStatus::reference)) continue;
     Series& s = by_fraction[row.rung->time_step_fraction];
     s.title = fmt::format("step {:.3g} of critical", row.rung->time_step_fraction);
     s.style = SeriesStyle::markers;
     s.x.push_back(row.rung->cpu_seconds);
-    s.y.push_back(100.0 * row.versus_reference.rms_relative);
+    s.y.push_back(100.0 * row.error);
+    least = std::min(least, row.rung->cpu_seconds);
     most = std::max(most, row.rung->cpu_seconds);
   }
+  if (!compaction || !std::isfinite(least)) least = 0.0;
   int colour = 1;
   for (auto& [fraction, series] : by_fraction) {
     series.colour = colour++;
     chart.series.push_back(std::move(series));
   }
   chart.series.push_back(Series{fmt::format("tolerance {:.3g} %", 100.0 * advice.tolerance),
-                                {0.0, most},
+                                {least, most},
                                 {100.0 * advice.tolerance, 100.0 * advice.tolerance},
                                 SeriesStyle::dashed,
                                 8});
+  if (advice.seed_scatter)
+    chart.series.push_back(Series{
+        fmt::format("seed-to-seed scatter of the finest {:.3g} %", 100.0 * *advice.seed_scatter),
+        {least, most},
+        {100.0 * *advice.seed_scatter, 100.0 * *advice.seed_scatter},
+        SeriesStyle::dashed,
+        6});
   if (advice.pick) {
     const AdviceRow& row = advice.rows[*advice.pick];
     chart.series.push_back(Series{fmt::format("pick: {}", row.rung->label),
                                   {row.rung->cpu_seconds},
-                                  {100.0 * row.versus_reference.rms_relative},
+                                  {100.0 * row.error},
                                   SeriesStyle::points,
                                   7});
   }

@@ -20,17 +20,28 @@ namespace shapepress::analysis {
 // stability limit).
 enum class RunEnd { finished, diverged, refused };
 
+// A compaction rung's numbers beside its curve (analysis/compaction.hpp's, from its punch.csv):
+// what the report states per bed, so a pick holds them too, not the curve alone.
+struct CompactionFigures {
+  double peak_stress = 0.0;       // Pa
+  double elastic_recovery = 0.0;  // (H_unloaded − H_min)/H_min
+  double yield_pressure = 0.0;    // Heckel's Py [Pa]
+};
+
 // One run of the ladder as it ended.
 struct Rung {
   std::string label;              // its folder under the advise folder
   int sub_spheres = 0;            // the count asked of the filler (1: one sphere)
   double time_step_fraction = 0;  // of the critical step
+  double density_scale = 1.0;     // a compaction's mass scaling (run.density_scale)
+  int seed = 0;                   // a compaction's packing seed: rungs of one seed share a bed
   RunEnd end = RunEnd::finished;
   std::string cause;    // a named cause ("overlap", "energy", "non-finite", …) when not finished
   std::string message;  // the run's error line when not finished
   bool stable() const { return end == RunEnd::finished; }
-  Curve curve;                // force against deformation along the loading
+  Curve curve;                // force against deformation (stress against strain) on loading
   double cpu_seconds = -1.0;  // of the whole run (< 0: unknown)
+  std::optional<CompactionFigures> compaction;  // a compaction rung's peak, recovery and Py
 };
 
 enum class RungStatus { reference, within, off, diverged, refused };
@@ -41,30 +52,51 @@ struct AdviceRow {
   const Rung* rung = nullptr;
   RungStatus status = RungStatus::diverged;
   CurveDifference versus_reference;  // zero for the reference and for rungs without a curve
+  // Compaction rungs: relative differences (rung − reference)/reference of the peak stress,
+  // the elastic recovery and Py (NaN, and not in the error, where either value is not finite:
+  // Py of a bed that never yields); zero otherwise.
+  double peak_difference = 0.0, recovery_difference = 0.0, yield_pressure_difference = 0.0;
+  // What the tolerance is held against: the curve's RMS relative difference, and for a
+  // compaction rung the largest of it and the three figures' |differences|.
+  double error = 0.0;
 };
 
 struct Advice {
   std::vector<AdviceRow> rows;  // in the order of the rungs
   double tolerance = 0.05;      // on the RMS relative difference from the reference
   double from = 0.05, to = 0.40;
-  std::optional<std::size_t> reference;  // row of the finest stable rung
-  std::optional<std::size_t> pick;       // row of the cheapest rung within the tolerance
+  std::optional<std::size_t> reference;  // row of the finest stable rung (of the first seed)
+  std::vector<std::size_t> references;   // the finest stable rung of each seed
+  // The largest error of another seed's finest rung from the first seed's (of the same setting);
+  // empty with one seed.
+  std::optional<double> seed_scatter;
+  std::optional<std::size_t> pick;  // row of the cheapest setting within the tolerance
 };
 
 // The reference is the stable rung with the most sub-spheres, of those the one with the smallest
-// time-step fraction. Every other stable rung is compared with it by the RMS relative difference
-// of the force over [from, to] (clipped to the deformation every stable rung reaches), as the
-// plate study compares each N with the finest (plate_study.hpp), and is `within` when that is at
-// most the tolerance. The pick is the within (or reference) rung of least CPU seconds; ties go to
-// fewer sub-spheres, then the larger step. No reference when no rung is stable.
+// time-step fraction, then the smallest density scale. Every other stable rung is compared with
+// it by the RMS relative difference of the force over [from, to] (clipped to the deformation
+// every stable rung reaches), as the plate study compares each N with the finest
+// (plate_study.hpp), and is `within` when its error is at most the tolerance. Compaction rungs
+// (those with figures) are compared from where the reference's stress first reaches a tenth of
+// its peak (below it the relative difference of a near-zero stress measures nothing, as the
+// quasi-static figures start there too), and their error also takes the peak stress, the elastic
+// recovery and Py. With several seeds (packings of the same bed) each rung is compared with its
+// own seed's finest; a setting holds when its rung of every seed does, and the seeds' finest
+// rungs against the first seed's give the seed-to-seed scatter. The pick is the setting that
+// holds of least CPU seconds (summed over the seeds; its row of the first seed); ties go to fewer
+// sub-spheres, then the larger step. No reference when no rung is stable.
 Advice advise(const std::vector<Rung>& rungs, double tolerance, double from = 0.05,
               double to = 0.40);
 
 // advice.csv: label, status, cause ("-" for a finished run), sub_spheres, time_step_fraction,
-// cpu_s, rms_vs_reference, max_vs_reference (nan without a curve), picked (1 or 0).
+// density_scale, seed, cpu_s, rms_vs_reference, max_vs_reference, and for compaction rungs
+// peak_vs_reference, recovery_vs_reference, py_vs_reference (signed), peak_stress_Pa,
+// elastic_recovery, yield_pressure_Pa (nan without a curve or for plate rungs), error (what the
+// tolerance judged), picked (1 or 0).
 void write_advice_csv(const std::filesystem::path& path, const Advice& advice);
 
-// Speed against accuracy: the RMS difference from the reference against CPU seconds, one series
+// Speed against accuracy: the error from the reference against CPU seconds, one series
 // per time-step fraction, the tolerance line and the pick (as the plate study's chart).
 Chart speed_accuracy_chart(const Advice& advice);
 // The stability map: time-step fraction against sub-sphere count, one series per status.

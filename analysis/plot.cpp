@@ -78,6 +78,8 @@ std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
   s += fmt::format("set title {} noenhanced\nset xlabel {} noenhanced\nset ylabel {} noenhanced\n",
                    gp_quoted(chart.title), gp_quoted(chart.x_label), gp_quoted(chart.y_label));
   s += "set grid\nset key left top noenhanced box opaque\nset autoscale\n";
+  if (chart.log_x) s += "set logscale x\n";
+  if (chart.log_y) s += "set logscale y\n";
   std::string plot = "plot ";
   for (std::size_t k = 0; k < chart.series.size(); ++k) {
     if (k > 0) plot += ", ";

@@ -27,6 +27,9 @@ struct Chart {
   std::string x_column;  // CSV column names with units, "stress_MPa"
   std::string y_column;
   std::vector<Series> series;
+  // Logarithmic axes, for differences that span decades (a ladder from spheres to fine bodies);
+  // points at or below zero are then left out by gnuplot.
+  bool log_x = false, log_y = false;
 };
 
 struct ChartFiles {

@@ -152,6 +152,10 @@ int run(const FillCli& cli, const RunContext& context) {
       .fact("resolution", cli.resolution)
       .fact("mesh_unit", cli.mesh_unit)
       .fact("seed", cli.seed);
+  // The analytic shapes as given, so that a later fill of the same shapes (advise's re-fill at
+  // another count) can ask for them again.
+  if (!cli.sphere.empty()) meta.fact("sphere", cli.sphere);
+  if (!cli.ellipsoid.empty()) meta.fact("ellipsoid", cli.ellipsoid);
   if (bonded)
     meta.fact("lattice", cli.lattice)
         .fact("placement", cli.placement)

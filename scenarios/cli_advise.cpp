@@ -5,24 +5,16 @@
 // and named cause, and a killed advise leaves every finished rung reusable: a rung's folder
 // counts as done when its rung.json (written last, atomically) names the same config, particle,
 // count, fraction and fills. The judgement on the finished ladder is analysis/advise.hpp.
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <mutex>
-#include <thread>
 
 #include <omp.h>
 
@@ -33,10 +25,10 @@
 #include "common/error.hpp"
 #include "common/run_metadata.hpp"
 #include "common/sha256.hpp"
+#include "scenarios/advise_compaction.hpp"
+#include "scenarios/advise_runs.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/config_io.hpp"
-
-extern char** environ;
 
 namespace shapepress::scenarios {
 namespace {
@@ -52,6 +44,7 @@ struct AdviseCli {
   double tolerance = 0.05;
   int fills = 0;  // bms: fills per rung; 0: the config's
   bool resume = false;
+  CompactionAdviseRequest compaction;  // a compaction config's bed (--templates, --pack-config)
 };
 
 struct RungJob {
@@ -61,48 +54,6 @@ struct RungJob {
   fs::path folder;
   nlohmann::json key;  // what makes a finished folder this rung
 };
-
-// The named cause of a run's divergence message (simulate/diagnostics.cpp words them).
-std::string divergence_cause(const std::string& message) {
-  if (message.find("non-finite") != std::string::npos) return "non-finite";
-  if (message.find("bonded spheres") != std::string::npos) return "bond overlap";
-  if (message.find("energy") != std::string::npos) return "energy";
-  if (message.find("overlap") != std::string::npos) return "overlap";
-  return "failed";
-}
-
-// The run's message: the last "shapepress plate: error: …" (exit 2) or "…: failed: …" (exit 1)
-// line main() prints.
-std::string error_line(const fs::path& log) {
-  std::ifstream in(log);
-  std::string line, last;
-  while (std::getline(in, line))
-    for (const char* mark : {"plate: error: ", "plate: failed: "})
-      if (const auto at = line.find(mark); at != std::string::npos)
-        last = line.substr(at + std::char_traits<char>::length(mark));
-  return last;
-}
-
-// Runs `args` (argv[0] the binary) with stdout and stderr into `log`; returns its exit code.
-int run_process(const std::vector<std::string>& args, const fs::path& log) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  std::vector<char*> argv;
-  for (const std::string& a : args)
-    argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0)
-    throw ComputationError(fmt::format("advise: cannot start {}: {}", args[0], spawned));
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw ComputationError("advise: lost the run of " + log.string());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
 
 std::string fraction_text(double f) {
   return fmt::format("{:.4g}", f);
@@ -161,30 +112,28 @@ std::vector<RungJob> ladder(const AdviseCli& cli, const std::string& particle,
   return jobs;
 }
 
-// rung.json of a finished rung whose key is `job`'s; nothing when the folder holds no finished
-// rung. InputError when it holds another rung (another config or fills) or when it is finished
-// and --resume was not given.
-std::optional<nlohmann::json> finished(const RungJob& job, bool resume) {
-  const fs::path path = job.folder / "rung.json";
-  if (!fs::exists(path)) return std::nullopt;
-  std::ifstream in(path);
-  nlohmann::json record = nlohmann::json::parse(in, nullptr, false);
-  if (record.is_discarded() || !record.contains("key") || !record.contains("exit_code"))
-    throw InputError(fmt::format("{}: not a rung record; remove the folder", path.string()));
-  if (record["key"] != job.key)
-    throw InputError(
-        fmt::format("{} holds a rung of another advise ({} against {}): use another --out",
-                    path.string(), record["key"].dump(), job.key.dump()));
-  if (!resume)
-    throw InputError(fmt::format(
-        "{} holds finished rungs of an earlier advise: --resume reuses them", job.folder.string()));
-  return record;
-}
-
 int run(const AdviseCli& cli, const RunContext& context) {
+  if (!cli.compaction.templates.empty()) {
+    if (!cli.particle.empty() || cli.fills > 0)
+      throw InputError(
+          "advise: --particle and --fills are a plate config's; a compaction bed's "
+          "kind is its templates'");
+    CompactionAdviseRequest request = cli.compaction;
+    request.config = cli.config;
+    request.out = cli.out;
+    request.counts = cli.counts;
+    request.fractions = cli.fractions;
+    request.tolerance = cli.tolerance;
+    request.resume = cli.resume;
+    return run_compaction_advise(request, context);
+  }
   RunMetadata meta("advise", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
   meta.input("config", cli.config);
+  if (root.has("punch"))
+    throw InputError(cli.config +
+                     ": a compaction config: advise re-fills and re-packs its bed, so give "
+                     "--templates (fill's templates.h5) and --pack-config (pack's config)");
   const PlateConfig config = read_plate_config(root, std::nullopt);
   root.check_unknown_keys();
   const std::string particle = !cli.particle.empty() ? cli.particle : config.bms ? "bms" : "cms";
@@ -207,64 +156,49 @@ int run(const AdviseCli& cli, const RunContext& context) {
   std::vector<std::optional<nlohmann::json>> records(jobs.size());
   std::vector<std::size_t> pending;
   for (std::size_t k = 0; k < jobs.size(); ++k) {
-    records[k] = finished(jobs[k], cli.resume);
+    records[k] = finished_record(jobs[k].folder / "rung.json", jobs[k].key, cli.resume);
     if (!records[k]) pending.push_back(k);
   }
   spdlog::info("advise: {} rungs, {} already run, {} to run", jobs.size(),
                jobs.size() - pending.size(), pending.size());
-  const std::string binary = fs::read_symlink("/proc/self/exe").string();
+  const std::string binary = this_binary();
   const fs::path config_path = fs::absolute(cli.config);
-  std::atomic<std::size_t> next{0};
   std::mutex lock;
-  std::exception_ptr failure;
-  const auto worker = [&] {
-    for (std::size_t i = next++; i < pending.size(); i = next++) {
-      const RungJob& job = jobs[pending[i]];
-      try {
-        ensure_output_folder(job.folder);
-        std::vector<std::string> args = {binary,
-                                         "--quiet",
-                                         "--threads",
-                                         "1",
-                                         "plate",
-                                         "--config",
-                                         config_path,
-                                         "--particle",
-                                         particle,
-                                         particle == "bms" ? "--count" : "--spheres",
-                                         std::to_string(job.count),
-                                         "--time-step-fraction",
-                                         fmt::format("{:.17g}", job.fraction),
-                                         "--out",
-                                         job.folder.string()};
-        if (particle == "bms") args.insert(args.end(), {"--fills", std::to_string(fills)});
-        const int code = run_process(args, job.folder / "log.txt");
-        nlohmann::json record = {{"key", job.key}, {"exit_code", code}};
-        if (code != 0) record["message"] = error_line(job.folder / "log.txt");
-        if (code != 0 && code != 1 && code != 2)
-          throw ComputationError(fmt::format("advise: rung {} ended with exit {} (log: {})",
-                                             job.label, code, (job.folder / "log.txt").string()));
-        write_file_atomically(job.folder / "rung.json", record.dump(1) + "\n");
-        const std::lock_guard guard(lock);
-        records[pending[i]] = record;
-        spdlog::info("advise: {} {}", job.label,
-                     code == 0   ? "done"
-                     : code == 1 ? "diverged: " + record["message"].get<std::string>()
-                                 : "refused: " + record["message"].get<std::string>());
-      } catch (...) {
-        const std::lock_guard guard(lock);
-        if (!failure) failure = std::current_exception();
-        next = pending.size();
-      }
-    }
+  const auto run_rung = [&](std::size_t i) {
+    const RungJob& job = jobs[pending[i]];
+    ensure_output_folder(job.folder);
+    std::vector<std::string> args = {binary,
+                                     "--quiet",
+                                     "--threads",
+                                     "1",
+                                     "plate",
+                                     "--config",
+                                     config_path,
+                                     "--particle",
+                                     particle,
+                                     particle == "bms" ? "--count" : "--spheres",
+                                     std::to_string(job.count),
+                                     "--time-step-fraction",
+                                     fmt::format("{:.17g}", job.fraction),
+                                     "--out",
+                                     job.folder.string()};
+    if (particle == "bms") args.insert(args.end(), {"--fills", std::to_string(fills)});
+    const int code = run_process(args, job.folder / "log.txt").exit_code;
+    nlohmann::json record = {{"key", job.key}, {"exit_code", code}};
+    if (code != 0) record["message"] = error_line(job.folder / "log.txt", "plate");
+    if (code != 0 && code != 1 && code != 2)
+      throw ComputationError(fmt::format("advise: rung {} ended with exit {} (log: {})", job.label,
+                                         code, (job.folder / "log.txt").string()));
+    write_file_atomically(job.folder / "rung.json", record.dump(1) + "\n");
+    const std::lock_guard guard(lock);
+    records[pending[i]] = record;
+    spdlog::info("advise: {} {}", job.label,
+                 code == 0   ? "done"
+                 : code == 1 ? "diverged: " + record["message"].get<std::string>()
+                             : "refused: " + record["message"].get<std::string>());
   };
-  const int threads = context.threads > 0 ? context.threads : omp_get_max_threads();
-  std::vector<std::thread> team;
-  for (int t = 0; t < std::min<int>(threads, static_cast<int>(pending.size())); ++t)
-    team.emplace_back(worker);
-  for (std::thread& t : team)
-    t.join();
-  if (failure) std::rethrow_exception(failure);
+  run_on_threads(pending.size(), context.threads > 0 ? context.threads : omp_get_max_threads(),
+                 run_rung);
 
   std::vector<analysis::Rung> rungs;
   for (std::size_t k = 0; k < jobs.size(); ++k)
@@ -317,7 +251,10 @@ int run(const AdviseCli& cli, const RunContext& context) {
 
 StageRunner setup_advise_cli(CLI::App& app) {
   auto cli = std::make_shared<AdviseCli>();
-  app.add_option("--config", cli->config, "plate config TOML (as for `plate`)")->required();
+  app.add_option("--config", cli->config,
+                 "plate config TOML (as for `plate`), or a compaction config (as for `compact`) "
+                 "with --templates and --pack-config")
+      ->required();
   app.add_option("--out", cli->out,
                  "folder of the rungs (one plate run each), advice.csv, speed_accuracy.svg, "
                  "stability_map.svg, run.json")
@@ -343,6 +280,43 @@ StageRunner setup_advise_cli(CLI::App& app) {
       ->check(CLI::Range(1, 1000));
   app.add_flag("--resume", cli->resume,
                "reuse the rungs already finished in --out (a killed or extended advise)");
+  CompactionAdviseRequest& bed = cli->compaction;
+  auto* templates = app.add_option(
+      "--templates", bed.templates,
+      "compaction: fill's templates.h5 of the bed (its run.json names the meshes and the fill's "
+      "options; each rung re-fills them at its count)");
+  app.add_option(
+         "--pack-config", bed.pack_config,
+         "compaction: pack's config of the bed (re-packed at each count with the same seed)")
+      ->needs(templates);
+  app.add_option("--bodies", bed.bodies,
+                 "compaction: bodies of the reduced bed the rungs press (default: the pack "
+                 "config's pack.count)")
+      ->needs(templates)
+      ->check(CLI::Range(1, 10000000));
+  app.add_option("--full-bodies", bed.full_bodies,
+                 "compaction: bodies of the full run whose cost is predicted (default: the pack "
+                 "config's pack.count)")
+      ->needs(templates)
+      ->check(CLI::Range(1, 10000000));
+  app.add_option("--seeds", bed.seeds,
+                 "compaction: packing seeds, each a packing of the same bed (the ladder runs on "
+                 "each; default: the pack config's seed)")
+      ->needs(templates)
+      ->delimiter(',');
+  app.add_option("--curve-axis", bed.curve_axis,
+                 "compaction: the stress curve's abscissa, strain (from the punch's start) or "
+                 "solid_fraction (by shape volume: beds that settled apart compared where they "
+                 "are equally dense)")
+      ->needs(templates)
+      ->check(CLI::IsMember({"strain", "solid_fraction"}))
+      ->capture_default_str();
+  app.add_option("--density-scales", bed.density_scales,
+                 "compaction: the mass scalings of the ladder (run.density_scale; default: the "
+                 "config's)")
+      ->needs(templates)
+      ->delimiter(',')
+      ->check(CLI::Range(1e-6, 1e12));
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

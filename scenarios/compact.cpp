@@ -103,6 +103,10 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
                                  const CompactionHooks& hooks, CompactionHistory history) {
   CompactionSummary summary;
   const auto emit = [&](PunchRecord record) {
+    // The engine checks every check_every steps; a short run (advise's coarse rungs) can blow up
+    // between two checks and record non-finite rows. Checked at every record, a run that
+    // diverged stops with its named cause (exit 1) instead, as plate's rows are.
+    engine.check_divergence();
     if (hooks.record) hooks.record(record);
     history.records.push_back(record);
   };

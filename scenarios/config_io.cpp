@@ -444,7 +444,10 @@ const OptionTable<CompactConfig>& box_table() {
                   "height of the bottom plate")
         .quantity("punch", &CompactConfig::punch, dim::length, Range::any(),
                   "initial height of the punch, above bottom")
-        .default_text("the top of a packing made by pack (required for any other bed)");
+        .default_text("the top of a packing made by pack (required for any other bed)")
+        // NaN stands for "not given": the written config leaves it out, so it still means the
+        // packing's top when read back.
+        .write_when([](const CompactConfig& c) { return !std::isnan(c.punch); });
     return b;
   }();
   return t;

@@ -107,16 +107,93 @@ TEST(Advise, TableNamesEveryRungItsStatusAndThePick) {
     if (!line.empty() && line[0] != '#') lines.push_back(line);
   ASSERT_EQ(lines.size(), rungs.size() + 1);
   EXPECT_EQ(lines[0],
-            "label,status,cause,sub_spheres,time_step_fraction,cpu_s,rms_vs_reference,"
-            "max_vs_reference,picked");
+            "label,status,cause,sub_spheres,time_step_fraction,density_scale,seed,cpu_s,"
+            "rms_vs_reference,max_vs_reference,peak_vs_reference,recovery_vs_reference,"
+            "py_vs_reference,peak_stress_Pa,elastic_recovery,yield_pressure_Pa,error,picked");
   EXPECT_EQ(lines[3].substr(0, lines[3].find(',')), rungs[2].label);
   EXPECT_EQ(lines[3].back(), '1');
-  EXPECT_NE(lines[2].find(",off,-,100,0.2,2,0.08,"), std::string::npos) << lines[2];
-  EXPECT_NE(lines[6].find(",diverged,energy,50,0.8,-1,nan,nan,0"), std::string::npos) << lines[6];
+  EXPECT_NE(lines[2].find(",off,-,100,0.2,1,0,2,0.08,"), std::string::npos) << lines[2];
+  EXPECT_NE(lines[6].find(",diverged,energy,50,0.8,1,0,-1,nan,nan,nan,nan,nan,nan,nan,nan,nan,0"),
+            std::string::npos)
+      << lines[6];
   const Chart map = stability_map_chart(a);
   ASSERT_EQ(map.series.size(), 4u);  // reference, within, off, diverged
   EXPECT_EQ(map.series.back().x, (std::vector<double>{50}));
   EXPECT_EQ(map.series.back().y, (std::vector<double>{0.8}));
+}
+
+// A compaction rung: stress 1e6 ε² Pa over 0–30 % strain (times 1 + curve_error), and its
+// figures off the reference's by the given relative amounts.
+Rung bed_rung(int n, double curve_error, double peak, double recovery, double py, double cpu) {
+  Rung r;
+  r.label = "bms-" + std::to_string(n);
+  r.sub_spheres = n;
+  r.time_step_fraction = 0.2;
+  for (int k = 0; k <= 30; ++k) {
+    const double strain = k / 100.0;
+    r.curve.x.push_back(strain);
+    r.curve.y.push_back(1e6 * strain * strain * (1.0 + curve_error));
+  }
+  r.compaction = CompactionFigures{9e4 * (1.0 + peak), 0.05 * (1.0 + recovery), 2e5 * (1.0 + py)};
+  r.cpu_seconds = cpu;
+  return r;
+}
+
+// A compaction rung is held to the largest of its curve's RMS and its peak, recovery and Py
+// differences: N = 80 has a 1 % curve but a Py 9 % off, so at 5 % the pick is N = 160 (2 % on
+// all four); at 10 % it is N = 80. The curve is compared from a tenth of the reference's peak
+// (the first record past strain 0.095 here), not from zero stress. A Py that is not finite is left
+// out, and says so.
+TEST(Advise, HoldsACompactionRungToItsCurvePeakRecoveryAndPy) {
+  const std::vector<Rung> rungs = {
+      bed_rung(40, 0.20, 0.1, 0.1, 0.1, 1.0), bed_rung(80, 0.01, 0.0, 0.0, 0.09, 2.0),
+      bed_rung(160, 0.02, 0.02, -0.02, 0.02, 4.0), bed_rung(320, 0.0, 0.0, 0.0, 0.0, 8.0)};
+  const Advice tight = advise(rungs, 0.05, 0.0, 1.0);
+  ASSERT_TRUE(tight.pick.has_value());
+  EXPECT_EQ(rungs[*tight.pick].label, "bms-160");
+  EXPECT_DOUBLE_EQ(tight.from, 0.10);  // the first record at 10 % of the peak (9e3 Pa at 0.095)
+  EXPECT_NEAR(tight.rows[1].yield_pressure_difference, 0.09, 1e-12);
+  EXPECT_NEAR(tight.rows[1].error, 0.09, 1e-12);
+  EXPECT_NEAR(tight.rows[2].recovery_difference, -0.02, 1e-12);
+  const Advice loose = advise(rungs, 0.10, 0.0, 1.0);
+  EXPECT_EQ(rungs[*loose.pick].label, "bms-80");
+
+  std::vector<Rung> unyielding = rungs;
+  unyielding[1].compaction->yield_pressure = INFINITY;
+  const Advice a = advise(unyielding, 0.05, 0.0, 1.0);
+  EXPECT_TRUE(std::isnan(a.rows[1].yield_pressure_difference));
+  EXPECT_NEAR(a.rows[1].error, a.rows[1].versus_reference.rms_relative, 1e-12);
+  EXPECT_EQ(rungs[*a.pick].label, "bms-80");
+}
+
+// Two packings of one bed: each rung is held to its own seed's finest, a setting holds only when
+// it holds on both, and the seeds' finest rungs give the scatter. N = 80 is 2 % off on seed 1
+// but 8 % on seed 2, so at 5 % the pick is N = 160 (3 % and 1 %); the two finest rungs differ by
+// 6 %, which the advice states.
+TEST(Advise, JudgesASettingOnEverySeedAndStatesTheSeedToSeedScatter) {
+  std::vector<Rung> rungs;
+  const auto add = [&](int seed, int n, double error, double cpu) {
+    Rung r = rung(n, 0.2, error, cpu);
+    r.label += "-seed" + std::to_string(seed);
+    r.seed = seed;
+    rungs.push_back(r);
+  };
+  add(1, 80, 0.02, 1.0);
+  add(1, 160, 0.03, 2.0);
+  add(1, 320, 0.0, 4.0);
+  add(2, 80, 0.08 * 1.06 + 0.06, 1.0);  // seed 2's curves lie 6 % above seed 1's
+  add(2, 160, 0.01 * 1.06 + 0.06, 2.0);
+  add(2, 320, 0.06, 4.0);
+  const Advice a = advise(rungs, 0.05);
+  ASSERT_EQ(a.references.size(), 2u);
+  EXPECT_EQ(rungs[a.references[1]].label, "cms-320-f0.200000-seed2");
+  EXPECT_NEAR(a.rows[3].error, 0.08, 1e-9);  // against seed 2's finest, not seed 1's
+  EXPECT_EQ(a.rows[0].status, RungStatus::within);
+  EXPECT_EQ(a.rows[3].status, RungStatus::off);
+  ASSERT_TRUE(a.pick.has_value());
+  EXPECT_EQ(rungs[*a.pick].label, "cms-160-f0.200000-seed1");
+  ASSERT_TRUE(a.seed_scatter.has_value());
+  EXPECT_NEAR(*a.seed_scatter, 0.06, 1e-9);
 }
 
 }  // namespace

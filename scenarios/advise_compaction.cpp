@@ -1,0 +1,409 @@
+// shapepress advise on a compaction config. A rung is a sub-sphere count N, a time-step fraction
+// and a mass scaling; its bed is bed-<N>/: the templates re-filled at N by `fill` with the
+// options the given templates were made with (their run.json), packed by `pack` with the pack
+// config, the reduced body count and one seed, so every N presses the same bodies. Beds and
+// rungs are shapepress processes of their own (advise_runs.hpp), each on one thread, side by side.
+#include "scenarios/advise_compaction.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+
+#include <omp.h>
+
+#include "analysis/advise.hpp"
+#include "analysis/compaction.hpp"
+#include "analysis/runs.hpp"
+#include "common/atomic_file.hpp"
+#include "common/config.hpp"
+#include "common/error.hpp"
+#include "common/run_metadata.hpp"
+#include "common/sha256.hpp"
+#include "scenarios/advise_runs.hpp"
+#include "scenarios/config_io.hpp"
+
+namespace shapepress::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// How the given templates were filled: their meshes and fill's options, from their run.json.
+struct FillRecipe {
+  std::string kind;                  // bms or cms
+  std::vector<std::string> meshes;   // and --sphere R, --ellipsoid a,b,c as fill was given them
+  std::vector<std::string> options;  // fill's options besides the meshes, --count and --out
+};
+
+// A recorded mesh path as given to fill: relative to where fill ran (unknown), so it is taken
+// as it is when it exists, else relative to the templates' folder.
+std::string locate_mesh(const std::string& recorded, const fs::path& templates) {
+  if (fs::exists(recorded)) return fs::absolute(recorded).string();
+  const fs::path beside = templates.parent_path() / fs::path(recorded).filename();
+  if (fs::exists(beside)) return fs::absolute(beside).string();
+  throw InputError(
+      fmt::format("{}: its mesh {} is neither there nor beside it: advise re-fills "
+                  "the meshes",
+                  templates.string(), recorded));
+}
+
+FillRecipe fill_recipe(const fs::path& templates) {
+  const RunRecord record = RunRecord::read(run_metadata_beside(templates));
+  if (record.stage() != "fill")
+    throw InputError(
+        fmt::format("{}: made by {}, not by fill", record.path().string(), record.stage()));
+  FillRecipe recipe;
+  recipe.kind = record.text("particle_kind");
+  for (const auto& input : record.json().at("inputs"))
+    if (input.value("role", "") == "mesh")
+      recipe.meshes.push_back(locate_mesh(input.at("path").get<std::string>(), templates));
+  for (const char* shape : {"sphere", "ellipsoid"})
+    if (record.has(shape))
+      recipe.meshes.insert(recipe.meshes.end(), {std::string("--") + shape, record.text(shape)});
+  if (recipe.meshes.empty())
+    throw InputError(
+        fmt::format("{}: its run.json names no mesh or analytic shape to re-fill "
+                    "(a fill from before advise could re-fill analytic shapes: "
+                    "fill them again)",
+                    record.path().string()));
+  recipe.options = {"--kind",       recipe.kind,
+                    "--resolution", std::to_string(record.integer("resolution")),
+                    "--mesh-unit",  record.text("mesh_unit"),
+                    "--seed",       std::to_string(record.integer("seed"))};
+  if (record.has("sub_sphere_radius_m"))
+    throw InputError(
+        fmt::format("{}: filled at a fixed sub-sphere radius (--radius), not a count: "
+                    "advise varies the count",
+                    record.path().string()));
+  if (recipe.kind == "bms")
+    recipe.options.insert(
+        recipe.options.end(),
+        {"--lattice", record.text("lattice"), "--placement", record.text("placement"),
+         "--bond-multiplier", fmt::format("{:.17g}", record.number("bond_multiplier"))});
+  return recipe;
+}
+
+struct BedJob {
+  int count = 0;  // 1: plain spheres of the same sizes, packed without templates
+  std::optional<std::uint64_t> seed;  // empty: the pack config's
+  fs::path folder;
+  nlohmann::json key;
+};
+
+struct RungJob {
+  std::string label;
+  std::size_t bed = 0;  // index into the beds
+  double fraction = 0.0, density_scale = 1.0;
+  fs::path folder;
+  nlohmann::json key;
+};
+
+std::string number_text(double f) {
+  return fmt::format("{:.4g}", f);
+}
+
+// Fills and packs one bed; its record says how that ended (a bed that failed fails its rungs).
+nlohmann::json make_bed(const BedJob& bed, const FillRecipe& recipe,
+                        const CompactionAdviseRequest& request, int bodies) {
+  ensure_output_folder(bed.folder);
+  const std::string binary = this_binary();
+  nlohmann::json record = {{"key", bed.key}};
+  ProcessEnd end;
+  if (bed.count > 1) {
+    std::vector<std::string> fill = {binary, "--quiet", "fill"};
+    fill.insert(fill.end(), recipe.meshes.begin(), recipe.meshes.end());
+    fill.insert(fill.end(), recipe.options.begin(), recipe.options.end());
+    fill.insert(fill.end(), {"--count", std::to_string(bed.count), "--out",
+                             (bed.folder / "templates.h5").string()});
+    end = run_process(fill, bed.folder / "fill.log");
+    record["fill_cpu_s"] = end.cpu_seconds;
+    if (end.exit_code != 0)
+      record["message"] = "fill: " + error_line(bed.folder / "fill.log", "fill");
+  }
+  if (end.exit_code == 0) {
+    std::vector<std::string> pack = {binary, "--quiet", "--threads", "1", "pack"};
+    // One sub-sphere: plain spheres of the same draw of sizes (the cheapest point of a ladder).
+    if (bed.count > 1)
+      pack.push_back((bed.folder / "templates.h5").string());
+    else
+      pack.insert(pack.end(), {"--template", "sphere"});
+    pack.insert(pack.end(), {"--config", fs::absolute(request.pack_config).string(), "--count",
+                             std::to_string(bodies), "--out", (bed.folder / "packed.h5").string()});
+    if (bed.seed) pack.insert(pack.end(), {"--seed", std::to_string(*bed.seed)});
+    end = run_process(pack, bed.folder / "pack.log");
+    record["pack_cpu_s"] = end.cpu_seconds;
+    if (end.exit_code != 0)
+      record["message"] = "pack: " + error_line(bed.folder / "pack.log", "pack");
+  }
+  record["exit_code"] = end.exit_code;
+  write_file_atomically(bed.folder / "bed.json", record.dump(1) + "\n");
+  return record;
+}
+
+// The rung's compact config: the given one at the rung's step and mass scaling, without
+// snapshots (a rung is judged on punch.csv).
+void write_rung_config(const RungJob& job, CompactConfig config) {
+  config.run.time_step_fraction = job.fraction;
+  config.density_scale = job.density_scale;
+  config.setup.snapshot_every = 0;
+  write_file_atomically(job.folder / "compact.toml", compact_config_toml(config));
+}
+
+nlohmann::json press(const RungJob& job, const BedJob& bed, const CompactConfig& config) {
+  ensure_output_folder(job.folder);
+  write_rung_config(job, config);
+  const ProcessEnd end =
+      run_process({this_binary(), "--quiet", "--threads", "1", "compact", "--config",
+                   (job.folder / "compact.toml").string(), "--packing",
+                   (bed.folder / "packed.h5").string(), "--out", job.folder.string()},
+                  job.folder / "log.txt");
+  nlohmann::json record = {
+      {"key", job.key}, {"exit_code", end.exit_code}, {"cpu_s", end.cpu_seconds}};
+  if (end.exit_code != 0) record["message"] = error_line(job.folder / "log.txt", "compact");
+  if (end.exit_code != 0 && end.exit_code != 1 && end.exit_code != 2)
+    throw ComputationError(fmt::format("advise: rung {} ended with exit {} (log: {})", job.label,
+                                       end.exit_code, (job.folder / "log.txt").string()));
+  write_file_atomically(job.folder / "rung.json", record.dump(1) + "\n");
+  return record;
+}
+
+// The rung as it ended: its loading stress against strain (or the solid fraction by shape
+// volume: beds that settled to different densities compared where they are equally dense), its
+// peak, recovery and Py, or the
+// named cause of its end (its bed's, when the bed could not be made).
+analysis::Rung load_rung(const RungJob& job, const BedJob& bed, const nlohmann::json& bed_record,
+                         const std::optional<nlohmann::json>& record, bool solid_fraction_axis) {
+  analysis::Rung rung;
+  rung.label = job.label;
+  rung.sub_spheres = bed.count;
+  rung.time_step_fraction = job.fraction;
+  rung.density_scale = job.density_scale;
+  rung.seed = bed.seed ? static_cast<int>(*bed.seed) : 0;
+  if (bed_record.at("exit_code").get<int>() != 0) {
+    rung.end = analysis::RunEnd::refused;
+    rung.cause = "bed";
+    rung.message = bed_record.value("message", "");
+    return rung;
+  }
+  const int code = record->at("exit_code").get<int>();
+  rung.cpu_seconds = record->at("cpu_s").get<double>();
+  if (code != 0) {
+    rung.end = code == 1 ? analysis::RunEnd::diverged : analysis::RunEnd::refused;
+    rung.message = record->value("message", "");
+    rung.cause = code == 1 ? divergence_cause(rung.message) : "refused";
+    return rung;
+  }
+  const analysis::PunchCurve punch = analysis::read_punch_curve(job.folder / "punch.csv");
+  // compact checks for divergence every run.check_every steps; a short run can end between
+  // two checks, and a curve with a non-finite stress is a diverged run, never one to compare.
+  if (!std::all_of(punch.stress.begin(), punch.stress.end(),
+                   [](double s) { return std::isfinite(s); })) {
+    rung.end = analysis::RunEnd::diverged;
+    rung.cause = "non-finite";
+    rung.message = (job.folder / "punch.csv").string() + " holds a non-finite stress";
+    return rung;
+  }
+  rung.curve.label = job.label;
+  for (std::size_t i : analysis::loading_rows(punch)) {
+    const double x = solid_fraction_axis
+                         ? punch.solid_fraction[i]
+                         : (punch.reference_gap - punch.gap[i]) / punch.reference_gap;
+    if (rung.curve.x.empty() || x > rung.curve.x.back()) {
+      rung.curve.x.push_back(x);
+      rung.curve.y.push_back(punch.stress[i]);
+    }
+  }
+  analysis::CompactionMetrics m;
+  try {
+    m = analysis::analyse_compaction(punch);
+  } catch (const ComputationError& e) {
+    throw ComputationError(fmt::format("advise: rung {}: {} (record more often: run.record_every)",
+                                       job.label, e.what()));
+  }
+  rung.compaction =
+      analysis::CompactionFigures{m.peak_stress, m.elastic_recovery, m.heckel.yield_pressure};
+  return rung;
+}
+
+int pack_count(const fs::path& pack_config) {
+  const ConfigTable root = ConfigTable::load_file(pack_config);
+  const std::int64_t count = root.has("pack") ? root.table("pack").integer("count", 0) : 0;
+  if (count <= 0)
+    throw InputError(
+        fmt::format("{}: no pack.count (a target_mass bed): give --bodies and "
+                    "--full-bodies",
+                    pack_config.string()));
+  return static_cast<int>(count);
+}
+
+}  // namespace
+
+int run_compaction_advise(const CompactionAdviseRequest& request, const RunContext& context) {
+  RunMetadata meta("advise", context.command_line);
+  if (request.pack_config.empty())
+    throw InputError("advise --templates needs --pack-config (the bed's pack config)");
+  const ConfigTable root = ConfigTable::load_file(request.config);
+  meta.input("config", request.config)
+      .input("templates", request.templates)
+      .input("pack_config", request.pack_config);
+  if (!root.has("punch"))
+    throw InputError(request.config + ": advise --templates needs a compaction config ([punch])");
+  const CompactConfig config = read_compact_config(root);
+  root.check_unknown_keys();
+  if (config.run.time_step)
+    throw InputError(request.config +
+                     ": advise varies run.time_step_fraction, but the config fixes run.time_step");
+  if (config.generate || config.clumps)
+    throw InputError(request.config +
+                     ": advise presses the packed bed; [generate] and [clumps] pour another");
+  const FillRecipe recipe = fill_recipe(request.templates);
+  const int bodies = request.bodies > 0 ? request.bodies : pack_count(request.pack_config);
+  const int full_bodies =
+      request.full_bodies > 0 ? request.full_bodies : pack_count(request.pack_config);
+  const std::vector<double> fractions =
+      request.fractions.empty() ? std::vector{config.run.time_step_fraction} : request.fractions;
+  const std::vector<double> scales =
+      request.density_scales.empty() ? std::vector{config.density_scale} : request.density_scales;
+  const fs::path out(request.out);
+  ensure_output_folder(out);
+
+  const nlohmann::json bed_key = {{"templates_sha256", sha256_file(request.templates)},
+                                  {"pack_config_sha256", sha256_file(request.pack_config)},
+                                  {"bodies", bodies}};
+  std::vector<std::optional<std::uint64_t>> seeds(request.seeds.begin(), request.seeds.end());
+  if (seeds.empty()) seeds.push_back(std::nullopt);  // the pack config's
+  const auto seed_text = [&](const std::optional<std::uint64_t>& seed) {
+    return seeds.size() > 1 ? fmt::format("-seed{}", *seed) : std::string();
+  };
+  std::vector<BedJob> beds;
+  std::vector<RungJob> rungs;
+  for (const auto& seed : seeds)
+    for (int count : request.counts) {
+      const std::string kind = count > 1 ? recipe.kind : "sphere";
+      BedJob bed{count, seed, out / fmt::format("bed-{}{}", count, seed_text(seed)), bed_key};
+      bed.key["count"] = count;
+      bed.key["seed"] = seed ? nlohmann::json(*seed) : nlohmann::json("pack config's");
+      for (double fraction : fractions)
+        for (double scale : scales) {
+          RungJob job;
+          job.label = fmt::format("{}-{}-f{}-s{}{}", kind, count, number_text(fraction),
+                                  number_text(scale), seed_text(seed));
+          job.bed = beds.size();
+          job.fraction = fraction;
+          job.density_scale = scale;
+          job.folder = out / job.label;
+          job.key = bed.key;
+          job.key["config_sha256"] = sha256_file(request.config);
+          job.key["time_step_fraction"] = fraction;
+          job.key["density_scale"] = scale;
+          rungs.push_back(std::move(job));
+        }
+      beds.push_back(std::move(bed));
+    }
+
+  const int threads = context.threads > 0 ? context.threads : omp_get_max_threads();
+  std::mutex lock;
+  // First the beds (one fill and one pack per count), then every rung on its bed.
+  std::vector<std::optional<nlohmann::json>> bed_records(beds.size());
+  std::vector<std::size_t> beds_to_make;
+  for (std::size_t k = 0; k < beds.size(); ++k) {
+    bed_records[k] = finished_record(beds[k].folder / "bed.json", beds[k].key, request.resume);
+    if (!bed_records[k]) beds_to_make.push_back(k);
+  }
+  run_on_threads(beds_to_make.size(), threads, [&](std::size_t i) {
+    const BedJob& bed = beds[beds_to_make[i]];
+    nlohmann::json record = make_bed(bed, recipe, request, bodies);
+    spdlog::info("advise: bed of {} sub-spheres per body {}", bed.count,
+                 record.at("exit_code").get<int>() == 0 ? "packed"
+                                                        : "failed: " + record.value("message", ""));
+    const std::lock_guard guard(lock);
+    bed_records[beds_to_make[i]] = std::move(record);
+  });
+
+  std::vector<std::optional<nlohmann::json>> records(rungs.size());
+  std::vector<std::size_t> pending;
+  for (std::size_t k = 0; k < rungs.size(); ++k) {
+    records[k] = finished_record(rungs[k].folder / "rung.json", rungs[k].key, request.resume);
+    const bool bed_made = bed_records[rungs[k].bed]->at("exit_code").get<int>() == 0;
+    if (!records[k] && bed_made) pending.push_back(k);
+  }
+  spdlog::info("advise: {} rungs on {} beds of {} bodies, {} to run", rungs.size(), beds.size(),
+               bodies, pending.size());
+  run_on_threads(pending.size(), threads, [&](std::size_t i) {
+    const RungJob& job = rungs[pending[i]];
+    nlohmann::json record = press(job, beds[job.bed], config);
+    const int code = record.at("exit_code").get<int>();
+    spdlog::info("advise: {} {}", job.label,
+                 code == 0
+                     ? "done"
+                     : (code == 1 ? "diverged: " : "refused: ") + record.value("message", ""));
+    const std::lock_guard guard(lock);
+    records[pending[i]] = std::move(record);
+  });
+
+  std::vector<analysis::Rung> ladder;
+  for (std::size_t k = 0; k < rungs.size(); ++k)
+    ladder.push_back(load_rung(rungs[k], beds[rungs[k].bed], *bed_records[rungs[k].bed], records[k],
+                               request.curve_axis == "solid_fraction"));
+  const analysis::Advice advice = analysis::advise(ladder, request.tolerance, 0.0, 1.0);
+  analysis::write_advice_csv(out / "advice.csv", advice);
+  meta.output("advice.csv");
+  if (!analysis::find_gnuplot().empty()) {
+    analysis::plot_chart(analysis::speed_accuracy_chart(advice), out / "speed_accuracy");
+    analysis::plot_chart(analysis::stability_map_chart(advice), out / "stability_map");
+    meta.output("speed_accuracy.svg").output("stability_map.svg");
+  } else {
+    spdlog::warn("advise: gnuplot not on PATH: no charts (advice.csv has the numbers)");
+  }
+  const int run_now = static_cast<int>(pending.size());
+  meta.fact("particle_kind", recipe.kind)
+      .fact("tolerance", request.tolerance)
+      .fact("bodies", bodies)
+      .fact("full_bodies", full_bodies)
+      .fact("rungs", static_cast<int>(rungs.size()))
+      .fact("rungs_run", run_now)
+      .fact("rungs_reused", static_cast<int>(rungs.size()) - run_now)
+      .fact("beds_made", static_cast<int>(beds_to_make.size()))
+      .fact("seeds", static_cast<int>(seeds.size()))
+      .fact("curve_axis", request.curve_axis)
+      .fact("curve_from", advice.from)
+      .fact("curve_to", advice.to);
+  if (!advice.pick) {
+    meta.write(out / run_metadata_name);
+    throw ComputationError("advise: no rung finished, so none can be recommended (advice.csv)");
+  }
+  if (advice.seed_scatter) meta.fact("seed_scatter", *advice.seed_scatter);
+  const analysis::Rung& pick = ladder[*advice.pick];
+  const analysis::Rung& reference = ladder[*advice.reference];
+  // The full run at the pick's setting: the cost of a step grows with the bodies, and in the same
+  // die the bed's height, the punch's travel to the same strain and so the steps do too.
+  const double body_factor = static_cast<double>(full_bodies) / bodies;
+  const double predicted = pick.cpu_seconds * body_factor * body_factor;
+  meta.fact("reference", reference.label)
+      .fact("reference_cpu_s", reference.cpu_seconds)
+      .fact("pick", pick.label)
+      .fact("pick_sub_spheres", pick.sub_spheres)
+      .fact("pick_time_step_fraction", pick.time_step_fraction)
+      .fact("pick_density_scale", pick.density_scale)
+      .fact("pick_error_vs_reference", advice.rows[*advice.pick].error)
+      .fact("pick_cpu_s", pick.cpu_seconds)
+      .fact("cost_scaling", "cpu_s x (full_bodies / bodies)^2")
+      .fact("predicted_full_run_cpu_s", predicted)
+      .fact("predicted_full_reference_cpu_s", reference.cpu_seconds * body_factor * body_factor)
+      .fact("cost_saved_factor", reference.cpu_seconds / pick.cpu_seconds);
+  meta.write(out / run_metadata_name);
+  spdlog::info(
+      "advise: pick {} ({} sub-spheres per body, step {} of critical, density scale {}): {:.2g} % "
+      "from {} (largest of curve RMS, peak, recovery, Py), {:.3g} s CPU against {:.3g} s ({:.3g}x "
+      "less) on {} bodies; {} bodies predicted at {:.3g} s CPU",
+      pick.label, pick.sub_spheres, number_text(pick.time_step_fraction),
+      number_text(pick.density_scale), 100.0 * advice.rows[*advice.pick].error, reference.label,
+      pick.cpu_seconds, reference.cpu_seconds, reference.cpu_seconds / pick.cpu_seconds, bodies,
+      full_bodies, predicted);
+  return 0;
+}
+
+}  // namespace shapepress::scenarios

@@ -1,0 +1,115 @@
+#include "scenarios/advise_runs.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <exception>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "common/error.hpp"
+
+extern char** environ;
+
+namespace shapepress::scenarios {
+
+namespace fs = std::filesystem;
+
+ProcessEnd run_process(const std::vector<std::string>& args, const fs::path& log) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  std::vector<char*> argv;
+  for (const std::string& a : args)
+    argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0)
+    throw ComputationError(fmt::format("advise: cannot start {}: {}", args[0], spawned));
+  int status = 0;
+  rusage usage{};
+  while (wait4(pid, &status, 0, &usage) < 0)
+    if (errno != EINTR) throw ComputationError("advise: lost the run of " + log.string());
+  const auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status),
+          seconds(usage.ru_utime) + seconds(usage.ru_stime)};
+}
+
+std::string error_line(const fs::path& log, const std::string& stage) {
+  std::ifstream in(log);
+  std::string line, last;
+  const std::string marks[] = {stage + ": error: ", stage + ": failed: "};
+  while (std::getline(in, line))
+    for (const std::string& mark : marks)
+      if (const auto at = line.find(mark); at != std::string::npos)
+        last = line.substr(at + mark.size());
+  return last;
+}
+
+std::string divergence_cause(const std::string& message) {
+  if (message.find("non-finite") != std::string::npos) return "non-finite";
+  if (message.find("bonded spheres") != std::string::npos) return "bond overlap";
+  if (message.find("energy") != std::string::npos) return "energy";
+  if (message.find("overlap") != std::string::npos) return "overlap";
+  return "failed";
+}
+
+std::optional<nlohmann::json> finished_record(const fs::path& path, const nlohmann::json& key,
+                                              bool resume) {
+  if (!fs::exists(path)) return std::nullopt;
+  std::ifstream in(path);
+  nlohmann::json record = nlohmann::json::parse(in, nullptr, false);
+  if (record.is_discarded() || !record.contains("key") || !record.contains("exit_code"))
+    throw InputError(fmt::format("{}: not a record of advise; remove the folder", path.string()));
+  if (record["key"] != key)
+    throw InputError(
+        fmt::format("{} holds a step of another advise ({} against {}): use another --out",
+                    path.string(), record["key"].dump(), key.dump()));
+  if (!resume)
+    throw InputError(
+        fmt::format("{} holds finished steps of an earlier advise: --resume reuses them",
+                    path.parent_path().string()));
+  return record;
+}
+
+void run_on_threads(std::size_t count, int threads, const std::function<void(std::size_t)>& job) {
+  std::atomic<std::size_t> next{0};
+  std::mutex lock;
+  std::exception_ptr failure;
+  const auto worker = [&] {
+    for (std::size_t i = next++; i < count; i = next++) {
+      try {
+        job(i);
+      } catch (...) {
+        const std::lock_guard guard(lock);
+        if (!failure) failure = std::current_exception();
+        next = count;
+      }
+    }
+  };
+  std::vector<std::thread> team;
+  const std::size_t size =
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(threads, 1)), count);
+  for (std::size_t t = 0; t < size; ++t)
+    team.emplace_back(worker);
+  for (std::thread& t : team)
+    t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+std::string this_binary() {
+  return fs::read_symlink("/proc/self/exe").string();
+}
+
+}  // namespace shapepress::scenarios

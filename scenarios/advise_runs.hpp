@@ -1,0 +1,45 @@
+#pragma once
+// How `shapepress advise` runs its ladder (issue 21, point 2): every rung, and every bed a
+// compaction ladder fills and packs, is a shapepress process of its own in its own folder, so a
+// run that diverges ends with its own exit code and named cause, and a killed advise leaves
+// every finished step reusable. A folder counts as done when its record (written last,
+// atomically) names the same key: the inputs' content and the rung's settings.
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace shapepress::scenarios {
+
+struct ProcessEnd {
+  int exit_code = 0;         // 128 + the signal for a killed process
+  double cpu_seconds = 0.0;  // user + system CPU of the process (and its threads)
+};
+// Runs `args` (argv[0] the binary) with stdout and stderr into `log`.
+ProcessEnd run_process(const std::vector<std::string>& args, const std::filesystem::path& log);
+
+// The message of a failed run: the last "shapepress STAGE: error: …" (exit 2) or
+// "…: failed: …" (exit 1) line main() printed into `log`.
+std::string error_line(const std::filesystem::path& log, const std::string& stage);
+
+// The named cause of a run's divergence message (simulate/diagnostics.cpp words them).
+std::string divergence_cause(const std::string& message);
+
+// The record of a finished step whose key is `key` (nothing when `record` does not exist).
+// InputError when it holds another step (another config or settings), or when it is finished and
+// `resume` is not set: finished work is neither silently reused nor overwritten.
+std::optional<nlohmann::json> finished_record(const std::filesystem::path& record,
+                                              const nlohmann::json& key, bool resume);
+
+// Calls `job(i)` for i in [0, count) on up to `threads` threads; the first exception stops the
+// rest from starting and is rethrown once the running ones are done.
+void run_on_threads(std::size_t count, int threads, const std::function<void(std::size_t)>& job);
+
+// The shapepress binary running now, to start the steps with.
+std::string this_binary();
+
+}  // namespace shapepress::scenarios
