@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -58,6 +59,33 @@ double tatara_plate_force(const ElasticSphere& sphere, double total_approach) {
     high *= 2.0;
   }
   return find_root_brent(residual, low, high, 1e-13 * high);
+}
+
+double hertz_elliptic_contact_force(double effective_modulus, double r1, double r2,
+                                    double approach) {
+  if (r1 < r2) std::swap(r1, r2);
+  if (!(r2 > 0.0) || approach <= 0.0) return 0.0;
+  const double ratio = r1 / r2;
+  if (!std::isfinite(r1) || ratio < 1.0 + 1e-6) {
+    const double r = std::isfinite(r1) ? std::sqrt(r1 * r2) : r2;
+    return 4.0 / 3.0 * effective_modulus * std::sqrt(r) * std::pow(approach, 1.5);
+  }
+  // R1/R2 as a function of e rises monotonically from 1 at e = 0: bisection.
+  const auto radius_ratio = [](double e) {
+    const double k = std::comp_ellint_1(e), ee = std::comp_ellint_2(e);
+    return (ee / (1.0 - e * e) - k) / (k - ee);
+  };
+  double low = 0.0, high = 1.0;
+  for (int i = 0; i < 200 && high - low > 1e-15; ++i) {
+    const double mid = 0.5 * (low + high);
+    (radius_ratio(mid) < ratio ? low : high) = mid;
+  }
+  const double e = 0.5 * (low + high);
+  const double k = std::comp_ellint_1(e), ee = std::comp_ellint_2(e);
+  const double a = std::sqrt(approach * (k - ee) / (k * e * e) * 2.0 * r1);
+  const double b = a * std::sqrt(1.0 - e * e);
+  const double p0 = approach * effective_modulus / (b * k);
+  return 2.0 / 3.0 * std::numbers::pi * a * b * p0;
 }
 
 std::vector<double> hertz_plate_forces(const ElasticSphere& sphere,

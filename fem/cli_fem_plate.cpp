@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "common/atomic_file.hpp"
 #include "common/config.hpp"
@@ -13,6 +14,7 @@
 #include "common/run_metadata.hpp"
 #include "fem/cli.hpp"
 #include "fem/fem_plate.hpp"
+#include "geometry/press_frame.hpp"
 
 namespace shapepress::fem {
 namespace {
@@ -21,6 +23,7 @@ struct FemPlateCli {
   std::string config;
   std::string out;
   std::string ccx = "ccx";
+  std::string gmsh = "gmsh";
   int arc_elements = 0;
   int coarse_arc_elements = -1;
 };
@@ -35,29 +38,46 @@ constexpr double convergence_from = 0.05;
 
 // The columns of `plate`'s force.csv (scenarios/plate_run.hpp), so `report` reads both.
 void write_force_csv(const std::filesystem::path& path, const FemPlateRun& run,
-                     const FemPlateConfig& config) {
+                     const FemPlateConfig& config, const PressedParticle* particle) {
   CsvWriter csv(path, {"time_s", "deformation", "approach_m", "top_force_N", "bottom_force_N",
                        "hertz_force_N", "contacts", "intact_bonds", "kinetic_energy_J", "work_J",
                        "cpu_s", "wall_s"});
-  csv.comment(fmt::format(
-      "shapepress fem-plate: {} sphere R = {:.6g} m, E = {:.6g} Pa, nu = {:.6g} between rigid "
-      "plates (friction {:.3g}), CalculiX, {} axisymmetric CAX4 elements ({} per 45 deg of arc), "
-      "{}",
-      material_model_name(config.material), config.radius, config.youngs_modulus,
-      config.poisson_ratio, config.friction, run.elements, run.arc_elements,
-      config.nonlinear_geometry ? "nonlinear geometry" : "small-strain geometry"));
-  csv.comment("particle = fem; static: time_s is the step's load fraction, kinetic_energy_J 0");
-  csv.comment(
-      fmt::format("polar radius c = {:.6g} m (the plates' axis); deformation = approach / (2c); "
-                  "top_force_N = bottom_force_N (symmetry plane)",
-                  config.pressed_radius()));
-  csv.comment(
-      fmt::format("hertz_force_N = (sqrt(2)/3) E* sqrt(Rp) approach^1.5, E* = E/(1-nu^2), "
-                  "Rp = R^2/c = {:.6g} m (the pole's radius of curvature)",
-                  config.pole_curvature_radius()));
-  csv.comment("contacts: plates touching the sphere; cpu_s, wall_s: CalculiX's when converged");
+  if (particle == nullptr) {
+    csv.comment(fmt::format(
+        "shapepress fem-plate: {} sphere R = {:.6g} m, E = {:.6g} Pa, nu = {:.6g} between rigid "
+        "plates (friction {:.3g}), CalculiX, {} axisymmetric CAX4 elements ({} per 45 deg of "
+        "arc), {}",
+        material_model_name(config.material), config.radius, config.youngs_modulus,
+        config.poisson_ratio, config.friction, run.elements, run.arc_elements,
+        config.nonlinear_geometry ? "nonlinear geometry" : "small-strain geometry"));
+    csv.comment("particle = fem; static: time_s is the step's load fraction, kinetic_energy_J 0");
+    csv.comment(
+        fmt::format("polar radius c = {:.6g} m (the plates' axis); deformation = approach / (2c); "
+                    "top_force_N = bottom_force_N (symmetry plane)",
+                    config.pressed_radius()));
+    csv.comment(
+        fmt::format("hertz_force_N = (sqrt(2)/3) E* sqrt(Rp) approach^1.5, E* = E/(1-nu^2), "
+                    "Rp = R^2/c = {:.6g} m (the pole's radius of curvature)",
+                    config.pole_curvature_radius()));
+  } else {
+    csv.comment(fmt::format(
+        "shapepress fem-plate: {} particle {} (E = {:.6g} Pa, nu = {:.6g}) pressed along its {} "
+        "axis between rigid plates (friction {:.3g}), CalculiX, {} C3D10 tetrahedra ({:.4g} m at "
+        "the plates), {}",
+        material_model_name(config.material), config.mesh, config.youngs_modulus,
+        config.poisson_ratio, press_axis_name(config.axis), config.friction, run.elements,
+        run.element_size,
+        config.nonlinear_geometry ? "nonlinear geometry" : "small-strain geometry"));
+    csv.comment("particle = fem; static: time_s is the step's load fraction, kinetic_energy_J 0");
+    csv.comment(fmt::format("height along the axis H = {:.6g} m; deformation = approach / H",
+                            particle->height()));
+    csv.comment(
+        "hertz_force_N: Hertz's elliptical contact (Johnson 4.2) at each plate, the principal "
+        "curvatures fitted to the surface there, the two contacts in series");
+  }
+  csv.comment("contacts: plates touching the particle; cpu_s, wall_s: CalculiX's when converged");
   for (const FemPlateRow& r : run.rows)
-    csv.row({r.step_time, r.deformation, r.approach, r.force, r.force, r.hertz_force,
+    csv.row({r.step_time, r.deformation, r.approach, r.top_force, r.bottom_force, r.hertz_force,
              r.force > 0.0 ? 2.0 : 0.0, 0.0, 0.0, r.work, r.cpu_seconds, r.wall_seconds});
   csv.commit();
 }
@@ -70,7 +90,8 @@ nlohmann::ordered_json by_deformation(const std::vector<std::pair<double, double
   return out;
 }
 
-void add_run_facts(RunMetadata& meta, const FemPlateConfig& config, const FemPlateRun& run) {
+void add_run_facts(RunMetadata& meta, const FemPlateConfig& config, const FemPlateRun& run,
+                   const PressedParticle* particle) {
   std::vector<std::pair<double, double>> forces;
   for (double d : summary_deformations)
     forces.emplace_back(d, force_at(run, d));
@@ -79,9 +100,10 @@ void add_run_facts(RunMetadata& meta, const FemPlateConfig& config, const FemPla
       .fact("sub_spheres", 1)  // one continuum body: `report` keeps it out of the BMS N study
       .fact("bonds", 0)
       .fact("fills", 1)
-      .fact("radius_m", config.radius)
-      .fact("polar_radius_m", config.pressed_radius())
-      .fact("pole_curvature_radius_m", config.pole_curvature_radius())
+      .fact("model", particle == nullptr ? "axisymmetric" : "solid")
+      .fact("radius_m", particle == nullptr ? config.radius : 0.5 * particle->height())
+      .fact("polar_radius_m",
+            particle == nullptr ? config.pressed_radius() : 0.5 * particle->height())
       .fact("max_deformation", config.max_deformation)
       .fact("material_model", material_model_name(config.material))
       .fact("nonlinear_geometry", config.nonlinear_geometry)
@@ -95,6 +117,29 @@ void add_run_facts(RunMetadata& meta, const FemPlateConfig& config, const FemPla
       .fact("force_N_at_deformation", by_deformation(forces))
       .fact("cpu_s", run.cpu_seconds)
       .fact("wall_s", run.wall_seconds);
+  if (particle == nullptr) {
+    meta.fact("pole_curvature_radius_m", config.pole_curvature_radius());
+    return;
+  }
+  // The 3-2-1 anchors hold the particle at its centroid: a particle that is not symmetric about
+  // its centre plane would move along the axis to balance its two contacts, and the anchors'
+  // reaction is the difference of the two plates' forces instead (force_N is their mean).
+  double imbalance = 0.0;
+  for (const FemPlateRow& r : run.rows)
+    if (r.force > 0.0)
+      imbalance = std::max(imbalance, std::fabs(r.top_force - r.bottom_force) / r.force);
+  const Eigen::Vector3d axis = particle->frame.row(2).transpose();
+  meta.fact("mesh", config.mesh)
+      .fact("mesh_unit_m", config.mesh_unit)
+      .fact("axis", press_axis_name(config.axis))
+      .fact("axis_direction", std::vector<double>{axis.x(), axis.y(), axis.z()})
+      .fact("centroid_m", std::vector<double>{particle->centroid.x(), particle->centroid.y(),
+                                              particle->centroid.z()})
+      .fact("height_m", particle->height())
+      .fact("volume_m3", particle->volume)
+      .fact("element_type", "C3D10")
+      .fact("element_size_m", run.element_size)
+      .fact("plate_force_imbalance_max", imbalance);
 }
 
 int run(const FemPlateCli& cli, const RunContext& context) {
@@ -113,9 +158,15 @@ int run(const FemPlateCli& cli, const RunContext& context) {
       fmt::format("# {}\n# the effective config of a fem-plate run\n", context.command_line) +
           fem_plate_config_toml(config));
 
+  std::optional<PressedParticle> particle;
+  if (config.solid())
+    particle = pressed_particle(config.mesh, config.mesh_unit, config.axis, config.direction);
+  const PressedParticle* solid = particle ? &*particle : nullptr;
+  const std::string job = solid != nullptr ? "particle" : "sphere";
   const auto press = [&](int arc_elements, const std::string& job) {
     FemRunOptions options;
     options.ccx = cli.ccx;
+    options.gmsh = cli.gmsh;
     options.threads = context.threads > 0 ? context.threads : 1;
     options.log = [](const std::string& line) { spdlog::info("{}", line); };
     // One line per converged increment: an increment takes seconds to minutes, so a line each is
@@ -126,13 +177,15 @@ int run(const FemPlateCli& cli, const RunContext& context) {
         spdlog::info("fem-plate {}: increment {} converged, deformation {:.4g} of {:.4g}", job,
                      ++increment, step_time * config.max_deformation, config.max_deformation);
     };
-    return run_fem_plate(config, arc_elements, out, job, options);
+    return solid != nullptr ? run_solid_fem_plate(config, *solid, arc_elements, out, job, options)
+                            : run_fem_plate(config, arc_elements, out, job, options);
   };
 
-  const FemPlateRun fine = press(config.arc_elements, "sphere");
-  write_force_csv(out / "force.csv", fine, config);
-  meta.output("force.csv").output("sphere.inp").output("sphere.dat").output("sphere.frd");
-  add_run_facts(meta, config, fine);
+  const FemPlateRun fine = press(config.arc_elements, job);
+  write_force_csv(out / "force.csv", fine, config, solid);
+  meta.output("force.csv").output(job + ".inp").output(job + ".dat").output(job + ".frd");
+  if (solid != nullptr) meta.output(job + ".msh");
+  add_run_facts(meta, config, fine, solid);
   if (!fine.completed) {
     meta.fact("failure", fine.failure);
     meta.write(out / run_metadata_name);
@@ -148,9 +201,9 @@ int run(const FemPlateCli& cli, const RunContext& context) {
                fine.rows.back().deformation);
 
   if (config.coarse_arc_elements > 0) {
-    const FemPlateRun coarse = press(config.coarse_arc_elements, "sphere-coarse");
-    write_force_csv(out / "force_coarse.csv", coarse, config);
-    meta.output("force_coarse.csv").output("sphere-coarse.inp");
+    const FemPlateRun coarse = press(config.coarse_arc_elements, job + "-coarse");
+    write_force_csv(out / "force_coarse.csv", coarse, config, solid);
+    meta.output("force_coarse.csv").output(job + "-coarse.inp");
     if (!coarse.completed)
       throw ComputationError(
           fmt::format("the convergence check's coarse mesh ({} per 45°) stopped at deformation "
@@ -178,7 +231,8 @@ int run(const FemPlateCli& cli, const RunContext& context) {
 
 StageRunner setup_fem_plate_cli(CLI::App& app) {
   auto cli = std::make_shared<FemPlateCli>();
-  app.add_option("--config", cli->config, "fem-plate config TOML ([sphere], [plate], [fem])")
+  app.add_option("--config", cli->config,
+                 "fem-plate config TOML ([sphere] or [particle], [plate], [fem])")
       ->required();
   app.add_option("--out", cli->out,
                  "output folder (force.csv, force_coarse.csv, the CalculiX decks and results)")
@@ -191,6 +245,9 @@ StageRunner setup_fem_plate_cli(CLI::App& app) {
                  "no check)")
       ->check(CLI::Range(0, 400));
   app.add_option("--ccx", cli->ccx, "the CalculiX program (Debian's calculix-ccx)")
+      ->capture_default_str();
+  app.add_option("--gmsh", cli->gmsh,
+                 "the mesher of a [particle]'s volume (Debian's gmsh; run only for [particle])")
       ->capture_default_str();
   return [cli](const RunContext& context) { return run(*cli, context); };
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fem/fem_plate_config.hpp"
+#include "geometry/press_frame.hpp"
 
 namespace shapepress::fem {
 
@@ -15,8 +16,10 @@ struct FemPlateRow {
   double step_time = 0.0;    // fraction of the step
   double deformation = 0.0;  // Δ/(2R), Δ/(2c) for a spheroid
   double approach = 0.0;     // Δ [m], both plates
-  double force = 0.0;        // on one plate [N] (the two are equal: symmetry)
-  double hertz_force = 0.0;  // (√2/3) E* √R Δ^{3/2}, E* = E/(1 − ν²) (rigid plates), R at the pole
+  double force = 0.0;        // on the plates [N]: the mean of the two (3D) or either (symmetry)
+  double top_force = 0.0, bottom_force = 0.0;  // each plate's [N]
+  double hertz_force = 0.0;  // (√2/3) E* √R Δ^{3/2}, E* = E/(1 − ν²) (rigid plates), R at the pole;
+                             // 3D: both contacts' elliptical Hertz in series
   double work = 0.0;         // ∫ F dΔ by the plates [J]
   double cpu_seconds = 0.0;  // CalculiX's CPU when the increment converged
   double wall_seconds = 0.0;
@@ -24,7 +27,8 @@ struct FemPlateRow {
 
 struct FemPlateRun {
   int arc_elements = 0;
-  int elements = 0;  // of the sphere
+  double element_size = 0.0;  // 3D: at the plates [m]
+  int elements = 0;           // of the particle
   int nodes = 0;
   std::vector<FemPlateRow> rows;  // converged increments only, from the undeformed state
   double cpu_seconds = 0.0;       // CalculiX's total
@@ -35,7 +39,8 @@ struct FemPlateRun {
 };
 
 struct FemRunOptions {
-  std::string ccx = "ccx";  // the CalculiX program
+  std::string ccx = "ccx";    // the CalculiX program
+  std::string gmsh = "gmsh";  // the mesher (3D models)
   int threads = 1;
   std::function<void(const std::string&)> log;  // one-line notes
   std::function<void(double step_time)> progress;
@@ -47,6 +52,16 @@ struct FemRunOptions {
 FemPlateRun run_fem_plate(const FemPlateConfig& config, int arc_elements,
                           const std::filesystem::path& folder, const std::string& job,
                           const FemRunOptions& options);
+
+// The same for `particle` as a 3D model of C3D10 tetrahedra (job.stl, job.geo, job.msh from Gmsh
+// kept in `folder` too), pressed along the press frame's z.
+FemPlateRun run_solid_fem_plate(const FemPlateConfig& config, const PressedParticle& particle,
+                                int arc_elements, const std::filesystem::path& folder,
+                                const std::string& job, const FemRunOptions& options);
+
+// Hertz's force of the two plate contacts in series (stiffnesses F = k δ^{3/2} each) at total
+// approach Δ: the contact forces are equal, so δ_top / δ_bottom = (k_bottom / k_top)^{2/3}.
+double hertz_series_force(double k_top, double k_bottom, double approach);
 
 // The largest relative difference |F_coarse − F_fine| / F_fine over the coarse run's rows at
 // deformation ≥ `from` (the fine curve interpolated linearly at them), and the same at given

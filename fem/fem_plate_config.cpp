@@ -36,6 +36,45 @@ const OptionTable<FemPlateConfig>& sphere_table() {
   return t;
 }
 
+const OptionTable<FemPlateConfig>& particle_table() {
+  static const OptionTable<FemPlateConfig> t = [] {
+    OptionTable<FemPlateConfig> s("particle",
+                                  "any closed triangle mesh as a 3D model of quadratic "
+                                  "tetrahedra (C3D10, meshed by Gmsh), instead of [sphere]");
+    s.string("mesh", &FemPlateConfig::mesh,
+             "the particle's surface: STL (binary or ASCII), OFF or PLY, closed, 2-manifold and "
+             "free of self-intersections (generate's particles)")
+        .required()
+        .quantity("mesh_unit", &FemPlateConfig::mesh_unit, dim::length, Range::positive(),
+                  "the length of one coordinate unit of the mesh file")
+        .default_text("1 m")
+        .choice("axis", &FemPlateConfig::axis,
+                std::vector<std::pair<std::string, PressAxis>>{{"short", PressAxis::short_axis},
+                                                               {"middle", PressAxis::middle_axis},
+                                                               {"long", PressAxis::long_axis},
+                                                               {"direction", PressAxis::direction}},
+                "the plates' axis: a principal axis of the particle's inertia (short: the "
+                "largest moment, long: the smallest) or `direction`")
+        .numbers("direction", &FemPlateConfig::direction, dim::dimensionless, Range::any(),
+                 "the plates' axis in the mesh's frame (any length)")
+        .when([](const FemPlateConfig& c) { return c.axis == PressAxis::direction; },
+              "unless particle.axis = \"direction\"")
+        .quantity("youngs_modulus", &FemPlateConfig::youngs_modulus, dim::pressure,
+                  Range::positive(), "E, small-strain")
+        .required()
+        .number("poisson_ratio", &FemPlateConfig::poisson_ratio, Range{0.0, 0.5, true, false},
+                "ν, small-strain (neo-Hookean: sets the bulk modulus K = E/(3(1 − 2ν)))")
+        .required()
+        .choice("material_model", &FemPlateConfig::material,
+                std::vector<std::pair<std::string, MaterialModel>>{
+                    {"neo-hookean", MaterialModel::neo_hookean},
+                    {"linear-elastic", MaterialModel::linear_elastic}},
+                "compressible neo-Hookean or linear elastic (with nonlinear geometry)");
+    return s;
+  }();
+  return t;
+}
+
 const OptionTable<FemPlateConfig>& plate_table() {
   static const OptionTable<FemPlateConfig> t = [] {
     OptionTable<FemPlateConfig> p("plate", "the two rigid flat plates");
@@ -53,7 +92,8 @@ const OptionTable<FemPlateConfig>& fem_table() {
     OptionTable<FemPlateConfig> f("fem", "the mesh and the CalculiX step");
     f.integer("arc_elements", &FemPlateConfig::arc_elements, Range{2, 400},
               "elements along each 45° of the sphere's outline (the run's resolution; "
-              "--arc-elements overrides)")
+              "--arc-elements overrides); [particle]: the tetrahedra at the plates are "
+              "(π/4) R_c / this, R_c the smaller principal radius of curvature there (3 to 8)")
         .integer("coarse_arc_elements", &FemPlateConfig::coarse_arc_elements, Range{0, 400},
                  "the mesh convergence check's second resolution (0: no check)")
         .integer("increments", &FemPlateConfig::increments, Range{1, 100000},
@@ -93,7 +133,13 @@ void FemPlateConfig::check() const {
 
 FemPlateConfig read_fem_plate_config(const ConfigTable& root) {
   FemPlateConfig config;
-  sphere_table().read(root.table("sphere"), config);
+  if (root.has("particle") && root.has("sphere"))
+    throw InputError(fmt::format("{}: [sphere] and [particle] both given: one particle is pressed",
+                                 root.source_name()));
+  if (root.has("particle"))
+    particle_table().read(root.table("particle"), config);
+  else
+    sphere_table().read(root.table("sphere"), config);
   if (root.has("plate")) plate_table().read(root.table("plate"), config);
   if (root.has("fem")) fem_table().read(root.table("fem"), config);
   try {
@@ -105,15 +151,16 @@ FemPlateConfig read_fem_plate_config(const ConfigTable& root) {
 }
 
 std::string fem_plate_config_toml(const FemPlateConfig& config) {
-  return sphere_table().write(config) + "\n" + plate_table().write(config) + "\n" +
-         fem_table().write(config);
+  return (config.solid() ? particle_table().write(config) : sphere_table().write(config)) + "\n" +
+         plate_table().write(config) + "\n" + fem_table().write(config);
 }
 
 StageOptions fem_plate_options() {
-  return StageOptions{"fem-plate",
-                      "one elastic sphere between rigid plates by the finite element method "
-                      "(CalculiX, axisymmetric)",
-                      {sphere_table().docs(), plate_table().docs(), fem_table().docs()}};
+  return StageOptions{
+      "fem-plate",
+      "one elastic sphere between rigid plates by the finite element method "
+      "(CalculiX: a sphere or spheroid axisymmetric, any closed mesh in 3D)",
+      {sphere_table().docs(), particle_table().docs(), plate_table().docs(), fem_table().docs()}};
 }
 
 }  // namespace shapepress::fem

@@ -2,12 +2,20 @@
 // What `fem-plate` presses and how: the sphere and its material law, the plates, the mesh and the
 // increments of the CalculiX run (docs/stages.md "fem-plate", docs/models.md "The finite-element
 // reference").
+#include <array>
 #include <string>
 
 #include "common/config.hpp"
 #include "common/options.hpp"
+#include "geometry/press_frame.hpp"
 
 namespace shapepress::fem {
+
+using geometry::contact_curvature_radii;
+using geometry::press_axis_name;
+using geometry::PressAxis;
+using geometry::pressed_particle;
+using geometry::PressedParticle;
 
 enum class MaterialModel {
   neo_hookean,     // compressible neo-Hookean, C10 = μ/2, D1 = 2/K (CalculiX *HYPERELASTIC)
@@ -16,7 +24,14 @@ enum class MaterialModel {
 const char* material_model_name(MaterialModel model);  // "neo-hookean", "linear-elastic"
 
 struct FemPlateConfig {
-  double radius = 0.01;         // R [m] (a spheroid's equatorial semi-axis a)
+  // [particle]: any closed triangle mesh as a 3D tetrahedral model (empty: the [sphere] or
+  // spheroid, axisymmetric).
+  std::string mesh;
+  double mesh_unit = 1.0;  // metres per coordinate unit of the mesh file
+  PressAxis axis = PressAxis::short_axis;
+  std::array<double, 3> direction = {0.0, 0.0, 1.0};  // in the mesh's frame (axis = direction)
+  std::string gmsh = "gmsh";                          // the mesher (not a config key: --gmsh)
+  double radius = 0.01;                               // R [m] (a spheroid's equatorial semi-axis a)
   double polar_radius = 0.0;    // c [m]: a spheroid's semi-axis along the plates' axis; 0: R
   double youngs_modulus = 0.0;  // E [Pa] (small-strain)
   double poisson_ratio = 0.0;   // ν (small-strain)
@@ -30,6 +45,7 @@ struct FemPlateConfig {
   bool nonlinear_geometry = true;   // NLGEOM (off: small-strain theory, Hertz's assumption)
   double penalty_factor = 100.0;    // contact stiffness = factor × E / (pole element size)
 
+  bool solid() const { return !mesh.empty(); }
   void check() const;  // InputError naming the key
   // c: polar_radius, or R for the sphere.
   double pressed_radius() const { return polar_radius > 0.0 ? polar_radius : radius; }
@@ -38,7 +54,8 @@ struct FemPlateConfig {
   double pole_curvature_radius() const { return radius * radius / pressed_radius(); }
 };
 
-// Reads [sphere], [plate] and [fem] of a fem-plate config (the caller checks unknown keys).
+// Reads [sphere] or [particle], [plate] and [fem] of a fem-plate config (the caller checks unknown
+// keys).
 FemPlateConfig read_fem_plate_config(const ConfigTable& root);
 // The effective config as TOML that reads back to the same values.
 std::string fem_plate_config_toml(const FemPlateConfig& config);

@@ -61,4 +61,17 @@ PlateParticle bms_sphere(const MaterialTable& materials, double radius, const Bm
                          const std::string& name, BmsParticleInfo* info = nullptr,
                          BmsFillCache* cache = nullptr);
 
+// `config.templates`' BMS template (bms.template, or the file's only one) turned so that its
+// axis (bms.axis, bms.direction) is z, resting on z = 0, bonded by Eq. 10 with the config's m_b
+// and bond: InputError naming the file and the template when it has no such template.
+PlateParticle bms_template(const MaterialTable& materials, const BmsConfig& config,
+                           const std::string& name, BmsParticleInfo* info = nullptr);
+// Half the height of that template along its axis (the plate rig's R: deformation = Δ/(2R)).
+double bms_template_half_height(const BmsConfig& config);
+
+// bms_template when the config names templates, else bms_sphere.
+PlateParticle bms_particle(const MaterialTable& materials, double radius, const BmsConfig& config,
+                           const std::string& name, BmsParticleInfo* info = nullptr,
+                           BmsFillCache* cache = nullptr);
+
 }  // namespace shapepress::scenarios

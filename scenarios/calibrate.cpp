@@ -86,7 +86,7 @@ PlateConfig modulus_form_if_asked(const PlateConfig& config,
   if (!asked || !config.bms || config.bms->bond.modulus > 0.0) return config;
   PlateConfig c = config;
   BmsParticleInfo info;
-  bms_sphere(c.materials.table(), c.setup.radius, *c.bms, "BMS sphere", &info);
+  bms_particle(c.materials.table(), c.setup.radius, *c.bms, "BMS sphere", &info);
   BondParameters& b = c.bms->bond;
   b.modulus = b.normal_stiffness * 2.0 * info.sub_sphere_radius;
   b.shear_ratio = b.shear_stiffness / b.normal_stiffness;

@@ -18,6 +18,7 @@
 #include "common/run_metadata.hpp"
 #include "common/sha256.hpp"
 #include "common/units.hpp"
+#include "scenarios/bms_particle.hpp"
 #include "scenarios/calibrate.hpp"
 #include "scenarios/calibrate_compaction.hpp"
 #include "scenarios/cli.hpp"
@@ -381,7 +382,8 @@ struct ReferenceCurve {
   std::string force_column;
 };
 
-ReferenceCurve read_plate_reference(const CalibrateCli& cli, double radius) {
+ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config) {
+  const double radius = config.setup.radius;
   ReferenceCurve curve{reference_file(cli.reference),
                        {},
                        {},
@@ -401,16 +403,37 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, double radius) {
           fmt::format("--reference {}: the FEM run did not reach its last "
                       "increment (run.json: completed = false)",
                       cli.reference));
-    const double fem_radius = record.number("radius_m");
-    // A spheroid's FEM run (polar_radius_m ≠ radius_m) is not the sphere calibrate fills.
-    const double fem_polar =
-        record.has("polar_radius_m") ? record.number("polar_radius_m") : fem_radius;
-    if (std::fabs(fem_radius - radius) > 1e-9 * radius ||
-        std::fabs(fem_polar - radius) > 1e-9 * radius)
-      throw InputError(
-          fmt::format("--reference {}: the FEM particle's radius {} m and polar radius {} m are "
-                      "not the config's sphere radius {} m",
-                      cli.reference, fem_radius, fem_polar, radius));
+    if (record.has("model") && record.json()["facts"]["model"] == "solid") {
+      // A 3D FEM run of a mesh: the BMS template of that mesh is pressed along the FEM's axis,
+      // given in the mesh's frame (the template's file turns it into the template's body frame).
+      if (!config.bms || config.bms->templates.empty())
+        throw InputError(fmt::format(
+            "--reference {}: a 3D FEM run of the mesh {}: the config's [bms] must name the "
+            "templates (bms.templates) filled from that mesh",
+            cli.reference, record.json()["facts"]["mesh"].get<std::string>()));
+      const nlohmann::json& axis = record.json()["facts"]["axis_direction"];
+      config.bms->axis = geometry::PressAxis::direction;
+      config.bms->direction = {axis.at(0).get<double>(), axis.at(1).get<double>(),
+                               axis.at(2).get<double>()};
+      config.setup.radius = bms_template_half_height(*config.bms);
+      spdlog::info(
+          "calibrate: the template pressed along the FEM run's {} axis ({:.4f}, {:.4f}, {:.4f} "
+          "in the mesh's frame): its height {:.6g} m, the mesh's {:.6g} m",
+          record.json()["facts"]["axis"].get<std::string>(), config.bms->direction[0],
+          config.bms->direction[1], config.bms->direction[2], 2.0 * config.setup.radius,
+          record.number("height_m"));
+    } else {
+      const double fem_radius = record.number("radius_m");
+      // A spheroid's FEM run (polar_radius_m ≠ radius_m) is not the sphere calibrate fills.
+      const double fem_polar =
+          record.has("polar_radius_m") ? record.number("polar_radius_m") : fem_radius;
+      if (std::fabs(fem_radius - radius) > 1e-9 * radius ||
+          std::fabs(fem_polar - radius) > 1e-9 * radius)
+        throw InputError(
+            fmt::format("--reference {}: the FEM particle's radius {} m and polar radius {} m are "
+                        "not the config's sphere radius {} m",
+                        cli.reference, fem_radius, fem_polar, radius));
+    }
     x_column = "deformation";
     curve.force_column = "top_force_N";
   }
@@ -428,7 +451,7 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   if (!config.bms) throw InputError(cli.config + ": calibrate needs a [bms] particle and [bond]");
   if (cli.count > 0) config.bms->count = cli.count;
   if (cli.fills > 0) config.bms->fills = cli.fills;
-  const ReferenceCurve reference = read_plate_reference(cli, config.setup.radius);
+  const ReferenceCurve reference = read_plate_reference(cli, config);
   meta.input("reference", reference.csv);
   CalibrationOptions options;
   options.parameters = split_names(cli.fit.empty() ? "modulus,shear_ratio" : cli.fit);

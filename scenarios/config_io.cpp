@@ -1,6 +1,8 @@
 #include "scenarios/config_io.hpp"
+
 #include <cmath>
 #include <limits>
+#include "scenarios/bms_particle.hpp"
 
 #include <fmt/format.h>
 
@@ -157,8 +159,9 @@ const OptionTable<PlateConfig>& sphere_table() {
     OptionTable<PlateConfig> s("sphere", "the sphere pressed (or filled by --particle bms | cms)");
     s.quantity(
          "radius", [](auto& c) -> auto& { return c.setup.radius; }, dim::length, Range::positive(),
-         "radius R")
-        .required()
+         "radius R (with [bms] templates: not given, half the template's height along its axis)")
+        .default_text("required")
+        .write_when([](const PlateConfig& c) { return !c.bms || c.bms->templates.empty(); })
         .string("material", &PlateConfig::sphere_material, "its [[material]]")
         .required();
     return s;
@@ -212,13 +215,42 @@ const OptionTable<BmsConfig>& bms_table() {
     std::vector<std::pair<std::string, std::string>> lattices;
     for (const char* name : geometry::lattice_names)
       lattices.emplace_back(name, name);
-    b.integer("count", &BmsConfig::count, Range::closed(1, 1000000), "sub-spheres")
+    const auto fill_of_sphere = [](const BmsConfig& c) { return c.templates.empty(); };
+    b.string("templates", &BmsConfig::templates,
+             "a templates.h5 of `fill`: its BMS template is pressed instead of a fill of the "
+             "sphere (count, lattice, placement, seed and fills do not apply; R is half the "
+             "template's height along `axis`)")
+        .string("template", &BmsConfig::template_name,
+                "the /bms/<name> of `templates` (empty: the file's only BMS template)")
+        .when([](const BmsConfig& c) { return !c.templates.empty(); }, "without bms.templates")
+        .choice("axis", &BmsConfig::axis,
+                std::vector<std::pair<std::string, geometry::PressAxis>>{
+                    {"short", geometry::PressAxis::short_axis},
+                    {"middle", geometry::PressAxis::middle_axis},
+                    {"long", geometry::PressAxis::long_axis},
+                    {"direction", geometry::PressAxis::direction}},
+                "the plates' axis: a principal axis of the template (short: the largest moment), "
+                "or `direction`")
+        .when([](const BmsConfig& c) { return !c.templates.empty(); }, "without bms.templates")
+        .numbers("direction", &BmsConfig::direction, dim::dimensionless, Range::any(),
+                 "the plates' axis in the frame of the mesh the template was filled from (a "
+                 "fem-plate run's axis_direction; calibrate --reference sets it)")
+        .when(
+            [](const BmsConfig& c) {
+              return !c.templates.empty() && c.axis == geometry::PressAxis::direction;
+            },
+            "unless bms.templates and bms.axis = \"direction\"")
+        .integer("count", &BmsConfig::count, Range::closed(1, 1000000), "sub-spheres")
+        .when(fill_of_sphere, "with bms.templates")
         .choice("lattice", &BmsConfig::lattice, lattices, "arrangement of the sub-spheres")
+        .when(fill_of_sphere, "with bms.templates")
         .choice("placement", &BmsConfig::placement,
                 std::vector<std::pair<std::string, std::string>>{{"inside", "inside"},
                                                                  {"centre", "centre"}},
                 "sub-spheres wholly inside the sphere, or their centres")
+        .when(fill_of_sphere, "with bms.templates")
         .integer("seed", &BmsConfig::seed, Range::non_negative(), "seed of the (first) fill")
+        .when(fill_of_sphere, "with bms.templates")
         .integer("fills", &BmsConfig::fills, Range::closed(1, 1000),
                  "the mean curve of this many fills, seeds seed, seed + 1, ...")
         // m_b <= 1 is refused by create_bonds with the reason.
@@ -363,6 +395,22 @@ PlateConfig read_plate_config(const ConfigTable& root,
     table.index_of(b.material);
     b.bond = read_bond(root);
     c.bms = b;
+  }
+  const bool from_template = c.bms && !c.bms->templates.empty();
+  if (from_template && root.table("sphere").has("radius"))
+    throw InputError(fmt::format(
+        "{}: key 'sphere.radius' is not used with bms.templates: R is half the template's height "
+        "along bms.axis",
+        root.source_name()));
+  if (from_template) {
+    if (c.bms->fills != 1)
+      throw InputError(fmt::format("{}: bms.fills {}: a template is one particle (fills = 1)",
+                                   root.source_name(), c.bms->fills));
+    c.setup.radius = bms_template_half_height(*c.bms);
+  } else if (!(c.setup.radius > 0.0)) {
+    throw InputError(fmt::format(
+        "{}: missing required key 'sphere.radius' (a length; or a template: [bms] templates)",
+        root.source_name()));
   }
   if (root.has("cms")) {
     CmsConfig m = cms_table().read(root.table("cms"));

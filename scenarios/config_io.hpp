@@ -13,6 +13,7 @@
 
 #include "common/config.hpp"
 #include "common/options.hpp"
+#include "geometry/press_axis.hpp"
 #include "packing/packing.hpp"
 #include "scenarios/compact.hpp"
 #include "scenarios/plate.hpp"
@@ -104,6 +105,14 @@ struct BmsConfig {
   double bond_multiplier = 1.15;
   std::string material;  // of the sub-spheres; empty: the sphere's
   BondParameters bond;
+  // A template of `fill` instead of a fill of the sphere: /bms/<template_name> of this
+  // templates.h5, pressed along a principal axis of its body frame or a direction given in the
+  // frame of the mesh it was filled from (a fem-plate run's axis_direction). The rig's R is then
+  // half its height along that axis.
+  std::string templates;
+  std::string template_name;  // empty: the file's only BMS template
+  geometry::PressAxis axis = geometry::PressAxis::short_axis;
+  std::array<double, 3> direction = {0.0, 0.0, 1.0};
 };
 
 // A rigid clump of overlapping sub-spheres filling the plate rig's sphere (plate --particle cms),

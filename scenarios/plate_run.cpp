@@ -247,12 +247,20 @@ PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
     }
   } else if (kind == PlateParticleKind::bms) {
     BmsParticleInfo info;
-    particle = bms_sphere(table, setup.radius, *config.bms,
-                          fmt::format("BMS sphere (seed {})", config.bms->seed), &info, cache);
+    particle = bms_particle(table, setup.radius, *config.bms,
+                            fmt::format("BMS sphere (seed {})", config.bms->seed), &info, cache);
     outcome.sub_sphere_radius = info.sub_sphere_radius;
     outcome.description =
-        fmt::format("BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m, {} bonds",
-                    setup.radius, info.spheres, info.sub_sphere_radius, info.bonds);
+        config.bms->templates.empty()
+            ? fmt::format("BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m, {} bonds",
+                          setup.radius, info.spheres, info.sub_sphere_radius, info.bonds)
+            : fmt::format(
+                  "BMS template {}{} along its {} axis, height 2R = {:.6g} m, {} "
+                  "sub-spheres of mean r = {:.6g} m, {} bonds",
+                  config.bms->templates,
+                  config.bms->template_name.empty() ? "" : " /bms/" + config.bms->template_name,
+                  geometry::press_axis_name(config.bms->axis), 2.0 * setup.radius, info.spheres,
+                  info.sub_sphere_radius, info.bonds);
   } else {
     particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
                                 table.material(setup.sphere_material).density,

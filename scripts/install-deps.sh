@@ -14,6 +14,7 @@ packages=(
 packages+=(libgif-dev)  # imaging: GIF input (ImageJ's samples; OpenCV 4.6 reads no GIF)
 packages+=(clang libclang-rt-dev)  # CI's fuzzers (scripts/fuzz.sh): clang and its libFuzzer
 packages+=(calculix-ccx)  # fem-plate: the finite element solver, run as a child process
+packages+=(gmsh)  # fem-plate: the tetrahedral mesher of a [particle]'s volume, run as a child process
 # A one-node Slurm for the cluster test (scripts/local-slurm.sh): installed when root; without
 # root and without them, that one test skips and nothing else needs them.
 optional=(slurmctld slurmd slurm-client munge)
