@@ -1,6 +1,7 @@
 #include "common/resume.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <csignal>
 #include <cstdlib>
@@ -126,6 +127,16 @@ void remove_stale_temporaries(const std::filesystem::path& folder, const std::st
     if (std::regex_match(name, temporary) && name.substr(1).starts_with(prefix))
       std::filesystem::remove(entry.path(), ec);
   }
+}
+
+bool finished_before_resume(std::string_view stage, const std::string& run,
+                            const std::filesystem::path& resume_record,
+                            const std::filesystem::path& run_metadata) {
+  if (run.empty() || std::filesystem::exists(resume_record) ||
+      !std::filesystem::exists(run_metadata))
+    return false;
+  spdlog::info("{}: {} is finished (its run.json is written): nothing to resume", stage, run);
+  return true;
 }
 
 }  // namespace shapepress

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace shapepress {
@@ -66,6 +67,13 @@ void write_invocation(const std::filesystem::path& path, const RunInvocation& in
 // and checks that its config is unchanged. InputError naming `run` when there is nothing to
 // resume, the folder is gone, or the config changed.
 RunInvocation resume_invocation(const std::filesystem::path& path, const std::string& run);
+
+// --resume OUT of a run killed between its last output and its exit: the run is whole (its
+// run.json, `run_metadata` here, is written and the checkpoints' `resume_record` is gone), so
+// there is nothing left to resume; logs that for `stage` and returns true.
+bool finished_before_resume(std::string_view stage, const std::string& run,
+                            const std::filesystem::path& resume_record,
+                            const std::filesystem::path& run_metadata);
 
 // The checkpoint folder of a run: when the run ends by an exception (bad input found while
 // reading, a divergence) before its first checkpoint, the folder goes with it, so that a failed

@@ -110,13 +110,9 @@ void add_measures(RunMetadata& meta, const PackMeasures& m) {
 
 int run(const PackCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
-  // Killed between its last output and its exit, a run is whole: nothing left to resume.
-  if (!given.resume.empty() &&
-      !std::filesystem::exists(checkpoint_folder(given.resume) / "resume.json") &&
-      std::filesystem::exists(run_metadata_beside(given.resume))) {
-    spdlog::info("pack: {} is finished (its run.json is written): nothing to resume", given.resume);
+  if (finished_before_resume("pack", given.resume, checkpoint_folder(given.resume) / "resume.json",
+                             run_metadata_beside(given.resume)))
     return 0;
-  }
   const PackCli cli = given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
   if (cli.config.empty()) throw InputError("pack: give --config FILE (or --resume OUT)");
   if (cli.out.empty()) throw InputError("pack: give --out FILE (or --resume OUT)");

@@ -349,15 +349,7 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
     ladder.push_back(load_rung(rungs[k], beds[rungs[k].bed], *bed_records[rungs[k].bed], records[k],
                                request.curve_axis == "solid_fraction"));
   const analysis::Advice advice = analysis::advise(ladder, request.tolerance, 0.0, 1.0);
-  analysis::write_advice_csv(out / "advice.csv", advice);
-  meta.output("advice.csv");
-  if (!analysis::find_gnuplot().empty()) {
-    analysis::plot_chart(analysis::speed_accuracy_chart(advice), out / "speed_accuracy");
-    analysis::plot_chart(analysis::stability_map_chart(advice), out / "stability_map");
-    meta.output("speed_accuracy.svg").output("stability_map.svg");
-  } else {
-    spdlog::warn("advise: gnuplot not on PATH: no charts (advice.csv has the numbers)");
-  }
+  write_advice(advice, out, meta);
   const int run_now = static_cast<int>(pending.size());
   meta.fact("particle_kind", recipe.kind)
       .fact("tolerance", request.tolerance)

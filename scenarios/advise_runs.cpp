@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <atomic>
@@ -15,6 +16,7 @@
 #include <mutex>
 #include <thread>
 
+#include "analysis/plot.hpp"
 #include "common/error.hpp"
 
 extern char** environ;
@@ -110,6 +112,19 @@ void run_on_threads(std::size_t count, int threads, const std::function<void(std
 
 std::string this_binary() {
   return fs::read_symlink("/proc/self/exe").string();
+}
+
+void write_advice(const analysis::Advice& advice, const std::filesystem::path& out,
+                  RunMetadata& meta) {
+  analysis::write_advice_csv(out / "advice.csv", advice);
+  meta.output("advice.csv");
+  if (!analysis::find_gnuplot().empty()) {
+    analysis::plot_chart(analysis::speed_accuracy_chart(advice), out / "speed_accuracy");
+    analysis::plot_chart(analysis::stability_map_chart(advice), out / "stability_map");
+    meta.output("speed_accuracy.svg").output("stability_map.svg");
+  } else {
+    spdlog::warn("advise: gnuplot not on PATH: no charts (advice.csv has the numbers)");
+  }
 }
 
 }  // namespace shapepress::scenarios

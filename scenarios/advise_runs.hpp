@@ -13,6 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/advise.hpp"
+#include "common/run_metadata.hpp"
+
 namespace shapepress::scenarios {
 
 struct ProcessEnd {
@@ -41,5 +44,10 @@ void run_on_threads(std::size_t count, int threads, const std::function<void(std
 
 // The shapepress binary running now, to start the steps with.
 std::string this_binary();
+
+// advice.csv, and the speed–accuracy chart and stability map when gnuplot is there, into `out`,
+// each named in `meta`.
+void write_advice(const analysis::Advice& advice, const std::filesystem::path& out,
+                  RunMetadata& meta);
 
 }  // namespace shapepress::scenarios

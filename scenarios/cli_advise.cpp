@@ -204,15 +204,7 @@ int run(const AdviseCli& cli, const RunContext& context) {
   for (std::size_t k = 0; k < jobs.size(); ++k)
     rungs.push_back(load_rung(jobs[k], *records[k]));
   const analysis::Advice advice = analysis::advise(rungs, cli.tolerance);
-  analysis::write_advice_csv(out / "advice.csv", advice);
-  meta.output("advice.csv");
-  if (!analysis::find_gnuplot().empty()) {
-    analysis::plot_chart(analysis::speed_accuracy_chart(advice), out / "speed_accuracy");
-    analysis::plot_chart(analysis::stability_map_chart(advice), out / "stability_map");
-    meta.output("speed_accuracy.svg").output("stability_map.svg");
-  } else {
-    spdlog::warn("advise: gnuplot not on PATH: no charts (advice.csv has the numbers)");
-  }
+  write_advice(advice, out, meta);
   meta.fact("particle_kind", particle)
       .fact("tolerance", cli.tolerance)
       .fact("rungs", static_cast<int>(jobs.size()))

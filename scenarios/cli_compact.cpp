@@ -55,15 +55,11 @@ CompactCli resumed_arguments(const std::string& folder, std::string& command_lin
 
 int run(const CompactCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
-  // Killed between its last output and its exit, a run is whole: nothing left to resume.
   const std::filesystem::path resumed(given.resume);
-  if (!given.resume.empty() &&
-      !std::filesystem::exists(resumed / std::string(checkpoint_folder) / "resume.json") &&
-      std::filesystem::exists(resumed / std::string(run_metadata_name))) {
-    spdlog::info("compact: {} is finished (its run.json is written): nothing to resume",
-                 given.resume);
+  if (finished_before_resume("compact", given.resume,
+                             resumed / std::string(checkpoint_folder) / "resume.json",
+                             resumed / std::string(run_metadata_name)))
     return 0;
-  }
   const CompactCli cli =
       given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
   if (cli.config.empty()) throw InputError("compact: give --config FILE (or --resume OUT)");

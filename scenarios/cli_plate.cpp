@@ -84,15 +84,11 @@ PlateCli resumed_arguments(const std::string& folder, std::string& command_line)
 
 int run(const PlateCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
-  // Killed between its last output and its exit, a run is whole: nothing left to resume.
   const std::filesystem::path resumed(given.resume);
-  if (!given.resume.empty() &&
-      !std::filesystem::exists(resumed / std::string(checkpoint_folder) / "resume.json") &&
-      std::filesystem::exists(resumed / std::string(run_metadata_name))) {
-    spdlog::info("plate: {} is finished (its run.json is written): nothing to resume",
-                 given.resume);
+  if (finished_before_resume("plate", given.resume,
+                             resumed / std::string(checkpoint_folder) / "resume.json",
+                             resumed / std::string(run_metadata_name)))
     return 0;
-  }
   const PlateCli cli = given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
   if (cli.config.empty()) throw InputError("plate: give --config FILE (or --resume OUT)");
   if (cli.out.empty()) throw InputError("plate: give --out FOLDER (or --resume OUT)");
