@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <fstream>
+#include <initializer_list>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <unordered_map>
@@ -19,11 +21,28 @@ namespace shapepress::imaging {
 
 namespace {
 
-bool is_gif(const std::filesystem::path& path) {
-  std::array<char, 4> magic{};
+enum class ImageFormat { unknown, gif, decoded_by_opencv };
+
+// The formats shapepress reads, by their signature. cv::imread alone would try every codec
+// OpenCV was built with (DICOM through GDCM, JPEG 2000, OpenEXR, …): on damaged input GDCM aborts
+// the process on an assertion instead of failing, so only files that announce one of the
+// formats we support reach OpenCV.
+ImageFormat sniff_format(const std::filesystem::path& path) {
+  std::array<unsigned char, 8> head{};
   std::ifstream in(path, std::ios::binary);
-  in.read(magic.data(), magic.size());
-  return in && std::string_view(magic.data(), magic.size()) == "GIF8";
+  in.read(reinterpret_cast<char*>(head.data()), head.size());
+  const auto n = static_cast<std::size_t>(in.gcount());
+  const auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return n >= magic.size() && std::equal(magic.begin(), magic.end(), head.begin());
+  };
+  if (starts({'G', 'I', 'F', '8'})) return ImageFormat::gif;
+  const bool netpbm =
+      n >= 3 && head[0] == 'P' && head[1] >= '1' && head[1] <= '6' && std::isspace(head[2]) != 0;
+  if (starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42}) ||    // TIFF
+      starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}) ||     // PNG
+      starts({0xff, 0xd8, 0xff}) || starts({'B', 'M'}) || netpbm)  // JPEG, BMP, PGM/PPM/PBM
+    return ImageFormat::decoded_by_opencv;
+  return ImageFormat::unknown;
 }
 
 // OpenCV 4.6 (Debian 12) reads no GIF, and ImageJ's own samples are GIFs: giflib decodes the
@@ -84,8 +103,11 @@ LoadedImage load_image(const std::filesystem::path& path) {
   if (std::filesystem::file_size(path, ec) == 0)
     throw InputError(fmt::format("{}: empty file (0 bytes)", path.string()));
 
-  cv::Mat raw = is_gif(path) ? read_gif(path)
-                             : cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  const ImageFormat format = sniff_format(path);
+  cv::Mat raw = format == ImageFormat::gif ? read_gif(path)
+                : format == ImageFormat::decoded_by_opencv
+                    ? cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR)
+                    : cv::Mat();
   if (raw.empty())
     throw InputError(
         fmt::format("{}: cannot be read as an image (expected TIFF, PNG, JPEG, BMP, PGM or GIF)",
