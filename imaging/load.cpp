@@ -104,10 +104,15 @@ LoadedImage load_image(const std::filesystem::path& path) {
     throw InputError(fmt::format("{}: empty file (0 bytes)", path.string()));
 
   const ImageFormat format = sniff_format(path);
-  cv::Mat raw = format == ImageFormat::gif ? read_gif(path)
-                : format == ImageFormat::decoded_by_opencv
-                    ? cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR)
-                    : cv::Mat();
+  cv::Mat raw;
+  try {
+    raw = format == ImageFormat::gif ? read_gif(path)
+          : format == ImageFormat::decoded_by_opencv
+              ? cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR)
+              : cv::Mat();
+  } catch (const cv::Exception& e) {  // e.g. a header declaring more pixels than OpenCV allows
+    throw InputError(fmt::format("{}: cannot be read as an image: {}", path.string(), e.what()));
+  }
   if (raw.empty())
     throw InputError(
         fmt::format("{}: cannot be read as an image (expected TIFF, PNG, JPEG, BMP, PGM or GIF)",
