@@ -22,6 +22,36 @@ NeoHookeConstants neo_hooke_constants(double youngs_modulus, double poisson_rati
           6.0 * (1.0 - 2.0 * poisson_ratio) / youngs_modulus};
 }
 
+std::string material_cards(const FemPlateConfig& config, double modulus, const std::string& elset) {
+  std::string cards = fmt::format("*MATERIAL,NAME={}_MATERIAL\n", elset);
+  if (config.material == MaterialModel::neo_hookean) {
+    const NeoHookeConstants c = neo_hooke_constants(modulus, config.poisson_ratio);
+    cards += fmt::format("*HYPERELASTIC,NEO HOOKE\n{:.15g},{:.15g}\n", c.c10, c.d1);
+  } else {
+    cards += fmt::format("*ELASTIC\n{:.15g},{:.15g}\n", modulus, config.poisson_ratio);
+  }
+  // The plate's material never strains (every plate node is prescribed); it only has to exist.
+  cards += "*MATERIAL,NAME=PLATE_MATERIAL\n*ELASTIC\n210000,0.3\n";
+  cards += fmt::format("*SOLID SECTION,ELSET={0},MATERIAL={0}_MATERIAL\n", elset);
+  cards += "*SOLID SECTION,ELSET=PLATE_ELEMENTS,MATERIAL=PLATE_MATERIAL\n";
+  return cards;
+}
+
+std::string plate_contact_interaction(const FemPlateConfig& config, double stiffness) {
+  std::string cards = "*SURFACE INTERACTION,NAME=PLATE_CONTACT\n";
+  cards += fmt::format("*SURFACE BEHAVIOR,PRESSURE-OVERCLOSURE=LINEAR\n{:.6g}\n", stiffness);
+  if (config.friction > 0.0)
+    cards += fmt::format("*FRICTION\n{:.6g},{:.6g}\n", config.friction, stiffness);
+  return cards;
+}
+
+std::string static_step_head(const FemPlateConfig& config) {
+  const double increment = 1.0 / config.increments;
+  return fmt::format("*STEP,{}INC={}\n*STATIC\n{:.10g},1.0,{:.10g},{:.10g}\n",
+                     config.nonlinear_geometry ? "NLGEOM," : "", 100 * config.increments + 1000,
+                     increment, config.minimum_increment, increment);
+}
+
 std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config) {
   const double mm = deck_length_per_m;
   const double radius = mesh.radius * mm;
@@ -75,35 +105,19 @@ std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config
   for (int i = 0; i < plate_columns; ++i)
     deck += fmt::format("{},S1\n", first_plate_element + i);
 
-  deck += "*MATERIAL,NAME=SPHERE_MATERIAL\n";
-  if (config.material == MaterialModel::neo_hookean) {
-    const NeoHookeConstants c = neo_hooke_constants(modulus, config.poisson_ratio);
-    deck += fmt::format("*HYPERELASTIC,NEO HOOKE\n{:.15g},{:.15g}\n", c.c10, c.d1);
-  } else {
-    deck += fmt::format("*ELASTIC\n{:.15g},{:.15g}\n", modulus, config.poisson_ratio);
-  }
-  // The plate's material never strains (every plate node is prescribed); it only has to exist.
-  deck += "*MATERIAL,NAME=PLATE_MATERIAL\n*ELASTIC\n210000,0.3\n";
-  deck += "*SOLID SECTION,ELSET=SPHERE,MATERIAL=SPHERE_MATERIAL\n";
-  deck += "*SOLID SECTION,ELSET=PLATE_ELEMENTS,MATERIAL=PLATE_MATERIAL\n";
+  deck += material_cards(config, modulus, "SPHERE");
 
   // Penalty contact: pressure = K × overclosure. K = factor × E / h at the pole keeps the
   // overclosure a small fraction of the pole element at the contact pressures (of order E).
   const double stiffness = config.penalty_factor * modulus / (pole_element_size(mesh) * mm);
-  deck += "*SURFACE INTERACTION,NAME=PLATE_CONTACT\n";
-  deck += fmt::format("*SURFACE BEHAVIOR,PRESSURE-OVERCLOSURE=LINEAR\n{:.6g}\n", stiffness);
-  if (config.friction > 0.0)
-    deck += fmt::format("*FRICTION\n{:.6g},{:.6g}\n", config.friction, stiffness);
+  deck += plate_contact_interaction(config, stiffness);
   deck += "*CONTACT PAIR,INTERACTION=PLATE_CONTACT,TYPE=SURFACE TO SURFACE\n";
   deck += "SPHERE_SURFACE,PLATE_SURFACE\n";
   deck += "*BOUNDARY\nAXIS,1,1,0\nEQUATOR,2,2,0\n";
 
   // The step: the plate moves down by Δ/2 = max_deformation · c (the equator plane is the symmetry
   // plane, so the total approach of two plates is twice it), linearly in step time.
-  const double increment = 1.0 / config.increments;
-  deck += fmt::format("*STEP,{}INC={}\n*STATIC\n{:.10g},1.0,{:.10g},{:.10g}\n",
-                      config.nonlinear_geometry ? "NLGEOM," : "", 100 * config.increments + 1000,
-                      increment, config.minimum_increment, increment);
+  deck += static_step_head(config);
   deck += fmt::format("*BOUNDARY\n{0},1,1,0\n{0},2,2,{1:.15g}\n", plate_node_set,
                       -config.max_deformation * polar_radius);
   deck += fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", plate_node_set);

@@ -30,6 +30,16 @@ struct NeoHookeConstants {
 };
 NeoHookeConstants neo_hooke_constants(double youngs_modulus, double poisson_ratio);
 
+// Cards both plate decks share (the axisymmetric one here, the tetrahedral one in solid_deck):
+// the particle's material (neo-Hookean or elastic, NAME=<elset>_MATERIAL) and the rigid plates'
+// placeholder material, each with its solid section;
+std::string material_cards(const FemPlateConfig& config, double modulus, const std::string& elset);
+// the penalty contact PLATE_CONTACT of stiffness K (pressure = K × overclosure), with Coulomb
+// friction when the config has it;
+std::string plate_contact_interaction(const FemPlateConfig& config, double stiffness);
+// the head of the one static step, in config.increments equal increments.
+std::string static_step_head(const FemPlateConfig& config);
+
 std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config);
 
 }  // namespace shapepress::fem

@@ -113,22 +113,10 @@ std::string solid_plate_deck(const TetMesh& mesh, const SolidPlates& plates,
   for (int e : bottom_elements)
     deck += fmt::format("{},S2\n", e);
 
-  deck += "*MATERIAL,NAME=PARTICLE_MATERIAL\n";
-  if (config.material == MaterialModel::neo_hookean) {
-    const NeoHookeConstants c = neo_hooke_constants(modulus, config.poisson_ratio);
-    deck += fmt::format("*HYPERELASTIC,NEO HOOKE\n{:.15g},{:.15g}\n", c.c10, c.d1);
-  } else {
-    deck += fmt::format("*ELASTIC\n{:.15g},{:.15g}\n", modulus, config.poisson_ratio);
-  }
-  deck += "*MATERIAL,NAME=PLATE_MATERIAL\n*ELASTIC\n210000,0.3\n";
-  deck += "*SOLID SECTION,ELSET=PARTICLE,MATERIAL=PARTICLE_MATERIAL\n";
-  deck += "*SOLID SECTION,ELSET=PLATE_ELEMENTS,MATERIAL=PLATE_MATERIAL\n";
+  deck += material_cards(config, modulus, "PARTICLE");
   // Penalty contact as in the axisymmetric deck: K = factor × E / h at the contact.
   const double stiffness = config.penalty_factor * modulus / (plates.contact_size * mm);
-  deck += "*SURFACE INTERACTION,NAME=PLATE_CONTACT\n";
-  deck += fmt::format("*SURFACE BEHAVIOR,PRESSURE-OVERCLOSURE=LINEAR\n{:.6g}\n", stiffness);
-  if (config.friction > 0.0)
-    deck += fmt::format("*FRICTION\n{:.6g},{:.6g}\n", config.friction, stiffness);
+  deck += plate_contact_interaction(config, stiffness);
   deck +=
       "*CONTACT PAIR,INTERACTION=PLATE_CONTACT,TYPE=SURFACE TO SURFACE\n"
       "PARTICLE_TOP,TOP_PLATE_FACE\n";
@@ -140,10 +128,7 @@ std::string solid_plate_deck(const TetMesh& mesh, const SolidPlates& plates,
                       mesh.anchors.at(1) + 1, mesh.anchors.at(2) + 1);
 
   const double approach = config.max_deformation * (plates.top - plates.bottom) * mm;
-  const double increment = 1.0 / config.increments;
-  deck += fmt::format("*STEP,{}INC={}\n*STATIC\n{:.10g},1.0,{:.10g},{:.10g}\n",
-                      config.nonlinear_geometry ? "NLGEOM," : "", 100 * config.increments + 1000,
-                      increment, config.minimum_increment, increment);
+  deck += static_step_head(config);
   deck += fmt::format("*BOUNDARY\n{0},1,2,0\n{0},3,3,{1:.15g}\n{2},1,2,0\n{2},3,3,{3:.15g}\n",
                       top_plate_node_set, -0.5 * approach, bottom_plate_node_set, 0.5 * approach);
   deck += fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", top_plate_node_set);
