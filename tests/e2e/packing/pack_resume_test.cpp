@@ -97,10 +97,13 @@ TEST(PackResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
   fs::rename(dir / "run", dir / "uninterrupted");
   fs::create_directories(dir / "run");
 
-  // The first attempt is killed within 0.24 to 0.54 of the run, a resumed one (which starts
-  // near its checkpoint) within 0.1 to 0.23 of it, so that the three kills land before the end.
+  // The first attempt is killed within 0.1 to 0.225 of the run's time after its first checkpoint
+  // is out (counted from its start, a kill can land before any checkpoint or after the end on a
+  // machine whose load varies), a resumed one (which starts near its checkpoint) within 0.1 to
+  // 0.23 of it, so that the three kills land before the end.
   const KilledRuns runs = kill_three_times_and_resume(
-      start, "pack --resume " + shell_quoted(dir / "run" / "packed.h5"), seconds, 0.6, 0.25, 29);
+      start, "pack --resume " + shell_quoted(dir / "run" / "packed.h5"), seconds, 0.25, 0.25, 29,
+      shell_quoted(dir / "run" / "packed.h5.checkpoints") + "/*.history");
   // At least one attempt resumed from a checkpoint (a later one may find the run finished).
   EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
             static_cast<std::ptrdiff_t>(runs.resumed_from.size()));

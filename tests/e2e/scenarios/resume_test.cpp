@@ -94,9 +94,12 @@ TEST(CompactResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
   // The same --out, so run.json's command and effective.toml's header are the same too.
   std::filesystem::rename(dir / "run", dir / "uninterrupted");
 
-  // A resumed attempt skips the pour and settle, most of the run's start: it is killed sooner.
+  // The first attempt is killed within 0.1 to 0.225 of the run's time after its first checkpoint
+  // is out (counted from its start, a run faster than the timed one once outran its kill), a
+  // resumed one within 0.16 to 0.36 (it skips the pour and settle before its checkpoint).
   const KilledRuns runs = kill_three_times_and_resume(
-      start, "compact --resume " + shell_quoted(dir / "run"), seconds, 1.0, 0.4, 23);
+      start, "compact --resume " + shell_quoted(dir / "run"), seconds, 0.25, 0.4, 23,
+      shell_quoted(dir / "run" / "checkpoints") + "/*.history");
   // At least one attempt resumed from a checkpoint (a later one may find the run finished).
   EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
             static_cast<std::ptrdiff_t>(runs.resumed_from.size()));
