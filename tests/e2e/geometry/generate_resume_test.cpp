@@ -93,6 +93,26 @@ TEST(GenerateResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   EXPECT_FALSE(fs::exists(out / "checkpoints"));
 }
 
+TEST(GenerateResume, KilledBeforeItsFirstCheckpointStartsAgain) {
+  const fs::path dir = fresh_directory("generate_resume_early");
+  const fs::path out = dir / "shapes";
+  // No checkpoint by steps or time: SIGKILL once the run has recorded how it was started.
+  std::string command = "(";
+  command += SHAPEPRESS_BINARY;
+  command += " generate --targets " + shell_quoted(data / "paper_box_targets.toml");
+  command += " --count 3 --subdivisions 2 --checkpoint-minutes 0 --out " + shell_quoted(out);
+  command += " & pid=$!; while ! ls " + shell_quoted(out / "checkpoints" / "resume.json");
+  command += " >/dev/null 2>&1 && kill -0 $pid 2>/dev/null; do sleep 0.01; done;";
+  command += " kill -KILL $pid; wait $pid)";
+  const CommandResult killed = shapepress::testing::run_command(command);
+  ASSERT_NE(killed.exit_code, 0) << killed.output;  // killed, not finished
+  const CommandResult resumed = run_shapepress("generate --resume " + shell_quoted(out));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr("no checkpoint yet: starting the run again"));
+  EXPECT_TRUE(fs::exists(out / "particle_0002.stl"));
+  EXPECT_FALSE(fs::exists(out / "checkpoints"));
+}
+
 TEST(GenerateResume, NothingToResumeIsExitTwoNamingTheFolder) {
   const fs::path dir = fresh_directory("generate_resume_nothing");
   const CommandResult result = run_shapepress("generate --resume " + shell_quoted(dir / "nowhere"));
