@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 #include "common/atomic_file.hpp"
 #include "common/csv.hpp"
@@ -73,18 +75,39 @@ GenerateCli resumed_arguments(const std::string& given, std::string& command_lin
     return it->second.front();
   };
   const auto number = [&](const char* name) { return parse_exact(argument(name), record); };
+  const auto refuse = [&](const char* name, const std::string& text) {
+    return InputError(fmt::format("{}: argument '{}' is '{}' (a damaged resume record)",
+                                  record.string(), name, text));
+  };
+  const auto whole = [&](const char* name, std::uint64_t most) {
+    const std::string text = argument(name);
+    if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789") != text.npos)
+      throw refuse(name, text);
+    try {
+      if (const std::uint64_t value = std::stoull(text); value <= most) return value;
+    } catch (const std::out_of_range&) {
+    }
+    throw refuse(name, text);
+  };
+  constexpr std::uint64_t int_most = std::numeric_limits<int>::max();
   GenerateCli cli;
   cli.targets = invocation.config;
   cli.out = out.string();
-  cli.options.count = static_cast<int>(number("count"));
-  cli.options.seed = static_cast<std::uint64_t>(std::stoull(argument("seed")));
-  cli.options.subdivisions = static_cast<int>(number("subdivisions"));
-  cli.options.max_degree = static_cast<int>(number("max-degree"));
+  cli.options.count = static_cast<int>(whole("count", int_most));
+  cli.options.seed = whole("seed", std::numeric_limits<std::uint64_t>::max());
+  cli.options.subdivisions = static_cast<int>(whole("subdivisions", int_most));
+  cli.options.max_degree = static_cast<int>(whole("max-degree", int_most));
   cli.format = argument("format");
-  cli.directions = static_cast<int>(number("directions"));
+  cli.directions = static_cast<int>(whole("directions", int_most));
   cli.ks_tolerance = number("ks-tolerance");
-  cli.checkpoints.every_steps = static_cast<std::int64_t>(number("checkpoint-every"));
+  cli.checkpoints.every_steps = static_cast<std::int64_t>(whole("checkpoint-every", 1ULL << 40));
   cli.checkpoints.minutes = number("checkpoint-minutes");
+  if (cli.format != "stl" && cli.format != "off" && cli.format != "ply")
+    throw refuse("format", cli.format);
+  if (!(cli.ks_tolerance >= 0.0 && cli.ks_tolerance <= 1.0))
+    throw refuse("ks-tolerance", argument("ks-tolerance"));
+  if (!(cli.checkpoints.minutes >= 0.0))
+    throw refuse("checkpoint-minutes", argument("checkpoint-minutes"));
   return cli;
 }
 

@@ -262,13 +262,14 @@ bool fit_projected_distribution(std::vector<GeneratedParticle>& particles,
     choices = shape_choices(roughness, shares);
     if (work.views.size() <= passes) work.views.emplace_back();
     std::vector<ChoiceViews>& views = work.views[passes++];
-    for (const ChoiceViews& restored : views)
+    for (const ChoiceViews& restored : views) {
+      const std::size_t seen = restored.empty() ? 0 : restored.front().size();
       if (restored.size() != choices.size() ||
-          restored.front().size() != static_cast<std::size_t>(options.calibration_directions))
+          seen != static_cast<std::size_t>(options.calibration_directions))
         throw InputError(fmt::format(
             "the checkpoint's silhouettes ({} shapes of {} views) are not this run's ({} of {})",
-            restored.size(), restored.front().size(), choices.size(),
-            options.calibration_directions));
+            restored.size(), seen, choices.size(), options.calibration_directions));
+    }
     if (!in_blocks(views, n, work, hooks, [&](std::size_t i) {
           return choice_views(particles[i].mesh.vertices, choices, directions[i]);
         }))

@@ -187,10 +187,11 @@ std::function<void(const fs::path&)> plate_with(const std::string& line,
 }
 
 // A killed generate's folder {d}/shapes: its targets t.toml, resume.json (with the targets'
-// SHA-256 `sha256`, "" for the true one) and, when given, one checkpoint file.
+// SHA-256 `sha256`, "" for the true one, and its `count`) and, when given, one checkpoint file.
 std::function<void(const fs::path&)> generate_killed(std::string sha256,
-                                                     std::string checkpoint = {}) {
-  return [sha256, checkpoint](const fs::path& d) {
+                                                     std::string checkpoint = {},
+                                                     std::string count = "4") {
+  return [sha256, checkpoint, count](const fs::path& d) {
     write_text(d / "t.toml", test_data_text("geometry/paper_box_targets.toml"));
     const nlohmann::json record{
         {"command", "shapepress generate --targets t.toml --count 4 --out shapes"},
@@ -198,7 +199,7 @@ std::function<void(const fs::path&)> generate_killed(std::string sha256,
         {"config", "t.toml"},
         {"config_sha256", sha256.empty() ? sha256_file(d / "t.toml") : sha256},
         {"arguments",
-         {{"count", {"4"}},
+         {{"count", {count}},
           {"seed", {"1"}},
           {"subdivisions", {"2"}},
           {"max-degree", {"15"}},
@@ -379,6 +380,9 @@ std::vector<Row> catalogue(const fs::path& v) {
       generate_killed("", "shapepress generate checkpoint 1\ndraw 0 17\nend\n"),
       "--quiet generate --resume {d}/shapes", 2,
       {"{d}/shapes/checkpoints/particles_0000000002.history", "damaged"});
+  add("generate: --resume with a damaged resume record", generate_killed("", "", "-4"),
+      "--quiet generate --resume {d}/shapes", 2,
+      {"{d}/shapes/checkpoints/resume.json", "count", "-4"});
 
   // Images.
   add("shape-stats: empty PNG", file("i.png", ""), "--quiet shape-stats {d}/i.png --out {d}/out", 2,
