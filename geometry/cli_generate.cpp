@@ -190,8 +190,12 @@ int run(const GenerateCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
   const std::filesystem::path resumed(given.resume);
   if (finished_before_resume("generate", given.resume, checkpoint_folder(resumed) / "resume.json",
-                             resumed / std::string(run_metadata_name)))
+                             resumed / std::string(run_metadata_name))) {
+    // What a kill during the final removal left (resume.json went first or in between).
+    std::error_code ignored;
+    std::filesystem::remove_all(checkpoint_folder(resumed), ignored);
     return 0;
+  }
   const GenerateCli cli =
       given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
   if (cli.targets.empty()) throw InputError("generate: give --targets FILE (or --resume OUT)");
