@@ -1,12 +1,12 @@
 // The CGAL parts of descriptors.hpp: the optimal bounding box and the convex hull.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Random.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/optimal_bounding_box.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <numeric>
 
@@ -99,7 +99,26 @@ double convex_hull_volume(const std::vector<Vec3>& points) {
   const std::vector<Point> cgal_points = to_points(points);
   CGAL::Surface_mesh<Point> hull;
   CGAL::convex_hull_3(cgal_points.begin(), cgal_points.end(), hull);
-  return CGAL::Polygon_mesh_processing::volume(hull);
+  // The hull's faces come in an order that follows CGAL's random state, which differs from call
+  // to call in one process and from thread to thread; summed in an order of their own (each face
+  // from its least vertex, the faces sorted) the volume has the same bits every time, so a
+  // resumed generate describes a particle as the uninterrupted run did.
+  std::vector<std::array<double, 9>> faces;
+  for (const auto face : hull.faces()) {
+    std::array<Point, 3> corner;
+    std::size_t k = 0;
+    for (const auto vertex : CGAL::vertices_around_face(hull.halfedge(face), hull))
+      if (k < 3) corner[k++] = hull.point(vertex);
+    std::rotate(corner.begin(), std::min_element(corner.begin(), corner.end()), corner.end());
+    faces.push_back({corner[0].x(), corner[0].y(), corner[0].z(), corner[1].x(), corner[1].y(),
+                     corner[1].z(), corner[2].x(), corner[2].y(), corner[2].z()});
+  }
+  std::sort(faces.begin(), faces.end());
+  double six_volume = 0.0;  // Σ a · (b × c): the tetrahedra from the origin to each face
+  for (const std::array<double, 9>& f : faces)
+    six_volume += f[0] * (f[4] * f[8] - f[5] * f[7]) + f[1] * (f[5] * f[6] - f[3] * f[8]) +
+                  f[2] * (f[3] * f[7] - f[4] * f[6]);
+  return six_volume / 6.0;
 }
 
 }  // namespace shapepress::geometry

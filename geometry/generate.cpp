@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "common/error.hpp"
 #include "geometry/descriptors.hpp"
@@ -30,6 +31,55 @@ void stretch_along(TriangleMesh& mesh, const Mat3& axes, const Vec3& factors) {
   const Vec3 centre = mesh_mass_properties(mesh).centre;
   for (Vec3& p : mesh.vertices)
     p = centre + map * (p - centre);
+}
+
+// Runs task(i) for the particles from results.size() to n in parallel blocks, `results` (a list
+// of `work`) growing to each block's end, and hands the work to the hook after each block (a
+// checkpoint, or a stop on a signal: then false). A few particles a thread per block keep the
+// threads busy and a signal answered within seconds; a particle's result depends on it alone, so
+// neither the blocks nor the thread count change a bit. No hook: one block.
+template <class Result, class Task>
+bool in_blocks(std::vector<Result>& results, std::size_t n, const GenerateWork& work,
+               const GenerateHooks& hooks, const Task& task) {
+  const std::size_t block =
+      hooks.after_block ? static_cast<std::size_t>(4 * omp_get_max_threads()) : n;
+  while (results.size() < n) {
+    const std::size_t from = results.size();
+    std::size_t to = std::min(n, from + block);
+    if (hooks.block_steps > 0)
+      to = std::min(to, from + static_cast<std::size_t>(hooks.block_steps -
+                                                        work.steps() % hooks.block_steps));
+    results.resize(to);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t i = from; i < to; ++i)
+      results[i] = task(i);
+    if (hooks.after_block && !hooks.after_block(work)) return false;
+  }
+  return true;
+}
+
+// The exact first stretch of stretch_to_box_ratios, along x, y, z (a stretch scales the extents
+// along its own axes exactly).
+void stretch_along_xyz(TriangleMesh& mesh, double elongation, double flatness) {
+  const Vec3 e = bounding_box(mesh.vertices).size();
+  stretch_along(mesh, Mat3::Identity(),
+                Vec3(1.0, elongation * e.x() / e.y(), elongation * flatness * e.x() / e.z()));
+}
+
+// Then along the minimum box's axes, which for a nearly round base shape are close to x, y, z:
+// one box search, and one correction when it disagrees, instead of a loop of them.
+BoxCorrection box_correction(const TriangleMesh& mesh, double elongation, double flatness,
+                             double tolerance, std::uint64_t seed) {
+  const OrientedBox box = minimum_oriented_box(mesh.vertices, seed);
+  const Vec3 s = box.lengths;
+  if (std::abs(s[1] / s[0] - elongation) < tolerance &&
+      std::abs(s[2] / s[1] - flatness) < tolerance)
+    return {};
+  return {true, box.axes, Vec3(1.0, elongation * s[0] / s[1], elongation * flatness * s[0] / s[2])};
+}
+
+void apply(TriangleMesh& mesh, const BoxCorrection& correction) {
+  if (correction.applied) stretch_along(mesh, correction.axes, correction.factors);
 }
 
 // The shape a particle takes in the projected-ASR fit: its 3D S/L `ratio`, split as I/L =
@@ -71,10 +121,6 @@ constexpr int asr_bins = 400;
 std::uint16_t asr_bin(double asr) {
   return static_cast<std::uint16_t>(std::clamp(static_cast<int>(asr * asr_bins), 0, asr_bins - 1));
 }
-
-// views[c]: the bins of the particle's silhouettes in its calibration directions for choice c,
-// sorted.
-using ChoiceViews = std::vector<std::vector<std::uint16_t>>;
 
 ChoiceViews choice_views(const std::vector<Vec3>& vertices, const std::vector<ShapeChoice>& choices,
                          const std::vector<Vec3>& directions) {
@@ -181,9 +227,10 @@ std::vector<std::size_t> fit_choices(const std::vector<ChoiceViews>& views,
 // Feret ratio from most directions (only views near its long axis look rounder), an even or
 // flat one a broad spread: a narrow peak in the images (a batch of like ellipses) needs the
 // former.
-void fit_projected_distribution(std::vector<GeneratedParticle>& particles,
+bool fit_projected_distribution(std::vector<GeneratedParticle>& particles,
                                 const ShapeTargets& targets, const GenerateOptions& options,
-                                double e_target, double f_target) {
+                                double e_target, double f_target, GenerateWork& work,
+                                const GenerateHooks& hooks) {
   const std::size_t n = particles.size();
   Rng rng(mix(options.seed));
   std::vector<std::size_t> rank(n);
@@ -210,12 +257,23 @@ void fit_projected_distribution(std::vector<GeneratedParticle>& particles,
   double roughness = 1.0;
   std::vector<ShapeChoice> choices;
   std::vector<std::size_t> chosen;
+  std::size_t passes = 0;
   for (int fit = 0; fit < 2; ++fit) {
     choices = shape_choices(roughness, shares);
-    std::vector<ChoiceViews> views(n);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (std::size_t i = 0; i < n; ++i)
-      views[i] = choice_views(particles[i].mesh.vertices, choices, directions[i]);
+    if (work.views.size() <= passes) work.views.emplace_back();
+    std::vector<ChoiceViews>& views = work.views[passes++];
+    for (const ChoiceViews& restored : views) {
+      const std::size_t seen = restored.empty() ? 0 : restored.front().size();
+      if (restored.size() != choices.size() ||
+          seen != static_cast<std::size_t>(options.calibration_directions))
+        throw InputError(fmt::format(
+            "the checkpoint's silhouettes ({} shapes of {} views) are not this run's ({} of {})",
+            restored.size(), seen, choices.size(), options.calibration_directions));
+    }
+    if (!in_blocks(views, n, work, hooks, [&](std::size_t i) {
+          return choice_views(particles[i].mesh.vertices, choices, directions[i]);
+        }))
+      return false;
     chosen = fit_choices(views, start_asr, targets, options.calibration_iterations);
     double mean = 0.0;
     for (std::size_t c : chosen)
@@ -223,6 +281,9 @@ void fit_projected_distribution(std::vector<GeneratedParticle>& particles,
     if (mean >= 0.99 || roughness >= 2.0) break;
     roughness = std::min(2.0, roughness / std::max(mean, 0.5));
   }
+  if (work.views.size() > passes)
+    throw InputError(fmt::format("the checkpoint holds {} passes of the fit, this run makes {}",
+                                 work.views.size(), passes));
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < n; ++i) {
     GeneratedParticle& p = particles[i];
@@ -239,6 +300,7 @@ void fit_projected_distribution(std::vector<GeneratedParticle>& particles,
     p.flatness_target = std::pow(shape.ratio, 1.0 - shape.share);
     stretch_along(p.mesh, Mat3::Identity(), Vec3(1.0, p.elongation_target, shape.ratio));
   }
+  return true;
 }
 
 }  // namespace
@@ -278,20 +340,15 @@ TriangleMesh rough_sphere(const std::vector<double>& spectrum, std::uint64_t see
 
 void stretch_to_box_ratios(TriangleMesh& mesh, double elongation, double flatness, double tolerance,
                            std::uint64_t seed) {
-  // First exactly along x, y, z (a stretch scales the extents along its own axes exactly), then
-  // along the minimum box's axes, which for a nearly round base shape are close to x, y, z:
-  // one box search (and one correction when it disagrees) instead of a loop of them.
-  const Aabb aligned = bounding_box(mesh.vertices);
-  const Vec3 e = aligned.size();
-  stretch_along(mesh, Mat3::Identity(),
-                Vec3(1.0, elongation * e.x() / e.y(), elongation * flatness * e.x() / e.z()));
-  const OrientedBox box = minimum_oriented_box(mesh.vertices, seed);
-  const Vec3 s = box.lengths;
-  if (std::abs(s[1] / s[0] - elongation) < tolerance &&
-      std::abs(s[2] / s[1] - flatness) < tolerance)
-    return;
-  stretch_along(mesh, box.axes,
-                Vec3(1.0, elongation * s[0] / s[1], elongation * flatness * s[0] / s[2]));
+  stretch_along_xyz(mesh, elongation, flatness);
+  apply(mesh, box_correction(mesh, elongation, flatness, tolerance, seed));
+}
+
+std::int64_t GenerateWork::steps() const {
+  std::size_t done = draws.size() + corrections.size() + descriptors.size();
+  for (const std::vector<ChoiceViews>& pass : views)
+    done += pass.size();
+  return static_cast<std::int64_t>(done);
 }
 
 void GenerateOptions::check() const {
@@ -306,32 +363,56 @@ void GenerateOptions::check() const {
 }
 
 std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
-                                                   const GenerateOptions& options,
-                                                   const GenerateProgress& progress) {
+                                                   const GenerateOptions& options) {
+  GenerateWork work;
+  return *generate_population(targets, options, work, {});
+}
+
+std::optional<std::vector<GeneratedParticle>> generate_population(const ShapeTargets& targets,
+                                                                  const GenerateOptions& options,
+                                                                  GenerateWork& work,
+                                                                  const GenerateHooks& hooks) {
   options.check();
   targets.check();
   const std::size_t n = static_cast<std::size_t>(options.count);
+  if (work.draws.size() > n || work.corrections.size() > n || work.descriptors.size() > n ||
+      std::any_of(work.views.begin(), work.views.end(),
+                  [&](const auto& v) { return v.size() > n; }))
+    throw InputError(fmt::format("the checkpoint holds more particles than this run's {}", n));
   const std::vector<double> spectrum = roughness_spectrum(targets, options.max_degree);
   std::vector<GeneratedParticle> particles(n);
   const double e_target = targets.target_elongation(), f_target = targets.target_flatness();
 
   // 1. Base shapes (unit, unstretched), redrawn until CGAL finds them valid; per-particle size
-  //    and 3D ratio targets from the particle's own stream.
-#pragma omp parallel for schedule(dynamic, 1)
+  //    and 3D ratio targets from the particle's own stream. A draw a checkpoint kept is made
+  //    again from its seed, unchecked.
+  const auto stream = [&](std::size_t i) { return mix(options.seed ^ mix(i + 1)); };
   for (std::size_t i = 0; i < n; ++i) {
     GeneratedParticle& particle = particles[i];
-    const std::uint64_t stream = mix(options.seed ^ mix(i + 1));
-    Rng rng(stream);
+    Rng rng(stream(i));
     particle.size_m = targets.size_quantile(uniform01(rng));
     // Spread deviates, turned into ratios below once the whole population's are known.
     particle.elongation_target = std::clamp(standard_normal(rng), -2.0, 2.0);
     particle.flatness_target = std::clamp(standard_normal(rng), -2.0, 2.0);
+  }
+  const std::size_t restored_draws = work.draws.size();
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t i = 0; i < restored_draws; ++i)
+    particles[i].mesh = rough_sphere(spectrum, work.draws[i].seed, options.subdivisions);
+  const bool drawn = in_blocks(work.draws, n, work, hooks, [&](std::size_t i) {
+    BaseDraw accepted;
     for (int draw = 0; draw <= options.max_redraws; ++draw) {
-      particle.seed = mix(stream + static_cast<std::uint64_t>(draw));
-      particle.mesh = rough_sphere(spectrum, particle.seed, options.subdivisions);
-      if (check_mesh(particle.mesh).valid()) break;
-      particle.redraws = draw + 1;
+      accepted.seed = mix(stream(i) + static_cast<std::uint64_t>(draw));
+      particles[i].mesh = rough_sphere(spectrum, accepted.seed, options.subdivisions);
+      if (check_mesh(particles[i].mesh).valid()) break;
+      accepted.redraws = draw + 1;
     }
+    return accepted;
+  });
+  if (!drawn) return std::nullopt;
+  for (std::size_t i = 0; i < n; ++i) {
+    particles[i].seed = work.draws[i].seed;
+    particles[i].redraws = work.draws[i].redraws;
   }
   for (const GeneratedParticle& p : particles)
     if (p.redraws > options.max_redraws)
@@ -354,18 +435,33 @@ std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
       p.flatness_target = std::clamp(f_target + df * (p.flatness_target - mean_f), 0.05, 1.0);
     }
   }
-  if (progress) progress(static_cast<int>(n) / 2);
 
   // 2. Shape: either the image's projected-ASR distribution (population calibration of one
   //    stretch ratio per particle on its convex hull) or 3D box ratios per particle.
   if (targets.projected_distribution()) {
-    fit_projected_distribution(particles, targets, options, e_target, f_target);
+    if (!work.corrections.empty())
+      throw InputError("the checkpoint holds box stretches, this run fits projected ratios");
+    if (!fit_projected_distribution(particles, targets, options, e_target, f_target, work, hooks))
+      return std::nullopt;
   } else {
+    if (!work.views.empty())
+      throw InputError("the checkpoint holds a projected-ratio fit, this run stretches to boxes");
+    const std::size_t restored = work.corrections.size();
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < restored; ++i) {
       GeneratedParticle& p = particles[i];
-      stretch_to_box_ratios(p.mesh, p.elongation_target, p.flatness_target);
+      stretch_along_xyz(p.mesh, p.elongation_target, p.flatness_target);
+      apply(p.mesh, work.corrections[i]);
     }
+    const bool stretched = in_blocks(work.corrections, n, work, hooks, [&](std::size_t i) {
+      GeneratedParticle& p = particles[i];
+      stretch_along_xyz(p.mesh, p.elongation_target, p.flatness_target);
+      const BoxCorrection correction =
+          box_correction(p.mesh, p.elongation_target, p.flatness_target, 2e-3, 1);
+      apply(p.mesh, correction);
+      return correction;
+    });
+    if (!stretched) return std::nullopt;
   }
 
   // 3. Size (equivalent-circle diameter of the mean silhouette, Cauchy: sqrt(A/π)) and centre.
@@ -373,8 +469,25 @@ std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
     scale_mesh(p.mesh, p.size_m / std::sqrt(surface_area(p.mesh) / std::numbers::pi));
     translate_mesh(p.mesh, -mesh_mass_properties(p.mesh).centre);
   }
-  if (progress) progress(static_cast<int>(n));
   return particles;
+}
+
+std::optional<std::vector<ShapeDescriptors>> describe_population(
+    const std::vector<GeneratedParticle>& particles, int directions, std::uint64_t seed,
+    GenerateWork& work, const GenerateHooks& hooks) {
+  if (work.descriptors.size() > particles.size())
+    throw InputError(fmt::format("the checkpoint describes {} particles, this run makes {}",
+                                 work.descriptors.size(), particles.size()));
+  for (const ShapeDescriptors& d : work.descriptors)
+    if (d.projected_asr.size() != static_cast<std::size_t>(directions))
+      throw InputError(fmt::format("the checkpoint's descriptors have {} views, this run {}",
+                                   d.projected_asr.size(), directions));
+  const bool described =
+      in_blocks(work.descriptors, particles.size(), work, hooks, [&](std::size_t i) {
+        return describe(particles[i].mesh, {directions, seed + 1000 + i});
+      });
+  if (!described) return std::nullopt;
+  return work.descriptors;
 }
 
 double ks_distance(std::vector<double> sample, const ShapeTargets& targets) {

@@ -8,8 +8,10 @@
 // from (seed, index) and redrawn until its mesh is closed, manifold and self-intersection free.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
+#include "geometry/descriptors.hpp"
 #include "geometry/mesh.hpp"
 #include "geometry/shape_targets.hpp"
 
@@ -30,6 +32,14 @@ TriangleMesh rough_sphere(const std::vector<double>& spectrum, std::uint64_t see
 // axes (one or two box searches).
 void stretch_to_box_ratios(TriangleMesh& mesh, double elongation, double flatness,
                            double tolerance = 2e-3, std::uint64_t seed = 1);
+
+// The second stretch of stretch_to_box_ratios, along the minimum box's axes (its costly part: a
+// box search), when the first one, exactly along x, y, z, leaves the ratios off.
+struct BoxCorrection {
+  bool applied = false;
+  Mat3 axes = Mat3::Identity();
+  Vec3 factors = Vec3::Ones();
+};
 
 struct GenerateOptions {
   int count = 150;
@@ -52,12 +62,50 @@ struct GeneratedParticle {
   double roughness = 1.0;  // amplitude of its roughness relative to the spectrum's D_l
 };
 
-// Progress hook: called with the number of particles done so far.
-using GenerateProgress = std::function<void(int done)>;
-
 std::vector<GeneratedParticle> generate_population(const ShapeTargets& targets,
-                                                   const GenerateOptions& options,
-                                                   const GenerateProgress& progress = {});
+                                                   const GenerateOptions& options);
+
+// The per-particle results of generate_population's costly phases and of describe_population,
+// each list a prefix of the particles: what a checkpoint keeps (geometry/generate_checkpoint.hpp)
+// so that a resumed run does only the rest and ends with the same bits. Everything else
+// (sizes, ratio targets, the population fit, scaling) is recomputed from these exactly.
+struct BaseDraw {  // phase 1: the accepted draw, redrawn until the mesh checks passed
+  std::uint64_t seed = 0;
+  int redraws = 0;
+};
+// views[c]: the sorted ASR bins of a particle's silhouettes in its calibration directions for
+// shape choice c of the projected-ASR fit.
+using ChoiceViews = std::vector<std::vector<std::uint16_t>>;
+struct GenerateWork {
+  std::vector<BaseDraw> draws;
+  std::vector<std::vector<ChoiceViews>> views;  // per pass of the projected-ASR fit (one or two)
+  std::vector<BoxCorrection> corrections;       // box targets
+  std::vector<ShapeDescriptors> descriptors;    // describe_population
+  // Particles done, summed over the phases: the run's step count.
+  std::int64_t steps() const;
+};
+
+struct GenerateHooks {
+  // After each block of particles, with the work so far; false stops the run (a signal).
+  std::function<bool(const GenerateWork&)> after_block;
+  // Blocks end at multiples of this many steps (a checkpoint interval); 0: anywhere.
+  std::int64_t block_steps = 0;
+};
+
+// generate_population resumable: skips what `work` holds, adds to it as it goes, and returns
+// nothing when a hook stopped it. The particles are those of the plain call, bit for bit, for
+// any thread count and wherever the run was stopped and resumed. InputError when `work` does
+// not fit the options (a checkpoint of another run).
+std::optional<std::vector<GeneratedParticle>> generate_population(const ShapeTargets& targets,
+                                                                  const GenerateOptions& options,
+                                                                  GenerateWork& work,
+                                                                  const GenerateHooks& hooks);
+
+// describe() of every particle, particle i with `directions` views seeded seed + 1000 + i
+// (generate's shapes.csv), resumable as generate_population: nothing when a hook stopped it.
+std::optional<std::vector<ShapeDescriptors>> describe_population(
+    const std::vector<GeneratedParticle>& particles, int directions, std::uint64_t seed,
+    GenerateWork& work, const GenerateHooks& hooks);
 
 // Kolmogorov–Smirnov distance between a sample and the target projected-ASR distribution.
 double ks_distance(std::vector<double> sample, const ShapeTargets& targets);

@@ -13,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "common/sha256.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
 
@@ -183,6 +186,35 @@ std::function<void(const fs::path&)> plate_with(const std::string& line,
   return file("p.toml", text);
 }
 
+// A killed generate's folder {d}/shapes: its targets t.toml, resume.json (with the targets'
+// SHA-256 `sha256`, "" for the true one, and its `count`) and, when given, one checkpoint file.
+std::function<void(const fs::path&)> generate_killed(std::string sha256,
+                                                     std::string checkpoint = {},
+                                                     std::string count = "4") {
+  return [sha256, checkpoint, count](const fs::path& d) {
+    write_text(d / "t.toml", test_data_text("geometry/paper_box_targets.toml"));
+    const nlohmann::json record{
+        {"command", "shapepress generate --targets t.toml --count 4 --out shapes"},
+        {"working_directory", d.string()},
+        {"config", "t.toml"},
+        {"config_sha256", sha256.empty() ? sha256_file(d / "t.toml") : sha256},
+        {"arguments",
+         {{"count", {count}},
+          {"seed", {"1"}},
+          {"subdivisions", {"2"}},
+          {"max-degree", {"15"}},
+          {"format", {"stl"}},
+          {"directions", {"8"}},
+          {"ks-tolerance", {"0.1"}},
+          {"checkpoint-every", {"2"}},
+          {"checkpoint-minutes", {"10"}}}}};
+    fs::create_directories(d / "shapes" / "checkpoints");
+    write_text(d / "shapes" / "checkpoints" / "resume.json", record.dump(2));
+    if (!checkpoint.empty())
+      write_text(d / "shapes" / "checkpoints" / "particles_0000000002.history", checkpoint);
+  };
+}
+
 const std::string compact_c = "--quiet compact --config {d}/c.toml --out {d}/out";
 const std::string compact_v = "--quiet compact --config {v}/compact.toml --out {d}/out";
 const std::string plate_p = "--quiet plate --config {d}/p.toml --out {d}/out";
@@ -338,6 +370,19 @@ std::vector<Row> catalogue(const fs::path& v) {
       "--quiet generate --targets {d}/s.json --out {d}/out", 2, {"{d}/s.json"});
   add("generate: truncated targets", file("s.toml", "[aspect_ratio]\nmean = "),
       "--quiet generate --targets {d}/s.toml --out {d}/out", 2, {"{d}/s.toml"});
+
+  // generate --resume: nothing to resume, targets changed since the start, a damaged checkpoint.
+  add("generate: --resume of a folder with nothing to resume", nullptr,
+      "--quiet generate --resume {d}/shapes", 2, {"{d}/shapes", "no run to resume"});
+  add("generate: --resume after its targets changed", generate_killed(std::string(64, '0')),
+      "--quiet generate --resume {d}/shapes", 2, {"{d}/shapes", "t.toml", "changed"});
+  add("generate: --resume from a damaged checkpoint",
+      generate_killed("", "shapepress generate checkpoint 1\ndraw 0 17\nend\n"),
+      "--quiet generate --resume {d}/shapes", 2,
+      {"{d}/shapes/checkpoints/particles_0000000002.history", "damaged"});
+  add("generate: --resume with a damaged resume record", generate_killed("", "", "-4"),
+      "--quiet generate --resume {d}/shapes", 2,
+      {"{d}/shapes/checkpoints/resume.json", "count", "-4"});
 
   // Images.
   add("shape-stats: empty PNG", file("i.png", ""), "--quiet shape-stats {d}/i.png --out {d}/out", 2,
