@@ -187,9 +187,12 @@ class EvaluationLog {
   std::vector<std::vector<std::string>> rows_;
 };
 
-// Table 1 of Giannis et al. 2023, for the side-by-side report.
-constexpr double paper_normal_stiffness = 1.15e6;  // N/m^3
-constexpr double paper_shear_stiffness = 1.25e6;   // N/m^3
+// Table 1 of Giannis et al. 2023 (the rubber sphere), for the side-by-side report, and Table 4's
+// (Avicel PH 200) beside it on the console.
+constexpr double paper_normal_stiffness = 1.15e6;      // N/m^3
+constexpr double paper_shear_stiffness = 1.25e6;       // N/m^3
+constexpr double paper_avicel_normal_stiffness = 8e8;  // N/m^3
+constexpr double paper_avicel_shear_stiffness = 9e8;   // N/m^3
 
 std::vector<std::string> split_names(const std::string& text) {
   std::vector<std::string> names;
@@ -375,7 +378,10 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
 // The plate reference curve: a CSV with the named columns, or the folder of a finished fem-plate
 // run, whose force.csv (deformation, top_force_N) is the particle's own FEM curve (issue 26). The
 // FEM run must have reached its last increment and pressed a sphere of the config's radius: a BMS
-// template is only calibrated against the particle it fills.
+// template is only calibrated against the particle it fills. A 3D run's curve is the mean of its
+// two plates' forces: its anchors hold a particle that is not symmetric about its centre plane at
+// its centroid and take the difference (models.md), which the free BMS body, balanced between
+// its plates, does not have.
 struct ReferenceCurve {
   std::filesystem::path csv;
   std::vector<double> deformation, force;
@@ -389,6 +395,7 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config
                        {},
                        cli.y_column.empty() ? std::string("F_tatara_N") : cli.y_column};
   std::string x_column = cli.x_column.empty() ? std::string("deformation") : cli.x_column;
+  bool mean_of_plates = false;
   if (std::filesystem::is_directory(cli.reference)) {
     const RunRecord record =
         RunRecord::read(std::filesystem::path(cli.reference) / run_metadata_name);
@@ -422,6 +429,7 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config
           record.json()["facts"]["axis"].get<std::string>(), config.bms->direction[0],
           config.bms->direction[1], config.bms->direction[2], 2.0 * config.setup.radius,
           record.number("height_m"));
+      mean_of_plates = true;
     } else {
       const double fem_radius = record.number("radius_m");
       // A spheroid's FEM run (polar_radius_m ≠ radius_m) is not the sphere calibrate fills.
@@ -440,6 +448,12 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config
   const CsvTable table = read_csv(curve.csv);
   curve.deformation = table.finite_column(x_column);
   curve.force = table.finite_column(curve.force_column);
+  if (mean_of_plates) {
+    const std::vector<double> bottom = table.finite_column("bottom_force_N");
+    for (std::size_t k = 0; k < curve.force.size(); ++k)
+      curve.force[k] = 0.5 * (curve.force[k] + bottom.at(k));
+    curve.force_column = "mean of top_force_N and bottom_force_N";
+  }
   return curve;
 }
 
@@ -533,8 +547,11 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
     fmt::print("  {} = {:.6g} (start {:.6g})\n", options.parameters[k], result.values[k],
                result.start[k]);
-  fmt::print("  k̄n = {:.4g} N/m^3, k̄s = {:.4g} N/m^3 (paper: {:.3g}, {:.3g})\n", kn, ks,
-             paper_normal_stiffness, paper_shear_stiffness);
+  fmt::print(
+      "  k̄n = {:.4g} N/m^3, k̄s = {:.4g} N/m^3 (paper: Table 1, rubber {:.3g}, {:.3g}; Table 4, "
+      "Avicel {:.3g}, {:.3g})\n",
+      kn, ks, paper_normal_stiffness, paper_shear_stiffness, paper_avicel_normal_stiffness,
+      paper_avicel_shear_stiffness);
   return 0;
 }
 
@@ -571,7 +588,8 @@ StageRunner setup_calibrate_cli(CLI::App& app) {
       "--reference", cli->reference,
       "reference curve CSV: plate force (e.g. the Tatara curve); compaction stress-strain or "
       "solid fraction-stress, the unit in each column name (strain_%, stress_MPa); or a "
-      "fem-plate run folder (its force.csv: deformation, top_force_N)");
+      "fem-plate run folder (its force.csv: deformation, top_force_N; a 3D run: the mean of both "
+      "plates)");
   auto* x_column = app.add_option("--x-column", cli->x_column,
                                   "x column of the reference (plate: deformation; compaction: "
                                   "found by name)");

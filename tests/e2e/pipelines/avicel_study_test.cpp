@@ -50,7 +50,8 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
   // Heckel and Kawakita fits enough points.
   std::string study_configs;
   double calibrated_loading_stiffness = 0.0;
-  for (const std::string kind : {"bms", "spheres-calibrated"}) {
+  // The BMS config is the study's default, the bonds calibrated against the particles' FEM.
+  for (const std::string kind : {"bms-calibrated", "spheres-calibrated"}) {
     std::string text = shapepress::testing::read_text(repository_root() / "pipelines" / "configs" /
                                                       ("avicel-ph200-" + kind + ".toml"));
     if (const std::size_t k1 = text.find("\nloading_stiffness = "); k1 != std::string::npos)
@@ -59,7 +60,8 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
     text.replace(at, text.find('\n', at) - at, "record_every = 50");
     const fs::path file = out.parent_path() / ("avicel_study_" + kind + ".toml");
     shapepress::testing::write_text(file, text);
-    study_configs += (kind == "bms" ? " BMS_CONFIG=" : " SPHERE_CONFIG=") + shell_quoted(file);
+    study_configs +=
+        (kind == "bms-calibrated" ? " BMS_CONFIG=" : " SPHERE_CONFIG=") + shell_quoted(file);
   }
   const std::string study =
       "make -s -C " + shell_quoted(repository_root() / "pipelines" / "avicel-ph200") +
@@ -85,6 +87,9 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
     EXPECT_EQ(input_hash(compact, "packing"), sha256_file(out / c / "packed.h5"));
     EXPECT_EQ(compact["facts"]["particle_kind"], "bms");
     EXPECT_EQ(compact["facts"]["density_scale"], 10000.0);
+    // The bodies' bonds are the calibrated modulus form, not Table 4's k̄n, k̄s.
+    EXPECT_THAT(shapepress::testing::read_text(out / c / "run" / "effective.toml"),
+                ::testing::HasSubstr("\nmodulus = 73000000\n"));
     // The shapes run with the calibrated spheres' k1 between bodies and against the tools.
     for (const auto& law : compact["facts"]["laws"])
       EXPECT_EQ(law.value("loading_stiffness_N_per_m1_5", 0.0), calibrated_loading_stiffness)
