@@ -74,7 +74,9 @@ class GenerateCheckpoint : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(GenerateCheckpoint, StoppedInEveryPhaseAndResumedFromTheFilesIsTheWholeRun) {
   const ShapeTargets targets = read_shape_targets(data / GetParam());
-  const fs::path folder = fs::temp_directory_path() / "shapepress_generate_checkpoint";
+  // One folder per target file: ctest runs the two instances side by side.
+  const fs::path folder = fs::temp_directory_path() / ("shapepress_generate_checkpoint_" +
+                                                       fs::path(GetParam()).stem().string());
   fs::remove_all(folder);
   fs::create_directories(folder);
   const int threads = omp_get_max_threads();
