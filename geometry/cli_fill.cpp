@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -35,11 +36,20 @@ struct FillCli {
   std::string out;
 };
 
+// A shape to fill. A mesh's signed-distance grid (about 4 MB at resolution 64) is made when its
+// template is filled and dropped after it, so that a fill of thousands of meshes holds one grid,
+// not all of them; the meshes are read and checked before the first template, so that a bad one
+// is exit 2 before any work.
 struct NamedShape {
   std::string name, source;
-  SignedDistance distance;
+  SignedDistance distance;           // analytic shapes
+  std::optional<TriangleMesh> mesh;  // meshes: the grid is made from it at fill time
   MassProperties mass;
 };
+
+SignedDistance distance_of(const NamedShape& shape, int resolution) {
+  return shape.mesh ? mesh_distance(*shape.mesh, resolution, shape.source) : shape.distance;
+}
 
 Vec3 parse_semi_axes(const std::string& text) {
   std::vector<double> values;
@@ -59,13 +69,13 @@ std::vector<NamedShape> shapes_of(const FillCli& cli) {
   if (!cli.sphere.empty()) {
     const double r = parse_quantity(cli.sphere, dim::length, "sphere");
     if (!(r > 0.0)) throw InputError(fmt::format("--sphere '{}' must be > 0", cli.sphere));
-    shapes.push_back({"sphere", "analytic sphere", sphere_distance(r),
+    shapes.push_back({"sphere", "analytic sphere", sphere_distance(r), std::nullopt,
                       ellipsoid_mass_properties(Vec3::Constant(r))});
   }
   if (!cli.ellipsoid.empty()) {
     const Vec3 e = parse_semi_axes(cli.ellipsoid);
-    shapes.push_back(
-        {"ellipsoid", "analytic ellipsoid", ellipsoid_distance(e), ellipsoid_mass_properties(e)});
+    shapes.push_back({"ellipsoid", "analytic ellipsoid", ellipsoid_distance(e), std::nullopt,
+                      ellipsoid_mass_properties(e)});
   }
   std::set<std::string> names;
   for (const std::string& path : cli.meshes) {
@@ -74,8 +84,7 @@ std::vector<NamedShape> shapes_of(const FillCli& cli) {
     for (int k = 2; names.count(name); ++k)
       name = fmt::format("{}_{}", name, k);
     names.insert(name);
-    shapes.push_back(
-        {name, path, mesh_distance(mesh, cli.resolution, path), mesh_mass_properties(mesh)});
+    shapes.push_back({name, path, {}, mesh, mesh_mass_properties(mesh)});
   }
   if (shapes.empty())
     throw InputError("fill: give meshes, --sphere or --ellipsoid (nothing to fill)");
@@ -94,6 +103,7 @@ int run(const FillCli& cli, const RunContext& context) {
              "Vfrac", "Verr", "rms/d", "haus/d", "inertia", "bonds");
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     const NamedShape& shape = shapes[i];
+    const SignedDistance distance = distance_of(shape, cli.resolution);
     const std::uint64_t seed = cli.seed + i;
     SphereTemplate filled;
     if (bonded) {
@@ -105,14 +115,14 @@ int run(const FillCli& cli, const RunContext& context) {
       options.placement = cli.placement == "centre" ? Placement::centre : Placement::inside;
       options.bond_multiplier = cli.bond_multiplier;
       options.seed = seed;
-      filled = fill_bonded(shape.distance, options);
+      filled = fill_bonded(distance, options);
     } else {
       RigidFillOptions options;
       options.sphere_count = cli.count > 0 ? cli.count : 150;
       options.resolution = cli.resolution;
-      filled = fill_rigid(shape.distance, options);
+      filled = fill_rigid(distance, options);
     }
-    const FillQuality quality = assess_fill(filled, shape.distance, shape.mass);
+    const FillQuality quality = assess_fill(filled, distance, shape.mass);
     if (bonded && !quality.connected)
       throw ComputationError(
           fmt::format("fill: the bond graph of '{}' is not connected", shape.name));
