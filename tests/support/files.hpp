@@ -1,6 +1,7 @@
 #pragma once
 // Scratch folders and files for end-to-end tests.
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -8,6 +9,12 @@
 #include <vector>
 
 namespace shapepress::testing {
+
+// SHAPEPRESS_FULL_VALIDATION=1 runs a study at the size its issue names; CI runs reduced ones.
+inline bool full_validation() {
+  const char* value = std::getenv("SHAPEPRESS_FULL_VALIDATION");
+  return value != nullptr && std::string(value) == "1";
+}
 
 // An empty folder shapepress_e2e_<name> in the system's temporary folder (emptied if it exists).
 // Names carry the test suite's prefix, so suites running in parallel never share one.

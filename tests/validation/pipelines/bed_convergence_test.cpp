@@ -33,14 +33,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using shapepress::testing::fresh_directory;
+using shapepress::testing::full_validation;
 using shapepress::testing::repository_root;
 using shapepress::testing::run_command;
 using shapepress::testing::shell_quoted;
-
-bool full_validation() {
-  const char* value = std::getenv("SHAPEPRESS_FULL_VALIDATION");
-  return value != nullptr && std::string(value) == "1";
-}
 
 // advice.csv's columns by name, as text (its label, status and cause cells are not numbers).
 std::map<std::string, std::vector<std::string>> read_table(const fs::path& path) {

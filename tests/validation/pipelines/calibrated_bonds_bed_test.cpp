@@ -24,14 +24,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using shapepress::testing::fresh_directory;
+using shapepress::testing::full_validation;
 using shapepress::testing::repository_root;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
-
-bool full_validation() {
-  const char* value = std::getenv("SHAPEPRESS_FULL_VALIDATION");
-  return value != nullptr && std::string(value) == "1";
-}
 
 // The shipped BMS config as the Makefile's bed-convergence target presses it: the reduced die,
 // mass scaling 100, and the spheres' k1 in place of the config's own.
