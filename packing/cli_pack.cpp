@@ -66,7 +66,7 @@ PackPhaseState read_phase(const std::filesystem::path& path) {
   };
   PackPhaseState s;
   const double phase = value("phase");
-  if (phase != 0.0 && phase != 1.0 && phase != 2.0)
+  if (phase != 0.0 && phase != 1.0 && phase != 2.0 && phase != 3.0)
     throw InputError(fmt::format("{}: phase {} (a damaged checkpoint)", path.string(), phase));
   s.phase = static_cast<PackPhase>(static_cast<int>(phase));
   s.phase_start = value("phase_start");
@@ -217,6 +217,8 @@ int run(const PackCli& given, const RunContext& context) {
       .fact("top_m", result.packing.top)
       .fact("seed", static_cast<std::int64_t>(config.request.seed))
       .fact("time_step_s", result.time_step)
+      .fact("settle_density_scale", config.request.settle_density_scale)
+      .fact("settle_time_step_s", result.settle_time_step)
       .fact("steps", result.steps)
       .fact("loop_s", result.loop_seconds)
       .fact("settled", result.settled)
@@ -234,14 +236,19 @@ int run(const PackCli& given, const RunContext& context) {
       "  coordination %.3f; orientation order <P2> %.4f; largest overlap %.3g m (%.3g of a "
       "radius)\n"
       "  x10/x50/x90 %.4g/%.4g/%.4g m (target %.4g/%.4g/%.4g, %s-weighted)\n"
-      "  %lld steps of %.3g s in %.1f s%s\n",
+      "  %lld steps of %.3g s%s in %.1f s%s\n",
       result.packing.size(), result.packing.particles.size(), result.packing.bonds.size(),
       m.bed_height, m.solid_fraction_shape, m.solid_fraction_spheres, m.coordination,
       m.orientation_order, m.largest_overlap, m.largest_overlap_relative, m.x10, m.x50, m.x90,
       m.target_x10, m.target_x50, m.target_x90,
       config.request.sizes.volume_weighted ? "volume" : "number",
-      static_cast<long long>(result.steps), result.time_step, result.loop_seconds,
-      result.settled ? "" : " (not at rest: see the warning)");
+      static_cast<long long>(result.steps), result.time_step,
+      config.request.settle_density_scale == 1.0
+          ? ""
+          : fmt::format(" (the settle's of {:.3g} s at {:g} × density)", result.settle_time_step,
+                        config.request.settle_density_scale)
+                .c_str(),
+      result.loop_seconds, result.settled ? "" : " (not at rest: see the warning)");
   return 0;
 }
 

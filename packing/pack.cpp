@@ -80,6 +80,8 @@ void PackRequest::check() const {
   for (double v : {density, youngs_modulus, restitution, insertion_fraction, max_settle_time,
                    time_step_fraction, punch_speed, kinetic_energy_ratio})
     require(std::isfinite(v) && v > 0.0, "material, settle and press values must be > 0");
+  require(std::isfinite(settle_density_scale) && settle_density_scale >= 1.0,
+          "settle.density_scale must be >= 1");
   require(poisson_ratio >= 0.0 && poisson_ratio < 0.5, "poisson_ratio must be in [0, 0.5)");
   require(restitution <= 1.0, "restitution must be in (0, 1]");
   require(friction >= 0.0 && wall_friction >= 0.0 && rolling_friction >= 0.0,
@@ -385,6 +387,8 @@ const char* phase_name(PackPhase phase) {
       return "press";
     case PackPhase::relax:
       return "relax";
+    case PackPhase::release:
+      return "release";
   }
   return "?";
 }
@@ -392,18 +396,23 @@ const char* phase_name(PackPhase phase) {
 enum class PhaseEnd { rest, time_out, interrupted };
 
 // Runs the phase state.phase from state.phase_step on until the kinetic energy is below `rest`
-// after min_time (a poured bed starts at rest), or max_time. `each_step` runs before every step
+// after min_time (a poured bed starts at rest), or max_time, with the drag v → v e^(-dt/τ) of
+// τ = drag_time (0: none). `each_step` runs before every step
 // (the punch's motion) and returns false to end the phase.
 template <class EachStep>
 PhaseEnd run_phase(Engine& engine, const PackRequest& r, double min_time, double rest,
-                   const PackProgress& progress, PackPhaseState& state, EachStep&& each_step) {
+                   double drag_time, const PackProgress& progress, PackPhaseState& state,
+                   EachStep&& each_step) {
   constexpr int check_every = 200;
   const char* name = phase_name(state.phase);
   for (;;) {
     const double t = engine.time() - state.phase_start;
     if (state.phase_step % check_every == 0) {
       if (progress.update) progress.update(name, t, r.max_settle_time);
-      if (t >= min_time && kinetic_energy(engine) < rest) return PhaseEnd::rest;
+      if (t >= min_time && kinetic_energy(engine) < rest) {
+        spdlog::info("pack: {} at rest after {} steps, {:.3g} s", name, state.phase_step, t);
+        return PhaseEnd::rest;
+      }
     }
     if (t >= r.max_settle_time) {
       spdlog::warn(
@@ -414,10 +423,26 @@ PhaseEnd run_phase(Engine& engine, const PackRequest& r, double min_time, double
     }
     if (!each_step()) return PhaseEnd::rest;
     engine.step();
-    if (r.damping_time > 0.0)
-      apply_drag(engine, std::exp(-engine.settings().time_step / r.damping_time));
+    if (drag_time > 0.0) apply_drag(engine, std::exp(-engine.settings().time_step / drag_time));
     ++state.phase_step;
     if (progress.after_step && !progress.after_step(engine, state)) return PhaseEnd::interrupted;
+  }
+}
+
+// Every mass and moment of inertia times `factor` (the settle's mass scaling undone): the
+// velocities stay, and the spins with them (a clump's angular momentum scales with its inertia).
+void scale_masses(SphereState& s, ClumpSet& clumps, double factor) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    s.mass[i] *= factor;
+    s.inverse_mass[i] /= factor;
+    s.inverse_inertia[i] /= factor;
+  }
+  for (std::size_t c = 0; c < clumps.size(); ++c) {
+    clumps.mass[c] *= factor;
+    for (int k = 0; k < 3; ++k) {
+      clumps.rotation[c].principal_inertia[k] *= factor;
+      clumps.rotation[c].body_angular_momentum[k] *= factor;
+    }
   }
 }
 
@@ -442,38 +467,58 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   placed.templates = templates;
   placed.bodies = bodies;
   place_bodies(placed);
-  Bed bed = bed_from_packing(placed, {request.density, 0, std::nullopt, true});
+  const double mass_scale = request.settle_density_scale;
   const MaterialTable table = pack_materials(request, request.friction, request.wall_friction);
   std::vector<PlaneWall> walls = {
       PlaneWall{request.floor, 1, 0.0, 1},
       PlaneWall{region_top + 0.01 * (region_top - request.floor), -1, 0.0, 1}};
   const double fall = region_top - request.floor;
   const double speed = std::sqrt(2.0 * request.gravity * fall) + request.punch_speed;
-  TimeStepChoice step = select_time_step(bed.state, table, {1}, request.time_step,
-                                         request.time_step_fraction, speed, BondSet{}, bed.clumps);
-  if (!request.time_step && !bed.clumps.empty()) {
-    step.clump_period = packed_clump_period(bed.state, bed.clumps, table);
-    // A sub-sphere of a rigid body has no motion of its own, so its Rayleigh time (a wave
-    // across it) bounds nothing: the body's contact oscillation does. Free spheres keep theirs.
-    const bool all_rigid = std::all_of(bed.clumps.clump_of.begin(), bed.clumps.clump_of.end(),
-                                       [](std::int32_t c) { return c >= 0; });
-    step.time_step =
-        request.time_step_fraction *
-        (all_rigid ? step.clump_period : std::min(step.rayleigh_time, step.clump_period));
-  }
+  // The step of the bed at `density`.
+  const auto choose_step = [&](const Bed& bed, double density) {
+    PackRequest at = request;
+    at.density = density;
+    TimeStepChoice step = select_time_step(
+        bed.state, pack_materials(at, request.friction, request.wall_friction), {1},
+        request.time_step, request.time_step_fraction, speed, BondSet{}, bed.clumps);
+    if (!request.time_step && !bed.clumps.empty()) {
+      step.clump_period = packed_clump_period(bed.state, bed.clumps, table);
+      // A sub-sphere of a rigid body has no motion of its own, so its Rayleigh time (a wave
+      // across it) bounds nothing: the body's contact oscillation does. Free spheres keep theirs.
+      const bool all_rigid = std::all_of(bed.clumps.clump_of.begin(), bed.clumps.clump_of.end(),
+                                         [](std::int32_t c) { return c >= 0; });
+      step.time_step =
+          request.time_step_fraction *
+          (all_rigid ? step.clump_period : std::min(step.rayleigh_time, step.clump_period));
+    }
+    return step;
+  };
+  Bed bed = bed_from_packing(placed, {request.density, 0, std::nullopt, true});
+  const TimeStepChoice step = choose_step(bed, request.density);
+  Bed settle_bed =
+      mass_scale == 1.0
+          ? Bed{}
+          : bed_from_packing(placed, {request.density * mass_scale, 0, std::nullopt, true});
+  const TimeStepChoice settle_step =
+      mass_scale == 1.0 ? step : choose_step(settle_bed, request.density * mass_scale);
   run.time_step = step.time_step;
+  run.settle_time_step = settle_step.time_step;
   double smallest = std::numeric_limits<double>::infinity();
   for (double radius : bed.state.radius)
     smallest = std::min(smallest, radius);
   EngineSettings settings;
-  settings.time_step = step.time_step;
   settings.gravity = {0.0, 0.0, -request.gravity};
   settings.skin = 0.2 * smallest;
   spdlog::info(
       "pack: {} sub-spheres in {} bodies, time step {:.3g} s (Rayleigh {:.3g} s, clump "
       "bound {:.3g} s)",
       bed.state.size(), bodies.size(), step.time_step, step.rayleigh_time, step.clump_period);
+  if (mass_scale != 1.0)
+    spdlog::info("pack: the settle at {} × density, time step {:.3g} s", mass_scale,
+                 settle_step.time_step);
   PackPhaseState state = resume ? resume->phase : PackPhaseState{};
+  const bool scaled_now = mass_scale != 1.0 && state.phase != PackPhase::release;
+  settings.time_step = scaled_now ? settle_step.time_step : step.time_step;
   const auto friction_of = [&](PackPhase phase) {
     // Frictionless by default while pressing: the bodies slide into a denser bed, as DEM fills
     // are made.
@@ -481,16 +526,25 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
                ? pack_materials(request, request.press_friction, request.press_friction)
                : table;
   };
+  Bed& start = scaled_now ? settle_bed : bed;
   auto engine =
       resume ? std::make_unique<Engine>(std::move(resume->snapshot.state), resume->snapshot.box,
                                         friction_of(state.phase), settings,
                                         std::move(resume->snapshot.checkpoint))
-             : std::make_unique<Engine>(std::move(bed.state), Box{request.box_x, request.box_y},
-                                        table, walls, settings, BondSet{}, std::move(bed.clumps));
-  // The next phase on the same bed, walls and contact history.
+             : std::make_unique<Engine>(std::move(start.state), Box{request.box_x, request.box_y},
+                                        table, walls, settings, BondSet{}, std::move(start.clumps));
+  // The next phase on the same bed, walls and contact history; the release at the true density
+  // and its step (velocities kept, spins kept by scaling the angular momenta with the inertias).
   const auto next_phase = [&](PackPhase phase) {
-    engine = std::make_unique<Engine>(engine->state(), engine->box(), friction_of(phase),
-                                      engine->settings(), engine->checkpoint());
+    SphereState s = engine->state();
+    EngineCheckpoint checkpoint = engine->checkpoint();
+    EngineSettings next = engine->settings();
+    if (phase == PackPhase::release) {
+      scale_masses(s, checkpoint.clumps, 1.0 / mass_scale);
+      next.time_step = step.time_step;
+    }
+    engine = std::make_unique<Engine>(std::move(s), engine->box(), friction_of(phase), next,
+                                      std::move(checkpoint));
     state.phase = phase;
     state.phase_start = engine->time();
     state.phase_step = 0;
@@ -501,6 +555,16 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
     rest += request.density * b.shape_volume * request.gravity *
             std::cbrt(6.0 * b.shape_volume / std::numbers::pi);
   rest *= request.kinetic_energy_ratio;
+  // The bed released from the scaled weight's deeper overlaps springs back by a few per cent of
+  // a sub-sphere's radius, a small motion of the whole bed: its kinetic energy is judged after
+  // some contact periods at the true density, and a drag of about a hundred contact periods
+  // (damping the bed's slowest modes, not the contacts') brings it to rest where settle's
+  // τ, long against the fall, would take a few τ.
+  const double contact_period = step.time_step / request.time_step_fraction;
+  const double release_min_time = 20.0 * contact_period;
+  const double release_drag_time =
+      request.damping_time > 0.0 ? std::min(request.damping_time, 100.0 * contact_period) : 0.0;
+  const double press_speed = request.punch_speed / std::sqrt(mass_scale);
   const auto started = std::chrono::steady_clock::now();
   const std::int64_t first_step = engine->step_index();
   const double free_fall = std::sqrt(2.0 * fall / request.gravity);
@@ -512,7 +576,8 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   for (bool done = false; !done;) {
     switch (state.phase) {
       case PackPhase::settle: {
-        const PhaseEnd end = run_phase(*engine, request, free_fall, rest, progress, state, same);
+        const PhaseEnd end = run_phase(*engine, request, free_fall, rest * mass_scale,
+                                       request.damping_time, progress, state, same);
         if (end == PhaseEnd::interrupted) {
           run.interrupted = done = true;
           break;
@@ -524,7 +589,10 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
         spdlog::info("pack: settled at solid fraction {:.4f} by shape volume",
                      state.settled_solid_fraction);
         if (!request.target_solid_fraction) {
-          done = true;
+          if (mass_scale == 1.0)
+            done = true;
+          else
+            next_phase(PackPhase::release);
           break;
         }
         next_phase(PackPhase::press);
@@ -534,20 +602,21 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
         break;
       }
       case PackPhase::press: {
-        const double dt = step.time_step;
+        const double dt = settle_step.time_step;
         PhaseEnd end = PhaseEnd::rest;
         try {
-          end = run_phase(
-              *engine, request, std::numeric_limits<double>::infinity(), 0.0, progress, state, [&] {
-                PlaneWall& p = engine->walls()[1];
-                if (p.position - request.floor <= gap) {
-                  p.velocity = 0.0;
-                  return false;
-                }
-                p.velocity = -request.punch_speed;
-                p.position = std::max(request.floor + gap, p.position - request.punch_speed * dt);
-                return true;
-              });
+          end = run_phase(*engine, request, std::numeric_limits<double>::infinity(), 0.0,
+                          request.damping_time, progress, state, [&] {
+                            PlaneWall& p = engine->walls()[1];
+                            if (p.position - request.floor <= gap) {
+                              p.velocity = 0.0;
+                              return false;
+                            }
+                            p.velocity = -press_speed;
+                            p.position =
+                                std::max(request.floor + gap, p.position - press_speed * dt);
+                            return true;
+                          });
         } catch (const ComputationError& e) {
           // Rigid bodies that cannot rearrange (a single layer, a jammed bed) stop the punch
           // short of the target: it then drives a sub-sphere into its neighbour until the
@@ -574,7 +643,19 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
         break;
       }
       case PackPhase::relax: {
-        const PhaseEnd end = run_phase(*engine, request, 0.0, rest, progress, state, same);
+        const PhaseEnd end = run_phase(*engine, request, 0.0, rest * mass_scale,
+                                       request.damping_time, progress, state, same);
+        run.interrupted = end == PhaseEnd::interrupted;
+        state.settled = state.settled && end == PhaseEnd::rest;
+        if (mass_scale == 1.0 || run.interrupted)
+          done = true;
+        else
+          next_phase(PackPhase::release);
+        break;
+      }
+      case PackPhase::release: {
+        const PhaseEnd end = run_phase(*engine, request, release_min_time, rest, release_drag_time,
+                                       progress, state, same);
         run.interrupted = end == PhaseEnd::interrupted;
         state.settled = state.settled && end == PhaseEnd::rest;
         done = true;

@@ -68,8 +68,15 @@ struct PackRequest {
   // Viscous drag on every body's velocity and spin, v → v e^(-dt/τ): a clump's contacts damp
   // with M/n (clumps.hpp), too little to bring a bed to rest; the drag is what LIGGGHTS users add
   // to fill a die. It slows the fall to ≈ g τ, so it is kept long against the contacts' periods.
-  double damping_time = 0.01;       // s, τ; 0: none
-  double max_settle_time = 0.5;     // s, per phase (settle, press, relax)
+  double damping_time = 0.01;    // s, τ; 0: none
+  double max_settle_time = 0.5;  // s, per phase (settle, press, relax)
+  // Mass scaling of pack's dynamics: the bodies settle, are pressed (at punch_speed / √s, the
+  // unscaled press's dynamics) and relax at s × density, whose time step is √s longer (both
+  // bounds, the clump period and the Rayleigh time, go as √m) and whose overlaps under the
+  // bed's own weight are s^(2/3) deeper; a release at the true density then lets those overlaps
+  // spring back, so the packing's are the true weight's. The fall and the drag's decay are
+  // s-free (gravity, g τ and τ are), so those phases take √s fewer steps.
+  double settle_density_scale = 1.0;
   std::optional<double> time_step;  // s, fixed; else time_step_fraction × the engine's bound
   double time_step_fraction = 0.2;
 
@@ -112,7 +119,9 @@ double insert_bodies(const PackRequest& request, const std::vector<BodyTemplate>
 
 // Where a pack run stands between two steps: what a checkpoint keeps beside the engine's
 // snapshot, so that a resumed run takes the steps the uninterrupted one takes.
-enum class PackPhase { settle = 0, press = 1, relax = 2 };
+// With settle_density_scale s > 1 the settle, press and relaxation run at s × density and a
+// release at the true density ends the run.
+enum class PackPhase { settle = 0, press = 1, relax = 2, release = 3 };
 struct PackPhaseState {
   PackPhase phase = PackPhase::settle;
   double phase_start = 0.0;     // s, the engine's time when the phase began
@@ -137,7 +146,8 @@ struct PackResume {
 
 struct PackRun {
   BodyPacking packing;
-  double time_step = 0.0;  // s
+  double time_step = 0.0;         // s, at the true density (all phases, or the release)
+  double settle_time_step = 0.0;  // s, at settle_density_scale × density (settle, press, relax)
   std::int64_t steps = 0;
   bool settled = true;                  // every phase ended below the kinetic-energy threshold
   double settled_solid_fraction = 0.0;  // by shape volume after the gravity settle

@@ -120,6 +120,10 @@ const OptionTable<PackRequest>& settle_table() {
         .quantity("damping_time", &PackRequest::damping_time, dim::time, Range::non_negative(),
                   "viscous drag time on every body's motion, v -> v exp(-dt/tau) (0: none); a "
                   "clump's contacts alone damp too little to bring a bed to rest")
+        .number("density_scale", &PackRequest::settle_density_scale, Range::at_least(1.0),
+                "mass scaling s of pack: settle, press (at speed / √s) and relaxation at s × "
+                "density (a √s longer step, s^(2/3) deeper overlaps under the bed's weight), "
+                "then a release at the true density")
         .quantity("max_time", &PackRequest::max_settle_time, dim::time, Range::positive(),
                   "longest settle, press or relaxation (a warning when reached)")
         .quantity("time_step", &PackRequest::time_step, dim::time, Range::positive(),

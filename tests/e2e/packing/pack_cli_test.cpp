@@ -83,6 +83,37 @@ TEST(PackCli, FillThenPackWritesAPackingTheReaderAcceptsWithItsMeasures) {
   EXPECT_GE(run["facts"]["precompression_solid_fraction"].get<double>(), 0.5 - 1e-9);
 }
 
+// settle.density_scale: the same bed settled, pressed and relaxed at 100 × density takes far
+// fewer steps (its step is 10 times longer), and its release at the true density leaves the true
+// weight's overlaps, not the scaled weight's (100^(2/3) ≈ 22 times deeper).
+TEST(PackCli, MassScaledSettleTakesFewerStepsAndLeavesTheTrueWeightsOverlaps) {
+  const fs::path dir = fresh_directory("pack_e2e_mass_scaled");
+  const fs::path templates = filled_templates(dir);
+  const auto pack = [&](const std::string& name, const std::string& settle) {
+    write_text(dir / (name + ".toml"),
+               config(two_templates, settle + "[press]\nsolid_fraction = 0.5\nspeed = 0.1\n"));
+    const auto r = run_shapepress("--quiet pack " + templates.string() + " --config " +
+                                  (dir / (name + ".toml")).string() + " --out " +
+                                  (dir / (name + ".h5")).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return nlohmann::json::parse(read_text(dir / (name + ".h5.run.json")))["facts"];
+  };
+  const nlohmann::json plain = pack("plain", ""), scaled = pack("scaled", "density_scale = 100\n");
+  ASSERT_FALSE(plain.is_null());
+  ASSERT_FALSE(scaled.is_null());
+  EXPECT_EQ(plain["settle_density_scale"], 1.0);
+  EXPECT_DOUBLE_EQ(plain["settle_time_step_s"].get<double>(), plain["time_step_s"].get<double>());
+  EXPECT_NEAR(scaled["settle_time_step_s"].get<double>() / scaled["time_step_s"].get<double>(),
+              10.0, 1e-9);
+  EXPECT_DOUBLE_EQ(scaled["time_step_s"].get<double>(), plain["time_step_s"].get<double>());
+  EXPECT_LT(scaled["steps"].get<double>(), 0.5 * plain["steps"].get<double>());
+  EXPECT_TRUE(scaled["settled"].get<bool>());
+  EXPECT_LT(scaled["largest_overlap_relative"].get<double>(),
+            2.0 * plain["largest_overlap_relative"].get<double>() + 0.005);
+  EXPECT_NEAR(scaled["solid_fraction_shape"].get<double>(),
+              plain["solid_fraction_shape"].get<double>(), 0.05);
+}
+
 TEST(PackCli, SpheresFromASummaryJson) {
   const fs::path dir = fresh_directory("pack_e2e_spheres");
   write_text(dir / "summary.json",
@@ -136,6 +167,8 @@ TEST(PackCli, BadInputExitsTwoNamingTheCauseAndLeavesNoFile) {
              "diameter_max = 350e-6\n[settle]\nkinetic_energy_ratio = 1e-4\n"
              "[press]\nsolid_fraction = 0.59\n");
   expect_refused(dir, t, "short of press.solid_fraction = 0.59");
+  write_text(dir / "c.toml", config(two_templates, "density_scale = 0.5\n"));
+  expect_refused(dir, t, "density_scale");
   write_text(dir / "c.toml", config(two_templates, "[material]\ndensity = -1500\n"));
   expect_refused(dir, t, "material.density");
   write_text(dir / "c.toml", config(two_templates, "[material]\nyoungs_modulus = nan\n"));

@@ -31,8 +31,9 @@ using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
-// Spheres and rigid (CMS) ellipsoids settled, pressed to 0.5 and relaxed, checkpointing every
-// 400 steps, so kills land in each phase and between checkpoints.
+// Spheres and rigid (CMS) ellipsoids settled, pressed to 0.5 and relaxed at 4 × density, then
+// released at the true density, checkpointing every 400 steps, so kills land in each phase (the
+// release's step and masses are not the others') and between checkpoints.
 std::string resumable_config() {
   return "[pack]\ncount = 12\nseed = 5\nbox_x = 3.0e-3\nbox_y = 3.0e-3\n"
          "[[template]]\nname = \"cms/ellipsoid\"\nweight = 1\n"
@@ -40,7 +41,7 @@ std::string resumable_config() {
          "[sizes]\nsize_quantiles = [0.8e-3, 1.0e-3, 1.2e-3]\n"
          "size_quantile_levels = [0.1, 0.5, 0.9]\n"
          "diameter_min = 0.8e-3\ndiameter_max = 1.2e-3\n"
-         "[settle]\nkinetic_energy_ratio = 1e-3\n"
+         "[settle]\nkinetic_energy_ratio = 1e-3\ndensity_scale = 4\n"
          "[press]\nsolid_fraction = 0.5\nspeed = 0.2\n"
          "[run]\ncheckpoint_every = 400\n";
 }
