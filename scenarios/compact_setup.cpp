@@ -35,6 +35,16 @@ EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double
   return c.run.engine_settings(dt, 0.1 * d_min);
 }
 
+// The compaction's: with mass scaling s the bed's weight stays the true one (gravity / s), so a run
+// at s is the unscaled run at v√s in a time stretched by √s, weight included (models.md, "Quasi-
+// static compaction and mass scaling"); at s × g a soft bed sinks under s times its weight.
+EngineSettings compaction_settings(const CompactConfig& c, const SphereState& s, double dt) {
+  EngineSettings settings = settings_for(c, s, dt);
+  for (double& g : settings.gravity)
+    g /= c.density_scale;
+  return settings;
+}
+
 // Plain spheres' volumes plus each clump's union volume (its sub-spheres overlap).
 double solid_volume(const SphereState& s, const ClumpSet& clumps) {
   double volume = 0.0;
@@ -151,7 +161,7 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
         state.position.z[i] + state.radius[i] > walls[1].position + 0.5 * state.radius[i])
       throw InputError("packing: sphere " + std::to_string(i) +
                        " lies outside the space between box.bottom and box.punch");
-  const EngineSettings settings = settings_for(c, state, dt);
+  const EngineSettings settings = compaction_settings(c, state, dt);
   out.engine =
       std::make_unique<Engine>(std::move(state), box, table, walls, settings, BondSet{}, clumps);
   // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
@@ -199,7 +209,7 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   out.time_step =
       select_time_step(bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
                        expected_speed(c, bed.state), bed.bonds, bed.clumps);
-  const EngineSettings settings = settings_for(c, bed.state, out.time_step.time_step);
+  const EngineSettings settings = compaction_settings(c, bed.state, out.time_step.time_step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
   out.punch.reference_gap = punch - c.bottom;
@@ -216,7 +226,7 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   out.time_step = select_time_step(snapshot.state, table, wall_materials, c.run.time_step,
                                    c.run.time_step_fraction, expected_speed(c, snapshot.state),
                                    snapshot.checkpoint.bonds, snapshot.checkpoint.clumps);
-  const EngineSettings settings = settings_for(c, snapshot.state, out.time_step.time_step);
+  const EngineSettings settings = compaction_settings(c, snapshot.state, out.time_step.time_step);
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = punch_state_from(snapshot.scenario);

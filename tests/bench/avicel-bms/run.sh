@@ -5,6 +5,9 @@
 # Table 4's bonds), beside the spherical Avicel bed (150 spheres) for the cost per sphere-step.
 #   tests/bench/avicel-bms/run.sh [THREADS]        COUNT=150 SUB=350 STEPS=0 (0: the whole run)
 #                                                  DENSITY_SCALE=1000 (run.density_scale)
+#                                                  BMS_CONFIG=avicel-ph200-bms.toml (Table 4's
+#                                                  bonds; -calibrated.toml: the FEM-calibrated
+#                                                  bonds and k1), SPHERES_CONFIG likewise
 # A reduced run for a noisy machine: COUNT=50 SUB=120 STEPS=20000.
 # Both compactions run with the mass scaling DENSITY_SCALE, the largest the spherical Avicel bed
 # stays quasi-static at (docs/measurements.md, "Mass scaling"); 1 is the unscaled run.
@@ -33,9 +36,13 @@ timed() {  # label command...: wall/CPU seconds and peak memory of one stage
 sed "s/^count = .*/count = $count/" "$repo/pipelines/configs/pack-avicel-bms.toml" > pack.toml
 [[ -f packed.h5 ]] || timed pack "$bin" --quiet --threads "$threads" pack templates.h5 \
   --config pack.toml --out packed.h5
+bms_config=${BMS_CONFIG:-avicel-ph200-bms.toml}
+spheres_config=${SPHERES_CONFIG:-avicel-ph200-spheres.toml}
 for kind in bms spheres; do
+  config=$bms_config
+  [[ $kind == spheres ]] && config=$spheres_config
   sed -E "s/^\[run\]$/[run]\ndensity_scale = $scale/" \
-    "$repo/pipelines/configs/avicel-ph200-$kind.toml" > "compact-$kind.toml"
+    "$repo/pipelines/configs/$config" > "compact-$kind.toml"
 done
 step_args=()
 [[ "$steps" != 0 ]] && step_args=(--steps "$steps")
