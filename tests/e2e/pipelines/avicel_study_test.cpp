@@ -2,7 +2,7 @@
 // suite: synthetic SEM images → shape-stats → generate → three shape classes → fill → pack →
 // compact (BMS beds and the spheres) → report. Every stage's output is consumed by the next (each
 // run.json names its inputs by content hash, and the hashes chain from the images to the report),
-// and a second `make` has nothing to do.
+// a second `make` has nothing to do, and a `make` after a killed one resumes the killed run.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -38,7 +38,7 @@ std::string input_hash(const nlohmann::json& record, const std::string& role) {
   return {};
 }
 
-TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing) {
+TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   const fs::path out = fresh_directory("avicel_study");
   // Twelve bodies lie in one layer of the 1 mm die: rigid, they cannot be pressed to 0.59, so
   // the reduced study packs them settled only (the shipped config without its [press]).
@@ -57,7 +57,7 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
     if (const std::size_t k1 = text.find("\nloading_stiffness = "); k1 != std::string::npos)
       calibrated_loading_stiffness = std::stod(text.substr(k1 + 21));
     const std::size_t at = text.find("record_every = ");
-    text.replace(at, text.find('\n', at) - at, "record_every = 50");
+    text.replace(at, text.find('\n', at) - at, "record_every = 50\ncheckpoint_every = 500");
     const fs::path file = out.parent_path() / ("avicel_study_" + kind + ".toml");
     shapepress::testing::write_text(file, text);
     study_configs +=
@@ -105,6 +105,25 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndASecondMakeDoesNothing
   // Nothing is out of date: `make -q` exits 0 only when no rule would run.
   const auto again = run_command(study + " -q");
   EXPECT_EQ(again.exit_code, 0) << again.output;
+
+  // A study killed in a compaction continues it: the next `make` resumes the killed run from its
+  // checkpoint and ends with the uninterrupted curve.
+  const fs::path run = out / "asr071" / "run";
+  const std::string uninterrupted = shapepress::testing::read_text(run / "punch.csv");
+  fs::remove_all(run);
+  fs::remove_all(out / "report");  // a study killed in its compactions has no report yet
+  // make in its own process group (setsid), killed with its compaction at the first checkpoint
+  const auto killed = run_command("(setsid " + study + " " + shell_quoted(run / "punch.csv") +
+                                  " & pid=$!; while ! ls " + shell_quoted(run / "checkpoints") +
+                                  "/step_*.h5 >/dev/null 2>&1 && kill -0 $pid 2>/dev/null;"
+                                  " do sleep 0.05; done; kill -KILL -$pid; wait $pid)");
+  ASSERT_FALSE(fs::exists(run / "punch.csv")) << killed.output;
+  ASSERT_TRUE(fs::exists(run / "checkpoints" / "resume.json")) << killed.output;
+  const auto resumed = run_command(study);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, ::testing::HasSubstr("resuming the killed run from " +
+                                                   (run / "checkpoints").string()));
+  EXPECT_EQ(shapepress::testing::read_text(run / "punch.csv"), uninterrupted);
 }
 
 }  // namespace
