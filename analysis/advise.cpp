@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -249,13 +250,25 @@ Chart speed_accuracy_chart(const Advice& advice) {
 }
 
 Chart stability_map_chart(const Advice& advice) {
+  std::set<int> counts;
+  std::set<double> scales;
+  for (const AdviceRow& row : advice.rows) {
+    counts.insert(row.rung->sub_spheres);
+    scales.insert(row.rung->density_scale);
+  }
+  // The step against what else the ladder varies: the sub-sphere count, else the mass scaling
+  // (a bed's ladder at one count); with both, one series per status and mass scaling, so that no
+  // rung hides behind another of the same count and step.
+  const bool by_scale = counts.size() == 1 && scales.size() > 1;
+  const bool split_by_scale = counts.size() > 1 && scales.size() > 1;
   Chart chart{fmt::format("Stability map: within {:.3g} % of the finest, off, or diverged",
                           100.0 * advice.tolerance),
-              "sub-spheres",
+              by_scale ? "mass scaling (run.density_scale)" : "sub-spheres",
               "time step [fraction of the critical step]",
-              "sub_spheres",
+              by_scale ? "density_scale" : "sub_spheres",
               "time_step_fraction",
               {}};
+  chart.log_x = by_scale;
   const std::pair<RungStatus, const char*> kinds[] = {
       {RungStatus::reference, "reference (finest stable)"},
       {RungStatus::within, "stable, within tolerance"},
@@ -264,13 +277,20 @@ Chart stability_map_chart(const Advice& advice) {
       {RungStatus::refused, "refused by the step checks (exit 2)"}};
   int colour = 1;
   for (const auto& [status, title] : kinds) {
-    Series s{title, {}, {}, SeriesStyle::markers, colour++};
-    for (const AdviceRow& row : advice.rows)
-      if (row.status == status) {
-        s.x.push_back(row.rung->sub_spheres);
-        s.y.push_back(row.rung->time_step_fraction);
-      }
-    if (!s.x.empty()) chart.series.push_back(std::move(s));
+    const int status_colour = colour++;
+    for (const double scale : split_by_scale ? scales : std::set<double>{0.0}) {
+      Series s{split_by_scale ? fmt::format("{}, density scale {:g}", title, scale) : title,
+               {},
+               {},
+               SeriesStyle::markers,
+               split_by_scale ? 0 : status_colour};
+      for (const AdviceRow& row : advice.rows)
+        if (row.status == status && (!split_by_scale || row.rung->density_scale == scale)) {
+          s.x.push_back(by_scale ? row.rung->density_scale : row.rung->sub_spheres);
+          s.y.push_back(row.rung->time_step_fraction);
+        }
+      if (!s.x.empty()) chart.series.push_back(std::move(s));
+    }
   }
   return chart;
 }

@@ -99,7 +99,9 @@ void write_advice_csv(const std::filesystem::path& path, const Advice& advice);
 // Speed against accuracy: the error from the reference against CPU seconds, one series
 // per time-step fraction, the tolerance line and the pick (as the plate study's chart).
 Chart speed_accuracy_chart(const Advice& advice);
-// The stability map: time-step fraction against sub-sphere count, one series per status.
+// The stability map: time-step fraction against sub-sphere count, one series per status; at one
+// count and several mass scalings against the mass scaling (log axis); with several of both, one
+// series per status and mass scaling.
 Chart stability_map_chart(const Advice& advice);
 
 }  // namespace shapepress::analysis

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -77,7 +78,13 @@ std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
   }
   s += fmt::format("set title {} noenhanced\nset xlabel {} noenhanced\nset ylabel {} noenhanced\n",
                    gp_quoted(chart.title), gp_quoted(chart.x_label), gp_quoted(chart.y_label));
-  s += "set grid\nset key left top noenhanced box opaque\nset autoscale\n";
+  // A map (markers only: a point per run) keeps its points off the frame and the key off them.
+  const bool map = std::all_of(chart.series.begin(), chart.series.end(), [](const Series& series) {
+    return series.style == SeriesStyle::markers || series.style == SeriesStyle::points;
+  });
+  s += map ? "set grid\nset key outside right top noenhanced box\nset autoscale\n"
+             "set offsets graph 0.06, graph 0.06, graph 0.06, graph 0.06\n"
+           : "set grid\nset key left top noenhanced box opaque\nset autoscale\n";
   if (chart.log_x) s += "set logscale x\n";
   if (chart.log_y) s += "set logscale y\n";
   std::string plot = "plot ";

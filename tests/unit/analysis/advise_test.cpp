@@ -1,12 +1,16 @@
 // The advisor's judgement on synthetic ladders whose errors are known by construction: a rung's
 // curve is the reference's times (1 + e), so its RMS relative difference is exactly e, and the
 // pick must be the cheapest rung with e at most the tolerance.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
+
+#include <fmt/format.h>
 
 #include "analysis/advise.hpp"
 #include "tests/support/files.hpp"
@@ -194,6 +198,41 @@ TEST(Advise, JudgesASettingOnEverySeedAndStatesTheSeedToSeedScatter) {
   EXPECT_EQ(rungs[*a.pick].label, "cms-160-f0.200000-seed1");
   ASSERT_TRUE(a.seed_scatter.has_value());
   EXPECT_NEAR(*a.seed_scatter, 0.06, 1e-9);
+}
+
+// A bed's ladder at one count over time-step fractions and mass scalings: the map's abscissa is
+// the mass scaling, so that every rung has a place of its own.
+TEST(Advise, StabilityMapOfOneCountSpreadsTheMassScalings) {
+  std::vector<Rung> rungs;
+  for (const double scale : {100.0, 1000.0, 3000.0})
+    for (const double fraction : {0.1, 0.3}) {
+      Rung r = bed_rung(80, scale == 3000.0 && fraction == 0.3 ? 0.2 : 0.01, 0, 0, 0, 10.0);
+      r.time_step_fraction = fraction;
+      r.density_scale = scale;
+      r.label = fmt::format("bms-80-f{}-s{}", fraction, scale);
+      rungs.push_back(r);
+    }
+  const Chart map = stability_map_chart(advise(rungs, 0.05));
+  EXPECT_EQ(map.x_column, "density_scale");
+  EXPECT_TRUE(map.log_x);
+  std::set<std::pair<double, double>> points;
+  for (const Series& s : map.series)
+    for (std::size_t k = 0; k < s.x.size(); ++k)
+      points.insert({s.x[k], s.y[k]});
+  EXPECT_EQ(points.size(), rungs.size());
+  ASSERT_EQ(map.series.back().title, "stable, off by more");
+  EXPECT_EQ(map.series.back().x, (std::vector<double>{3000.0}));
+  EXPECT_EQ(map.series.back().y, (std::vector<double>{0.3}));
+
+  // Two counts as well: a series per status and mass scaling, the abscissa the count again.
+  Rung coarse = rungs.front();
+  coarse.sub_spheres = 40;
+  coarse.label = "bms-40";
+  rungs.push_back(coarse);
+  const Chart both = stability_map_chart(advise(rungs, 0.05));
+  EXPECT_EQ(both.x_column, "sub_spheres");
+  for (const Series& s : both.series)
+    EXPECT_THAT(s.title, ::testing::HasSubstr("density scale"));
 }
 
 }  // namespace
