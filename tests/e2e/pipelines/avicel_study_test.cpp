@@ -106,12 +106,12 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   const auto again = run_command(study + " -q");
   EXPECT_EQ(again.exit_code, 0) << again.output;
 
-  // A study killed in a compaction continues it: the next `make` resumes the killed run from its
-  // checkpoint and ends with the uninterrupted curve.
+  // A run deleted to redo it is run again, and a study killed in a compaction continues it: the
+  // next `make` resumes the killed run from its checkpoint, ends with the uninterrupted curve,
+  // and makes the report again.
   const fs::path run = out / "asr071" / "run";
   const std::string uninterrupted = shapepress::testing::read_text(run / "punch.csv");
   fs::remove_all(run);
-  fs::remove_all(out / "report");  // a study killed in its compactions has no report yet
   // make in its own process group (setsid), killed with its compaction at the first checkpoint
   const auto killed = run_command("(setsid " + study + " " + shell_quoted(run / "punch.csv") +
                                   " & pid=$!; while ! ls " + shell_quoted(run / "checkpoints") +
@@ -124,6 +124,8 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   EXPECT_THAT(resumed.output, ::testing::HasSubstr("resuming the killed run from " +
                                                    (run / "checkpoints").string()));
   EXPECT_EQ(shapepress::testing::read_text(run / "punch.csv"), uninterrupted);
+  EXPECT_GT(fs::last_write_time(out / "report" / "report.html"),
+            fs::last_write_time(run / "punch.csv"));
 }
 
 }  // namespace
