@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -275,22 +276,26 @@ Chart stability_map_chart(const Advice& advice) {
       {RungStatus::off, "stable, off by more"},
       {RungStatus::diverged, "diverged (exit 1)"},
       {RungStatus::refused, "refused by the step checks (exit 2)"}};
+  // One series of the rungs of `status` (and of mass scaling `scale`, when given).
+  const auto add = [&](std::string title, int colour, RungStatus status,
+                       std::optional<double> scale) {
+    Series s{std::move(title), {}, {}, SeriesStyle::markers, colour};
+    for (const AdviceRow& row : advice.rows)
+      if (row.status == status && (!scale || row.rung->density_scale == *scale)) {
+        s.x.push_back(by_scale ? row.rung->density_scale : row.rung->sub_spheres);
+        s.y.push_back(row.rung->time_step_fraction);
+      }
+    if (!s.x.empty()) chart.series.push_back(std::move(s));
+  };
   int colour = 1;
   for (const auto& [status, title] : kinds) {
     const int status_colour = colour++;
-    for (const double scale : split_by_scale ? scales : std::set<double>{0.0}) {
-      Series s{split_by_scale ? fmt::format("{}, density scale {:g}", title, scale) : title,
-               {},
-               {},
-               SeriesStyle::markers,
-               split_by_scale ? 0 : status_colour};
-      for (const AdviceRow& row : advice.rows)
-        if (row.status == status && (!split_by_scale || row.rung->density_scale == scale)) {
-          s.x.push_back(by_scale ? row.rung->density_scale : row.rung->sub_spheres);
-          s.y.push_back(row.rung->time_step_fraction);
-        }
-      if (!s.x.empty()) chart.series.push_back(std::move(s));
+    if (!split_by_scale) {
+      add(title, status_colour, status, std::nullopt);
+      continue;
     }
+    for (const double scale : scales)
+      add(fmt::format("{}, density scale {:g}", title, scale), 0, status, scale);
   }
   return chart;
 }

@@ -82,9 +82,11 @@ std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
   const bool map = std::all_of(chart.series.begin(), chart.series.end(), [](const Series& series) {
     return series.style == SeriesStyle::markers || series.style == SeriesStyle::points;
   });
-  s += map ? "set grid\nset key outside right top noenhanced box\nset autoscale\n"
-             "set offsets graph 0.06, graph 0.06, graph 0.06, graph 0.06\n"
-           : "set grid\nset key left top noenhanced box opaque\nset autoscale\n";
+  s += "set grid\n";
+  s += map ? "set key outside right top noenhanced box\n"
+           : "set key left top noenhanced box opaque\n";
+  s += "set autoscale\n";
+  if (map) s += "set offsets graph 0.06, graph 0.06, graph 0.06, graph 0.06\n";
   if (chart.log_x) s += "set logscale x\n";
   if (chart.log_y) s += "set logscale y\n";
   std::string plot = "plot ";
