@@ -114,6 +114,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
   // counts, which only a force evaluation sets.
   if (history.records.empty()) emit(punch_record(engine, setup, punch));
   const auto start = std::chrono::steady_clock::now();
+  const double seconds_before = history.loop_seconds;
   auto& walls = engine.walls();
   while (punch.phase != PunchPhase::done &&
          (setup.max_steps <= 0 || engine.step_index() < setup.max_steps)) {
@@ -132,6 +133,10 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     if (setup.snapshot_every > 0 && step % setup.snapshot_every == 0 && hooks.snapshot)
       hooks.snapshot(engine, punch);
     if (hooks.progress) hooks.progress(step);
+    // Current when a checkpoint is taken, so a resumed run states the whole run's wall time.
+    history.loop_seconds =
+        seconds_before +
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (hooks.after_step && !hooks.after_step(engine, punch, history)) {
       summary.interrupted = true;
       break;
@@ -145,6 +150,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     summary.max_stress = std::max(summary.max_stress, r.stress);
   summary.last = history.records.back();
   summary.steps = history.steps;
+  summary.total_loop_seconds = seconds_before + summary.loop_seconds;
   summary.quasi_static = quasi_static_check(history.records);
   return summary;
 }

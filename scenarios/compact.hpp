@@ -66,6 +66,9 @@ std::vector<double> punch_csv_row(const PunchRecord& r);
 struct CompactionHistory {
   std::vector<PunchRecord> records;
   std::int64_t steps = 0;
+  // Wall seconds of the stepping loop, those before a resumed checkpoint included; NaN when a
+  // checkpoint older than this count does not say.
+  double loop_seconds = 0.0;
 };
 
 struct CompactionHooks {
@@ -99,10 +102,11 @@ struct CompactionSummary {
   PunchRecord last;
   double max_stress = 0.0;
   QuasiStaticCheck quasi_static;
-  std::int64_t steps = 0;       // steps taken, those before a resumed checkpoint included
-  double loop_seconds = 0.0;    // wall time of the stepping loop
-  std::int64_t loop_steps = 0;  // steps taken in it (after the checkpoint when resumed)
-  bool interrupted = false;     // CompactionHooks::after_step stopped the run
+  std::int64_t steps = 0;           // steps taken, those before a resumed checkpoint included
+  double loop_seconds = 0.0;        // wall time of the stepping loop (after the checkpoint)
+  double total_loop_seconds = 0.0;  // the run's, before the checkpoint included (NaN: unknown)
+  std::int64_t loop_steps = 0;      // steps taken in it (after the checkpoint when resumed)
+  bool interrupted = false;         // CompactionHooks::after_step stopped the run
 };
 
 // What a compaction snapshot keeps beyond the engine: the punch controller's state and the bed's

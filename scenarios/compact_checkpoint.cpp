@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "common/error.hpp"
@@ -18,8 +19,10 @@ constexpr std::string_view history_magic = "shapepress compact checkpoint 1";
 void write_compact_checkpoint(const std::filesystem::path& out, const Engine& engine,
                               const ScenarioState& scenario, const Provenance& provenance,
                               const CheckpointHistory& history) {
-  std::string text = fmt::format("{}\nsteps {}\nrecords {}\n", history_magic,
-                                 history.compaction.steps, history.compaction.records.size());
+  std::string text = fmt::format("{}\nsteps {}\n", history_magic, history.compaction.steps);
+  if (std::isfinite(history.compaction.loop_seconds))
+    text += fmt::format("loop_s {}\n", exact_text(history.compaction.loop_seconds));
+  text += fmt::format("records {}\n", history.compaction.records.size());
   for (const PunchRecord& r : history.compaction.records)
     text +=
         fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", r.step, exact_text(r.time),
@@ -48,23 +51,34 @@ CheckpointHistory read_checkpoint_history(const std::filesystem::path& path) {
   std::string line;
   if (!in || !std::getline(in, line) || line != history_magic)
     throw InputError(fmt::format("{}: not a compact checkpoint history", path.string()));
+  // A word read ahead, to see whether an optional line is there, is the next count's name.
+  std::string word;
   const auto count = [&](std::string_view what) {
-    std::string word;
     long long n = -1;
-    if (!(in >> word >> n) || word != what || n < 0)
+    const bool read =
+        (!word.empty() || static_cast<bool>(in >> word)) && static_cast<bool>(in >> n);
+    if (!read || word != what || n < 0)
       throw InputError(
           fmt::format("{}: no '{}' count (a damaged checkpoint)", path.string(), what));
+    word.clear();
     return static_cast<std::size_t>(n);
   };
-  CheckpointHistory h;
-  h.compaction.steps = static_cast<std::int64_t>(count("steps"));
-  const std::size_t records = count("records");
   const auto next = [&] {
     std::string token;
     if (!(in >> token))
       throw InputError(fmt::format("{}: truncated (a damaged checkpoint)", path.string()));
     return token;
   };
+  CheckpointHistory h;
+  h.compaction.steps = static_cast<std::int64_t>(count("steps"));
+  // Checkpoints written before the loop's wall time was kept have no loop_s line: unknown.
+  h.compaction.loop_seconds = NAN;
+  word = next();
+  if (word == "loop_s") {
+    h.compaction.loop_seconds = parse_exact(next(), path);
+    word.clear();
+  }
+  const std::size_t records = count("records");
   const auto real = [&] { return parse_exact(next(), path); };
   const auto whole = [&] { return static_cast<std::int64_t>(parse_exact(next(), path)); };
   for (std::size_t k = 0; k < records; ++k) {

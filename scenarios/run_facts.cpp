@@ -55,6 +55,9 @@ void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
       .fact("steps", summary.steps)
       .fact("final_step", engine.step_index())
       .fact("record_every", setup.record_every);
+  // The stepping loop's wall seconds, a resumed run's whole; absent when a checkpoint older than
+  // this fact did not keep the part before it.
+  if (std::isfinite(summary.total_loop_seconds)) meta.fact("loop_s", summary.total_loop_seconds);
   if (setup.program.min_gap) meta.fact("min_gap_m", *setup.program.min_gap);
   if (setup.program.target_gap) meta.fact("target_gap_m", *setup.program.target_gap);
   if (config.generate) meta.fact("seed", config.generate->seed);

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "simulate/snapshot.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
@@ -107,8 +109,15 @@ TEST(CompactResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
 
   const auto ref = dir / "uninterrupted", run = dir / "run";
   EXPECT_EQ(files_under(run), files_under(ref));  // no checkpoint, no hidden temporary left
-  for (const auto* name : {"punch.csv", "run.json", "effective.toml", "snapshots.xdmf"})
+  for (const auto* name : {"punch.csv", "effective.toml", "snapshots.xdmf"})
     EXPECT_EQ(read_text(run / name), read_text(ref / name)) << name;
+  // run.json too, but for the loop's wall seconds: the resumed run states its attempts' sum.
+  nlohmann::json resumed = nlohmann::json::parse(read_text(run / "run.json")),
+                 uninterrupted = nlohmann::json::parse(read_text(ref / "run.json"));
+  ASSERT_TRUE(resumed["facts"].contains("loop_s"));
+  EXPECT_GT(resumed["facts"]["loop_s"].get<double>(), 0.0);
+  resumed["facts"].erase("loop_s"), uninterrupted["facts"].erase("loop_s");
+  EXPECT_EQ(resumed, uninterrupted);
   for (const auto& file : files_under(ref / "snapshots"))
     expect_same_snapshot(ref / "snapshots" / file, run / "snapshots" / file);
 }
@@ -124,9 +133,31 @@ TEST(CompactResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   EXPECT_THAT(stopped.output, HasSubstr("--resume"));
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "punch.csv"));
+  // A checkpoint written before the loop's wall seconds were kept: the same run without its
+  // loop_s line, which resumes to the same curve and states no loop_s it cannot know.
+  std::filesystem::copy(dir / "run", dir / "older", std::filesystem::copy_options::recursive);
+  int stripped = 0;
+  for (const auto& file : files_under(dir / "older" / "checkpoints")) {
+    if (std::filesystem::path(file).extension() != ".history") continue;
+    const std::string text = read_text(dir / "older" / "checkpoints" / file);
+    const std::size_t at = text.find("\nloop_s ");
+    ASSERT_NE(at, std::string::npos) << file;
+    write_text(dir / "older" / "checkpoints" / file,
+               text.substr(0, at) + text.substr(text.find('\n', at + 1)));
+    ++stripped;
+  }
+  EXPECT_GT(stripped, 0);
   const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_THAT(resumed.output, HasSubstr("checkpoint at step"));
+  const auto older = run_shapepress("compact --resume " + shell_quoted(dir / "older"));
+  ASSERT_EQ(older.exit_code, 0) << older.output;
+  EXPECT_EQ(read_text(dir / "older" / "punch.csv"), read_text(dir / "run" / "punch.csv"));
+  const auto facts = [&](const char* run) {
+    return nlohmann::json::parse(read_text(dir / run / "run.json"))["facts"];
+  };
+  EXPECT_GT(facts("run").value("loop_s", 0.0), 0.0);
+  EXPECT_FALSE(facts("older").contains("loop_s"));
 }
 
 // The settle of a generated bed checkpoints too: stopped while settling, the run resumes in the
