@@ -33,6 +33,7 @@ std::vector<LoadedRun> load_runs(const ReportOptions& options) {
     if (run.files.kind == RunKind::compaction) {
       run.punch = read_punch_curve(run.files.csv);
       run.compaction = analyse_compaction(*run.punch, options.windows);
+      run.bed = bed_facts(run.files.metadata, *run.punch);
     } else {
       run.plate = read_plate_curve(run.files.csv);
       double from_fraction = 0.05;  // analyse_plate's: of the deepest deformation
@@ -191,6 +192,40 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs,
   return {stress_strain, density, heckel, kawakita};
 }
 
+// Peak stress, elastic recovery and Heckel Py against the bodies' projected aspect ratio (paper
+// §4.4: the shape effect), one marker per compaction run whose bodies' aspect ratio is known;
+// nothing with fewer than two.
+std::vector<Chart> shape_effect_charts(const std::vector<LoadedRun>& runs) {
+  const std::string x_label = "projected aspect ratio of the bodies (Feret min/max)";
+  Chart peak{"Shape effect: peak stress", x_label,           "peak stress [MPa]",
+             "projected_aspect_ratio",    "peak_stress_MPa", {}};
+  Chart recovery{"Shape effect: elastic recovery", x_label,
+                 "elastic recovery [%]",           "projected_aspect_ratio",
+                 "elastic_recovery_percent",       {}};
+  Chart yield{"Shape effect: Heckel yield pressure",
+              x_label,
+              "Heckel Py [MPa]",
+              "projected_aspect_ratio",
+              "yield_pressure_MPa",
+              {}};
+  int colour = 0;
+  for (const LoadedRun& run : runs) {
+    if (!run.bed || !run.bed->projected_aspect_ratio) continue;
+    ++colour;
+    const double asr = *run.bed->projected_aspect_ratio;
+    const CompactionMetrics& m = *run.compaction;
+    peak.series.push_back({run.label, {asr}, {m.peak_stress / mega}, SeriesStyle::markers, colour});
+    if (m.unloaded)
+      recovery.series.push_back(
+          {run.label, {asr}, {100.0 * m.elastic_recovery}, SeriesStyle::markers, colour});
+    if (std::isfinite(m.heckel.yield_pressure))
+      yield.series.push_back(
+          {run.label, {asr}, {m.heckel.yield_pressure / mega}, SeriesStyle::markers, colour});
+  }
+  if (colour < 2) return {};
+  return {peak, recovery, yield};
+}
+
 // An extra plate curve: deformation and force_N (or top_force_N, as force.csv has it).
 Series plate_curve_series(const std::string& label, const std::filesystem::path& path) {
   const CsvTable table = read_csv(path);
@@ -293,6 +328,14 @@ ReportResult write_report(const ReportOptions& options) {
     const char* stems[] = {"stress_strain", "solid_fraction_stress", "heckel", "kawakita"};
     for (std::size_t i = 0; i < cs.size(); ++i)
       charts.emplace_back(cs[i].title, plot_chart(cs[i], options.out / stems[i]).svg);
+    write_file_atomically(options.out / "beds.csv", beds_csv(runs));
+    const std::vector<Chart> shapes = shape_effect_charts(runs);
+    const char* shape_stems[] = {"shape_effect_peak_stress", "shape_effect_elastic_recovery",
+                                 "shape_effect_yield_pressure"};
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+      if (!shapes[i].series.empty())
+        charts.emplace_back(shapes[i].title,
+                            plot_chart(shapes[i], options.out / shape_stems[i]).svg);
   }
   if (result.plate_runs > 0 || !options.plate_curves.empty()) {
     const Chart chart = plate_chart(runs, options.poisson_ratio, options.plate_curves);

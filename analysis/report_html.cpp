@@ -11,6 +11,15 @@
 namespace shapepress::analysis {
 namespace {
 
+// A text cell of a CSV, quoted (RFC 4180) when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text)
+    quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
 struct Metric {
   std::string name;
   double value;
@@ -74,6 +83,44 @@ std::vector<Metric> plate_metrics(const PlateMetrics& m) {
     rows.push_back({"tatara_max_relative_error", m.versus_tatara->max_relative, "1", "", true});
   }
   return rows;
+}
+
+// The row of a compaction run in the table of beds; NaN where a fact is unknown.
+std::vector<Metric> bed_metrics(const BedFacts& bed, const CompactionMetrics& m) {
+  const auto known = [](const std::optional<double>& v) { return v.value_or(NAN); };
+  return {
+      {"bodies", static_cast<double>(bed.bodies), "count", "bodies (spheres for a sphere bed)"},
+      {"sub_spheres_per_body", bed.sub_spheres_per_body, "count", ""},
+      {"projected_aspect_ratio", known(bed.projected_aspect_ratio), "1",
+       "mean over the bodies of Feret min/max in 64 random views"},
+      {"projected_aspect_ratio_sd", known(bed.projected_aspect_ratio_sd), "1", "over the bodies"},
+      {"settled_solid_fraction", known(bed.settled_solid_fraction), "1",
+       "by shape volume, after the settle", true},
+      {"precompression_solid_fraction", known(bed.precompression_solid_fraction), "1",
+       "what the pack's punch pressed the bed to", true},
+      {"peak_stress", m.peak_stress, "Pa", ""},
+      {"elastic_recovery", m.unloaded ? m.elastic_recovery : NAN, "1", "", true},
+      {"heckel_yield_pressure", m.heckel.yield_pressure, "Pa", "Heckel Py"},
+      {"kawakita_a", m.kawakita.a, "1", "", true},
+      {"kawakita_1_over_b", m.kawakita.b > 0 ? 1 / m.kawakita.b : NAN, "Pa", ""},
+      {"work_of_compaction", m.work_of_compaction, "J", ""},
+      {"pack_wall", known(bed.pack_seconds), "s", "the pack's stepping loop"},
+      {"compaction_wall", known(bed.compaction_seconds), "s", "the compaction's stepping loop"},
+  };
+}
+
+std::string shown_cell(const Metric& m) {
+  if (m.unit == "count") return std::isfinite(m.value) ? fmt::format("{:.0f}", m.value) : "-";
+  if (m.unit == "s") return std::isfinite(m.value) ? fmt::format("{:.0f}", m.value) : "-";
+  const ShownValue shown = shown_value(m.value, m.unit, m.fraction);
+  return shown_text(shown.value);
+}
+
+std::string bed_header(const Metric& m, bool csv) {
+  std::string unit = m.unit == "count" ? "" : shown_value(1.0, m.unit, m.fraction).unit;
+  if (unit == "%") unit = csv ? "percent" : "%";
+  if (unit.empty()) return m.name;
+  return csv ? fmt::format("{}_{}", m.name, unit) : fmt::format("{} [{}]", m.name, unit);
 }
 
 std::vector<Metric> metrics_of(const LoadedRun& run) {
@@ -162,7 +209,57 @@ std::string experiments_html(const std::vector<ExperimentComparison>& experiment
   return s;
 }
 
+std::string beds_html(const std::vector<LoadedRun>& runs) {
+  std::string s, notes;
+  for (const LoadedRun& run : runs) {
+    if (!run.bed || !run.compaction) continue;
+    const std::vector<Metric> row = bed_metrics(*run.bed, *run.compaction);
+    if (s.empty()) {
+      s = "<h2>Beds</h2>\n<p>Each compaction's bed before the punch (from the run.json of the "
+          "pack that made it) and its bodies (measured on the packing), beside the compaction's "
+          "figures.</p>\n<table>\n<tr><th>run</th><th>particle</th>";
+      for (const Metric& m : row)
+        s += fmt::format("<th>{}</th>", html_escape(bed_header(m, false)));
+      s += "</tr>\n";
+    }
+    s += fmt::format("<tr><td>{}</td><td>{}</td>", html_escape(run.label),
+                     html_escape(run.bed->particle_kind));
+    for (const Metric& m : row)
+      s += fmt::format("<td class=\"num\">{}</td>", shown_cell(m));
+    s += "</tr>\n";
+    for (const std::string& note : run.bed->notes)
+      notes += fmt::format("<li>{}: {}</li>\n", html_escape(run.label), html_escape(note));
+  }
+  if (s.empty()) return s;
+  s += "</table>\n";
+  if (!notes.empty()) s += fmt::format("<ul>\n{}</ul>\n", notes);
+  return s;
+}
+
 }  // namespace
+
+std::string beds_csv(const std::vector<LoadedRun>& runs) {
+  std::string s;
+  for (const LoadedRun& run : runs) {
+    if (!run.bed || !run.compaction) continue;
+    const std::vector<Metric> row = bed_metrics(*run.bed, *run.compaction);
+    if (s.empty()) {
+      s = "label,particle_kind";
+      for (const Metric& m : row)
+        s += fmt::format(",{}", bed_header(m, true));
+      s += "\n";
+    }
+    s += fmt::format("{},{}", csv_field(run.label), csv_field(run.bed->particle_kind));
+    for (const Metric& m : row) {
+      const double shown = m.unit == "count" || m.unit == "s"
+                               ? m.value
+                               : shown_value(m.value, m.unit, m.fraction).value;
+      s += fmt::format(",{}", std::isfinite(shown) ? format_number(shown) : std::string());
+    }
+    s += "\n";
+  }
+  return s;
+}
 
 ShownValue shown_value(double in_si, std::string_view unit, bool fraction) {
   if (unit == "Pa") return {in_si * 1e-6, "MPa"};
@@ -274,7 +371,22 @@ std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& w
     for (std::size_t i = 0; i < metrics.size(); ++i)
       s += fmt::format("{}\n       \"{}\": {{\"value\": {}, \"unit\": \"{}\"}}", i == 0 ? "" : ",",
                        metrics[i].name, json_number(metrics[i].value), metrics[i].unit);
-    s += "}}";
+    s += "}";
+    if (run.bed && run.compaction) {
+      s += fmt::format(",\n     \"bed\": {{\"particle_kind\": \"{}\"",
+                       json_escape(run.bed->particle_kind));
+      for (const Metric& m : bed_metrics(*run.bed, *run.compaction))
+        if (m.name != "peak_stress" && m.name != "elastic_recovery" &&
+            m.name != "heckel_yield_pressure" && m.name != "kawakita_a" &&
+            m.name != "work_of_compaction")
+          s += fmt::format(",\n       \"{}\": {{\"value\": {}, \"unit\": \"{}\"}}", m.name,
+                           json_number(m.value), m.unit == "count" ? "1" : m.unit);
+      s += ",\n       \"notes\": [";
+      for (std::size_t i = 0; i < run.bed->notes.size(); ++i)
+        s += fmt::format("{}\"{}\"", i == 0 ? "" : ", ", json_escape(run.bed->notes[i]));
+      s += "]}";
+    }
+    s += "}";
   }
   return s + "\n  ]\n}\n";
 }
@@ -300,6 +412,7 @@ std::string report_html(const std::vector<LoadedRun>& runs,
   for (const auto& [title, svg] : charts)
     s += fmt::format("<figure>\n{}\n<figcaption>{} ({})</figcaption>\n</figure>\n", inline_svg(svg),
                      html_escape(title), html_escape(svg.filename().string()));
+  s += beds_html(runs);
   s += "<h2>Metrics</h2>\n";
   for (const LoadedRun& run : runs) {
     s += fmt::format(

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/beds.hpp"
 #include "analysis/compaction.hpp"
 #include "analysis/measured_curve.hpp"
 #include "analysis/plate_analysis.hpp"
@@ -21,6 +22,7 @@ struct LoadedRun {
   std::optional<CompactionMetrics> compaction;
   std::optional<PlateCurve> plate;
   std::optional<PlateMetrics> plate_metrics;
+  std::optional<BedFacts> bed;  // compaction runs: the bed before the punch, and its bodies
 };
 
 // How far apart several compaction runs are (seeds, resolutions): the spread (max − min)/mean
@@ -62,6 +64,13 @@ std::string report_html(const std::vector<LoadedRun>& runs,
                         const ReportProvenance& provenance,
                         const std::optional<StressSpread>& spread = std::nullopt,
                         const std::vector<ExperimentComparison>& experiments = {});
+
+// The table of beds, one row per compaction run (paper §4.4's comparison of shapes): particle
+// kind, bodies, sub-spheres per body, the bodies' projected aspect ratio, settled and
+// pre-compressed solid fraction, peak stress, elastic recovery, Heckel Py, Kawakita a and 1/b,
+// the work of compaction, and the pack's and the compaction's wall seconds. CSV with the unit in
+// each column name (MPa, %, mJ, s), an empty cell where a fact is unknown.
+std::string beds_csv(const std::vector<LoadedRun>& runs);
 
 // A value in SI with its unit as a table shows it: Pa as MPa, m as mm, J as mJ, 1/Pa as 1/MPa,
 // a fraction as %; `fraction` says whether a dimensionless value is a fraction (a solid

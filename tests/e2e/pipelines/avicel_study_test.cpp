@@ -10,7 +10,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "common/sha256.hpp"
 #include "tests/support/command.hpp"
@@ -36,6 +38,55 @@ std::string input_hash(const nlohmann::json& record, const std::string& role) {
   for (const auto& input : record["inputs"])
     if (input["role"] == role) return input["sha256"].get<std::string>();
   return {};
+}
+
+// The rows of a CSV with text cells (report's beds.csv, describe's table; '#' lines skipped),
+// each row's cells by column name.
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  const auto cells = [](const std::string& line) {
+    std::vector<std::string> out(1);
+    for (char c : line) {
+      if (c == ',')
+        out.emplace_back();
+      else
+        out.back().push_back(c);
+    }
+    return out;
+  };
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<std::string> row = cells(line);
+    if (header.empty()) {
+      header = row;
+      continue;
+    }
+    EXPECT_EQ(row.size(), header.size()) << line;
+    auto& named = rows.emplace_back();
+    for (std::size_t k = 0; k < std::min(row.size(), header.size()); ++k)
+      named[header[k]] = row[k];
+  }
+  return rows;
+}
+
+// report's beds.csv by the runs' labels.
+std::map<std::string, std::map<std::string, std::string>> beds_table(const fs::path& path) {
+  std::map<std::string, std::map<std::string, std::string>> table;
+  for (auto& row : csv_rows(path))
+    table[row["label"]] = row;
+  return table;
+}
+
+// The projected aspect ratio `describe` measures on a mesh (its table's projected_asr_mean).
+double mesh_aspect_ratio(const fs::path& mesh, const fs::path& csv) {
+  const auto described = shapepress::testing::run_shapepress(
+      "--quiet describe " + shell_quoted(mesh) + " --out " + shell_quoted(csv));
+  EXPECT_EQ(described.exit_code, 0) << described.output;
+  const auto rows = csv_rows(csv);
+  return rows.empty() ? 0.0 : std::stod(rows.front().at("projected_asr_mean"));
 }
 
 TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
@@ -102,6 +153,29 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
     if (input["path"].get<std::string>().ends_with("punch.csv")) ++runs;
   EXPECT_EQ(runs, 4);  // three shapes and the spheres
 
+  // The table of beds follows each run to its pack and measures its bodies: the settled solid
+  // fraction and the loops' wall seconds of each, and bodies as elongated as the class's mesh.
+  auto beds = beds_table(out / "report" / "beds.csv");
+  ASSERT_EQ(beds.size(), 4u);
+  EXPECT_EQ(beds["spheres/run"]["particle_kind"], "sphere");
+  EXPECT_EQ(beds["spheres/run"]["projected_aspect_ratio"], "1");
+  for (const std::string c : {"asr084", "asr071", "asr053"}) {
+    SCOPED_TRACE(c);
+    auto& row = beds[c + "/run"];
+    EXPECT_EQ(row["particle_kind"], "bms");
+    EXPECT_EQ(row["bodies"], "12");
+    EXPECT_EQ(row["sub_spheres_per_body"], "40");
+    EXPECT_GT(std::stod(row["settled_solid_fraction_percent"]), 20.0);
+    EXPECT_LT(std::stod(row["settled_solid_fraction_percent"]), 70.0);
+    EXPECT_EQ(row["precompression_solid_fraction_percent"], "");  // settled only
+    EXPECT_GT(std::stod(row["pack_wall_s"]), 0.0);
+    EXPECT_GT(std::stod(row["compaction_wall_s"]), 0.0);
+    const double mesh = mesh_aspect_ratio(out / "classes" / (c + ".stl"),
+                                          out.parent_path() / ("avicel_study_" + c + ".csv"));
+    EXPECT_NEAR(std::stod(row["projected_aspect_ratio"]), mesh, 0.05) << "mesh " << mesh;
+  }
+  EXPECT_TRUE(fs::exists(out / "report" / "shape_effect_peak_stress.svg"));
+
   // Nothing is out of date: `make -q` exits 0 only when no rule would run.
   const auto again = run_command(study + " -q");
   EXPECT_EQ(again.exit_code, 0) << again.output;
@@ -126,6 +200,9 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   EXPECT_EQ(shapepress::testing::read_text(run / "punch.csv"), uninterrupted);
   EXPECT_GT(fs::last_write_time(out / "report" / "report.html"),
             fs::last_write_time(run / "punch.csv"));
+  // The resumed run states its whole loop's wall seconds, the part before the kill included.
+  EXPECT_GT(std::stod(beds_table(out / "report" / "beds.csv")["asr071/run"]["compaction_wall_s"]),
+            0.0);
 }
 
 }  // namespace

@@ -1,0 +1,52 @@
+// The projected aspect ratio of a body of sub-spheres (analysis/beds.hpp) against silhouettes
+// worked out by hand: a sphere is round from every side; two touching spheres seen across their
+// axis are twice as long as wide; averaged over random views they measure π/2 − 1.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "analysis/beds.hpp"
+
+namespace shapepress::analysis {
+namespace {
+
+SphereUnion dumbbell(double r) {
+  return {{{-r, 0.0, 0.0}, {r, 0.0, 0.0}}, {r, r}};
+}
+
+TEST(Beds, ASphereIsRoundFromEverySide) {
+  const SphereUnion sphere{{{1e-4, -2e-4, 3e-4}}, {1e-4}};
+  for (const auto& d : viewing_directions(16))
+    EXPECT_NEAR(projected_aspect_ratio(sphere, d), 1.0, 1e-9);
+}
+
+TEST(Beds, TwoTouchingSpheresAreHalfAsWideAsLongAcrossTheirAxisAndRoundAlongIt) {
+  EXPECT_NEAR(projected_aspect_ratio(dumbbell(1e-4), {0.0, 0.0, 1.0}), 0.5, 1e-9);
+  EXPECT_NEAR(projected_aspect_ratio(dumbbell(1e-4), {1.0, 0.0, 0.0}), 1.0, 1e-9);
+  // At θ from the axis the two discs are 2r sin θ apart: Feret min 2r, max 2r (1 + sin θ).
+  const double theta = 0.6;
+  EXPECT_NEAR(projected_aspect_ratio(dumbbell(1e-4), {std::cos(theta), std::sin(theta), 0.0}),
+              1.0 / (1.0 + std::sin(theta)), 1e-9);
+}
+
+// ∫ sin θ / (1 + sin θ) dθ over [0, π/2] = π/2 − 1: the mean over views uniform on the sphere.
+TEST(Beds, TheMeanOverRandomViewsOfTwoTouchingSpheresIsHalfPiMinusOne) {
+  const auto views = viewing_directions(4000, 3);
+  EXPECT_NEAR(mean_projected_aspect_ratio(dumbbell(2e-4), views), std::numbers::pi / 2 - 1, 0.005);
+}
+
+TEST(Beds, ViewingDirectionsAreUnitVectorsSpreadOverTheSphere) {
+  const auto views = viewing_directions(4000, 5);
+  double mean_z = 0.0, mean_z2 = 0.0;
+  for (const auto& d : views) {
+    EXPECT_NEAR(d[0] * d[0] + d[1] * d[1] + d[2] * d[2], 1.0, 1e-12);
+    mean_z += d[2] / 4000.0, mean_z2 += d[2] * d[2] / 4000.0;
+  }
+  EXPECT_NEAR(mean_z, 0.0, 0.03);
+  EXPECT_NEAR(mean_z2, 1.0 / 3.0, 0.02);  // <z²> of a uniform direction
+  EXPECT_EQ(viewing_directions(8, 1), viewing_directions(8, 1));
+}
+
+}  // namespace
+}  // namespace shapepress::analysis
