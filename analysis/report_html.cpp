@@ -85,12 +85,13 @@ std::vector<Metric> plate_metrics(const PlateMetrics& m) {
   return rows;
 }
 
-// The row of a compaction run in the table of beds; NaN where a fact is unknown.
-std::vector<Metric> bed_metrics(const BedFacts& bed, const CompactionMetrics& m) {
+// A bed's own facts (metrics.json's "bed"): its state before the punch, and the loops' wall
+// seconds; NaN where a fact is unknown. Counts are plain numbers (unit "1", not a fraction).
+std::vector<Metric> bed_state_metrics(const BedFacts& bed) {
   const auto known = [](const std::optional<double>& v) { return v.value_or(NAN); };
   return {
-      {"bodies", static_cast<double>(bed.bodies), "count", "bodies (spheres for a sphere bed)"},
-      {"sub_spheres_per_body", bed.sub_spheres_per_body, "count", ""},
+      {"bodies", static_cast<double>(bed.bodies), "1", "bodies (spheres for a sphere bed)"},
+      {"sub_spheres_per_body", bed.sub_spheres_per_body, "1", ""},
       {"projected_aspect_ratio", known(bed.projected_aspect_ratio), "1",
        "mean over the bodies of Feret min/max in 64 random views"},
       {"projected_aspect_ratio_sd", known(bed.projected_aspect_ratio_sd), "1", "over the bodies"},
@@ -98,26 +99,42 @@ std::vector<Metric> bed_metrics(const BedFacts& bed, const CompactionMetrics& m)
        "by shape volume, after the settle", true},
       {"precompression_solid_fraction", known(bed.precompression_solid_fraction), "1",
        "what the pack's punch pressed the bed to", true},
-      {"peak_stress", m.peak_stress, "Pa", ""},
-      {"elastic_recovery", m.unloaded ? m.elastic_recovery : NAN, "1", "", true},
-      {"heckel_yield_pressure", m.heckel.yield_pressure, "Pa", "Heckel Py"},
-      {"kawakita_a", m.kawakita.a, "1", "", true},
-      {"kawakita_1_over_b", m.kawakita.b > 0 ? 1 / m.kawakita.b : NAN, "Pa", ""},
-      {"work_of_compaction", m.work_of_compaction, "J", ""},
+  };
+}
+std::vector<Metric> bed_wall_metrics(const BedFacts& bed) {
+  const auto known = [](const std::optional<double>& v) { return v.value_or(NAN); };
+  return {
       {"pack_wall", known(bed.pack_seconds), "s", "the pack's stepping loop"},
       {"compaction_wall", known(bed.compaction_seconds), "s", "the compaction's stepping loop"},
   };
 }
 
+// The row of a compaction run in the table of beds: its state, the compaction's figures, the
+// wall seconds.
+std::vector<Metric> bed_table_row(const BedFacts& bed, const CompactionMetrics& m) {
+  std::vector<Metric> row = bed_state_metrics(bed);
+  row.insert(row.end(),
+             {
+                 {"peak_stress", m.peak_stress, "Pa", ""},
+                 {"elastic_recovery", m.unloaded ? m.elastic_recovery : NAN, "1", "", true},
+                 {"heckel_yield_pressure", m.heckel.yield_pressure, "Pa", "Heckel Py"},
+                 {"kawakita_a", m.kawakita.a, "1", "", true},
+                 {"kawakita_1_over_b", m.kawakita.b > 0 ? 1 / m.kawakita.b : NAN, "Pa", ""},
+                 {"work_of_compaction", m.work_of_compaction, "J", ""},
+             });
+  const std::vector<Metric> walls = bed_wall_metrics(bed);
+  row.insert(row.end(), walls.begin(), walls.end());
+  return row;
+}
+
+// Seconds as whole seconds; everything else as the other tables show it.
 std::string shown_cell(const Metric& m) {
-  if (m.unit == "count") return std::isfinite(m.value) ? fmt::format("{:.0f}", m.value) : "-";
   if (m.unit == "s") return std::isfinite(m.value) ? fmt::format("{:.0f}", m.value) : "-";
-  const ShownValue shown = shown_value(m.value, m.unit, m.fraction);
-  return shown_text(shown.value);
+  return shown_text(shown_value(m.value, m.unit, m.fraction).value);
 }
 
 std::string bed_header(const Metric& m, bool csv) {
-  std::string unit = m.unit == "count" ? "" : shown_value(1.0, m.unit, m.fraction).unit;
+  std::string unit = shown_value(1.0, m.unit, m.fraction).unit;
   if (unit == "%") unit = csv ? "percent" : "%";
   if (unit.empty()) return m.name;
   return csv ? fmt::format("{}_{}", m.name, unit) : fmt::format("{} [{}]", m.name, unit);
@@ -213,7 +230,7 @@ std::string beds_html(const std::vector<LoadedRun>& runs) {
   std::string s, notes;
   for (const LoadedRun& run : runs) {
     if (!run.bed || !run.compaction) continue;
-    const std::vector<Metric> row = bed_metrics(*run.bed, *run.compaction);
+    const std::vector<Metric> row = bed_table_row(*run.bed, *run.compaction);
     if (s.empty()) {
       s = "<h2>Beds</h2>\n<p>Each compaction's bed before the punch (from the run.json of the "
           "pack that made it) and its bodies (measured on the packing), beside the compaction's "
@@ -242,7 +259,7 @@ std::string beds_csv(const std::vector<LoadedRun>& runs) {
   std::string s;
   for (const LoadedRun& run : runs) {
     if (!run.bed || !run.compaction) continue;
-    const std::vector<Metric> row = bed_metrics(*run.bed, *run.compaction);
+    const std::vector<Metric> row = bed_table_row(*run.bed, *run.compaction);
     if (s.empty()) {
       s = "label,particle_kind";
       for (const Metric& m : row)
@@ -251,9 +268,7 @@ std::string beds_csv(const std::vector<LoadedRun>& runs) {
     }
     s += fmt::format("{},{}", csv_field(run.label), csv_field(run.bed->particle_kind));
     for (const Metric& m : row) {
-      const double shown = m.unit == "count" || m.unit == "s"
-                               ? m.value
-                               : shown_value(m.value, m.unit, m.fraction).value;
+      const double shown = shown_value(m.value, m.unit, m.fraction).value;
       s += fmt::format(",{}", std::isfinite(shown) ? format_number(shown) : std::string());
     }
     s += "\n";
@@ -375,12 +390,12 @@ std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& w
     if (run.bed && run.compaction) {
       s += fmt::format(",\n     \"bed\": {{\"particle_kind\": \"{}\"",
                        json_escape(run.bed->particle_kind));
-      for (const Metric& m : bed_metrics(*run.bed, *run.compaction))
-        if (m.name != "peak_stress" && m.name != "elastic_recovery" &&
-            m.name != "heckel_yield_pressure" && m.name != "kawakita_a" &&
-            m.name != "work_of_compaction")
-          s += fmt::format(",\n       \"{}\": {{\"value\": {}, \"unit\": \"{}\"}}", m.name,
-                           json_number(m.value), m.unit == "count" ? "1" : m.unit);
+      std::vector<Metric> facts = bed_state_metrics(*run.bed);
+      const std::vector<Metric> walls = bed_wall_metrics(*run.bed);
+      facts.insert(facts.end(), walls.begin(), walls.end());
+      for (const Metric& m : facts)
+        s += fmt::format(",\n       \"{}\": {{\"value\": {}, \"unit\": \"{}\"}}", m.name,
+                         json_number(m.value), m.unit);
       s += ",\n       \"notes\": [";
       for (std::size_t i = 0; i < run.bed->notes.size(); ++i)
         s += fmt::format("{}\"{}\"", i == 0 ? "" : ", ", json_escape(run.bed->notes[i]));

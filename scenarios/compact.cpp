@@ -115,6 +115,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
   if (history.records.empty()) emit(punch_record(engine, setup, punch));
   const auto start = std::chrono::steady_clock::now();
   const double seconds_before = history.loop_seconds;
+  history.loop_started = start;
   auto& walls = engine.walls();
   while (punch.phase != PunchPhase::done &&
          (setup.max_steps <= 0 || engine.step_index() < setup.max_steps)) {
@@ -133,10 +134,6 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     if (setup.snapshot_every > 0 && step % setup.snapshot_every == 0 && hooks.snapshot)
       hooks.snapshot(engine, punch);
     if (hooks.progress) hooks.progress(step);
-    // Current when a checkpoint is taken, so a resumed run states the whole run's wall time.
-    history.loop_seconds =
-        seconds_before +
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (hooks.after_step && !hooks.after_step(engine, punch, history)) {
       summary.interrupted = true;
       break;

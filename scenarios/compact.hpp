@@ -2,6 +2,7 @@
 // The compaction scenario: a box of spheres between the fixed bottom plate and the punch, the
 // punch driven by a PunchProgram, a PunchRecord every N steps. Output goes through hooks, so
 // this file holds the physics loop and no I/O (the CLI writes punch.csv and snapshots).
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -66,9 +67,11 @@ std::vector<double> punch_csv_row(const PunchRecord& r);
 struct CompactionHistory {
   std::vector<PunchRecord> records;
   std::int64_t steps = 0;
-  // Wall seconds of the stepping loop, those before a resumed checkpoint included; NaN when a
-  // checkpoint older than this count does not say.
+  // Wall seconds of the stepping loop before this process's loop began (a resumed checkpoint's;
+  // NaN when a checkpoint older than this count does not say), and when it began: a checkpoint
+  // states their sum, so a resumed run states the whole run's wall time.
   double loop_seconds = 0.0;
+  std::chrono::steady_clock::time_point loop_started{};
 };
 
 struct CompactionHooks {

@@ -20,8 +20,11 @@ void write_compact_checkpoint(const std::filesystem::path& out, const Engine& en
                               const ScenarioState& scenario, const Provenance& provenance,
                               const CheckpointHistory& history) {
   std::string text = fmt::format("{}\nsteps {}\n", history_magic, history.compaction.steps);
-  if (std::isfinite(history.compaction.loop_seconds))
-    text += fmt::format("loop_s {}\n", exact_text(history.compaction.loop_seconds));
+  const double loop_seconds = history.compaction.loop_seconds +
+                              std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                            history.compaction.loop_started)
+                                  .count();
+  if (std::isfinite(loop_seconds)) text += fmt::format("loop_s {}\n", exact_text(loop_seconds));
   text += fmt::format("records {}\n", history.compaction.records.size());
   for (const PunchRecord& r : history.compaction.records)
     text +=
