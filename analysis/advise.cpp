@@ -137,7 +137,9 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
       if (!same_setting(rungs[j], rungs[k])) continue;
       const RungStatus s = advice.rows[j].status;
       holds = holds && (s == RungStatus::within || s == RungStatus::reference);
-      cost += rungs[j].cpu_seconds;
+      // A rung of unknown cost (a run made outside the ladder) is picked only when nothing
+      // else holds.
+      cost += rungs[j].cpu_seconds >= 0.0 ? rungs[j].cpu_seconds : INFINITY;
     }
     if (!holds) continue;
     const bool cheaper = !pick_cost || cost < *pick_cost ||
@@ -182,7 +184,7 @@ void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
     csv.row_text({rung.label, status_name(row.status), rung.cause.empty() ? "-" : rung.cause,
                   std::to_string(rung.sub_spheres), format_number(rung.time_step_fraction),
                   format_number(rung.density_scale), std::to_string(rung.seed),
-                  format_number(rung.cpu_seconds),
+                  number_or_nan(rung.cpu_seconds >= 0.0, rung.cpu_seconds),
                   number_or_nan(stable, row.versus_reference.rms_relative),
                   number_or_nan(stable, row.versus_reference.max_relative),
                   number_or_nan(figures, row.peak_difference),
@@ -212,7 +214,9 @@ Chart speed_accuracy_chart(const Advice& advice) {
   std::map<double, Series> by_fraction;
   double least = INFINITY, most = 0.0;
   for (const AdviceRow& row : advice.rows) {
-    if (!row.rung->stable() || (compaction && row.status == RungStatus::reference)) continue;
+    if (!row.rung->stable() || (compaction && row.status == RungStatus::reference) ||
+        row.rung->cpu_seconds < 0.0)
+      continue;
     Series& s = by_fraction[row.rung->time_step_fraction];
     s.title = fmt::format("step {:.3g} of critical", row.rung->time_step_fraction);
     s.style = SeriesStyle::markers;
@@ -239,7 +243,7 @@ Chart speed_accuracy_chart(const Advice& advice) {
         {100.0 * *advice.seed_scatter, 100.0 * *advice.seed_scatter},
         SeriesStyle::dashed,
         6});
-  if (advice.pick) {
+  if (advice.pick && advice.rows[*advice.pick].rung->cpu_seconds >= 0.0) {
     const AdviceRow& row = advice.rows[*advice.pick];
     chart.series.push_back(Series{fmt::format("pick: {}", row.rung->label),
                                   {row.rung->cpu_seconds},

@@ -84,8 +84,9 @@ struct Advice {
 // recovery and Py. With several seeds (packings of the same bed) each rung is compared with its
 // own seed's finest; a setting holds when its rung of every seed does, and the seeds' finest
 // rungs against the first seed's give the seed-to-seed scatter. The pick is the setting that
-// holds of least CPU seconds (summed over the seeds; its row of the first seed); ties go to fewer
-// sub-spheres, then the larger step. No reference when no rung is stable.
+// holds of least CPU seconds (summed over the seeds; its row of the first seed; a rung of unknown
+// cost only when no other holds); ties go to fewer sub-spheres, then the larger step. No
+// reference when no rung is stable.
 Advice advise(const std::vector<Rung>& rungs, double tolerance, double from = 0.05,
               double to = 0.40);
 

@@ -6,12 +6,15 @@
 #include "scenarios/advise_compaction.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
+#include <optional>
 
 #include <omp.h>
 
@@ -36,6 +39,8 @@ struct FillRecipe {
   std::string kind;                  // bms or cms
   std::vector<std::string> meshes;   // and --sphere R, --ellipsoid a,b,c as fill was given them
   std::vector<std::string> options;  // fill's options besides the meshes, --count and --out
+  // The shapes themselves: each mesh's SHA-256 when filled, and the analytic shapes' sizes.
+  std::vector<std::string> shapes;
 };
 
 // A recorded mesh path as given to fill: relative to where fill ran (unknown), so it is taken
@@ -58,11 +63,15 @@ FillRecipe fill_recipe(const fs::path& templates) {
   FillRecipe recipe;
   recipe.kind = record.text("particle_kind");
   for (const auto& input : record.json().at("inputs"))
-    if (input.value("role", "") == "mesh")
+    if (input.value("role", "") == "mesh") {
       recipe.meshes.push_back(locate_mesh(input.at("path").get<std::string>(), templates));
+      recipe.shapes.push_back(input.value("sha256", ""));
+    }
   for (const char* shape : {"sphere", "ellipsoid"})
-    if (record.has(shape))
+    if (record.has(shape)) {
       recipe.meshes.insert(recipe.meshes.end(), {std::string("--") + shape, record.text(shape)});
+      recipe.shapes.push_back(fmt::format("{} {}", shape, record.text(shape)));
+    }
   if (recipe.meshes.empty())
     throw InputError(
         fmt::format("{}: its run.json names no mesh or analytic shape to re-fill "
@@ -170,6 +179,8 @@ nlohmann::json press(const RungJob& job, const BedJob& bed, const CompactConfig&
   return record;
 }
 
+void read_pressed_curve(analysis::Rung& rung, const fs::path& punch_csv, bool solid_fraction_axis);
+
 // The rung as it ended: its loading stress against strain (or the solid fraction by shape
 // volume: beds that settled to different densities compared where they are equally dense), its
 // peak, recovery and Py, or the
@@ -196,17 +207,24 @@ analysis::Rung load_rung(const RungJob& job, const BedJob& bed, const nlohmann::
     rung.cause = code == 1 ? divergence_cause(rung.message) : "refused";
     return rung;
   }
-  const analysis::PunchCurve punch = analysis::read_punch_curve(job.folder / "punch.csv");
+  read_pressed_curve(rung, job.folder / "punch.csv", solid_fraction_axis);
+  return rung;
+}
+
+// A finished compaction's punch.csv as a rung: its loading curve and figures (a non-finite
+// stress makes it diverged).
+void read_pressed_curve(analysis::Rung& rung, const fs::path& punch_csv, bool solid_fraction_axis) {
+  const analysis::PunchCurve punch = analysis::read_punch_curve(punch_csv);
   // compact checks for divergence every run.check_every steps; a short run can end between
   // two checks, and a curve with a non-finite stress is a diverged run, never one to compare.
   if (!std::all_of(punch.stress.begin(), punch.stress.end(),
                    [](double s) { return std::isfinite(s); })) {
     rung.end = analysis::RunEnd::diverged;
     rung.cause = "non-finite";
-    rung.message = (job.folder / "punch.csv").string() + " holds a non-finite stress";
-    return rung;
+    rung.message = punch_csv.string() + " holds a non-finite stress";
+    return;
   }
-  rung.curve.label = job.label;
+  rung.curve.label = rung.label;
   for (std::size_t i : analysis::loading_rows(punch)) {
     const double x = solid_fraction_axis
                          ? punch.solid_fraction[i]
@@ -221,11 +239,10 @@ analysis::Rung load_rung(const RungJob& job, const BedJob& bed, const nlohmann::
     m = analysis::analyse_compaction(punch);
   } catch (const ComputationError& e) {
     throw ComputationError(fmt::format("advise: rung {}: {} (record more often: run.record_every)",
-                                       job.label, e.what()));
+                                       rung.label, e.what()));
   }
   rung.compaction =
       analysis::CompactionFigures{m.peak_stress, m.elastic_recovery, m.heckel.yield_pressure};
-  return rung;
 }
 
 int pack_count(const fs::path& pack_config) {
@@ -237,6 +254,86 @@ int pack_count(const fs::path& pack_config) {
                     "--full-bodies",
                     pack_config.string()));
   return static_cast<int>(count);
+}
+
+// A compaction made outside the ladder (--reference-run), such as the full study's at a count
+// the ladder cannot afford, taken as a rung of it. It must press one of the ladder's beds at
+// another count: templates filled from the same shapes with the same options, packed by the same
+// pack config into as many bodies with a seed of the ladder (the pack's effective config equals
+// that of a ladder's bed), and pressed by the same compact config but for the step, the mass
+// scaling, the snapshots and checkpoints.
+struct GivenRun {
+  fs::path folder;
+  int count = 0;            // the sub-spheres asked of its fill
+  std::string pack_config;  // its pack's effective config
+  double fraction = 0.0, density_scale = 1.0;
+  std::optional<double> loop_seconds;  // its loop's wall seconds, when compact stated them
+};
+
+fs::path input_of(const RunRecord& record, const std::string& role) {
+  for (const auto& input : record.json().at("inputs"))
+    if (input.value("role", "") == role) return input.at("path").get<std::string>();
+  throw InputError(fmt::format("{}: names no {} among its inputs", record.path().string(), role));
+}
+
+GivenRun read_given_run(const fs::path& folder, const FillRecipe& recipe, int bodies) {
+  const RunRecord run = RunRecord::read(folder / run_metadata_name);
+  if (run.stage() != "compact")
+    throw InputError(
+        fmt::format("{}: made by {}, not by compact", run.path().string(), run.stage()));
+  GivenRun given;
+  given.folder = folder;
+  const fs::path packing = input_of(run, "packing");
+  std::string pressed_sha256;
+  for (const auto& input : run.json().at("inputs"))
+    if (input.value("role", "") == "packing") pressed_sha256 = input.value("sha256", "");
+  if (!fs::exists(packing) || sha256_file(packing) != pressed_sha256)
+    throw InputError(fmt::format("{}: its packing {} is gone or changed since", run.path().string(),
+                                 packing.string()));
+  const RunRecord pack = RunRecord::read(run_metadata_beside(packing));
+  if (pack.integer("bodies") != bodies)
+    throw InputError(fmt::format("{}: {} bodies, against the ladder's {} (--bodies)",
+                                 pack.path().string(), pack.integer("bodies"), bodies));
+  given.pack_config = pack.text("effective_config");
+  const fs::path templates = input_of(pack, "templates");
+  const FillRecipe filled = fill_recipe(templates);
+  if (filled.kind != recipe.kind || filled.options != recipe.options ||
+      filled.shapes != recipe.shapes)
+    throw InputError(fmt::format(
+        "{}: filled from other shapes or with other options than the ladder's templates "
+        "(fill {} against {})",
+        templates.string(), fmt::join(filled.options, " "), fmt::join(recipe.options, " ")));
+  given.count =
+      static_cast<int>(RunRecord::read(run_metadata_beside(templates)).integer("requested_count"));
+  const ConfigTable effective = ConfigTable::load_file(folder / "effective.toml");
+  given.fraction = effective.table("run").number("time_step_fraction");
+  given.density_scale = effective.table("run").number("density_scale", 1.0);
+  if (run.has("loop_s")) given.loop_seconds = run.number("loop_s");
+  if (!fs::exists(folder / "punch.csv"))
+    throw InputError(
+        fmt::format("{}: no punch.csv (an unfinished run: resume it first)", folder.string()));
+  return given;
+}
+
+// A compact run's effective config without its comments and what a ladder varies: the step, the
+// mass scaling, snapshots and checkpoints, and the punch's start (its bed's height).
+std::vector<std::string> pressing_lines(const fs::path& effective) {
+  std::ifstream in(effective);
+  if (!in) throw InputError(effective.string() + ": missing (not a compact run's folder)");
+  std::vector<std::string> lines;
+  std::string table;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    if (line[0] == '[') table = line;
+    const std::string key = line.substr(0, line.find(" ="));
+    const bool varied =
+        (table == "[run]" &&
+         (key == "time_step_fraction" || key == "density_scale" || key == "snapshot_every" ||
+          key == "checkpoint_every" || key == "checkpoint_minutes")) ||
+        (table == "[box]" && key == "punch");
+    if (!varied) lines.push_back(line);
+  }
+  return lines;
 }
 
 }  // namespace
@@ -261,6 +358,11 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
                      ": advise presses the packed bed; [generate] and [clumps] pour another");
   const FillRecipe recipe = fill_recipe(request.templates);
   const int bodies = request.bodies > 0 ? request.bodies : pack_count(request.pack_config);
+  std::vector<GivenRun> given_runs;
+  for (const std::string& folder : request.reference_runs) {
+    given_runs.push_back(read_given_run(folder, recipe, bodies));
+    meta.input("reference_run", fs::path(folder) / "punch.csv");
+  }
   const int full_bodies =
       request.full_bodies > 0 ? request.full_bodies : pack_count(request.pack_config);
   const std::vector<double> fractions =
@@ -348,6 +450,54 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
   for (std::size_t k = 0; k < rungs.size(); ++k)
     ladder.push_back(load_rung(rungs[k], beds[rungs[k].bed], *bed_records[rungs[k].bed], records[k],
                                request.curve_axis == "solid_fraction"));
+  for (const GivenRun& given : given_runs) {
+    // Its bed among the ladder's: the one packed by the same effective pack config.
+    std::optional<std::size_t> bed;
+    for (std::size_t k = 0; k < beds.size() && !bed; ++k)
+      if (beds[k].count > 1 && bed_records[k]->at("exit_code").get<int>() == 0 &&
+          RunRecord::read(run_metadata_beside(beds[k].folder / "packed.h5"))
+                  .text("effective_config") == given.pack_config)
+        bed = k;
+    if (!bed)
+      throw InputError(fmt::format(
+          "{}: its bed was packed by another pack config or seed than every bed of the ladder "
+          "({}/bed-*/packed.h5.run.json)",
+          given.folder.string(), out.string()));
+    const auto& seed = beds[*bed].seed;
+    std::optional<fs::path> pressed;  // a rung of that bed that ran, to compare configs with
+    for (const RungJob& job : rungs) {
+      if (beds[job.bed].seed != seed) continue;
+      if (beds[job.bed].count == given.count && job.fraction == given.fraction &&
+          job.density_scale == given.density_scale)
+        throw InputError(fmt::format("{}: the ladder runs its setting itself ({})",
+                                     given.folder.string(), job.label));
+      if (!pressed && fs::exists(job.folder / "effective.toml")) pressed = job.folder;
+    }
+    if (!pressed)
+      throw InputError(fmt::format("{}: no rung of its bed ran to compare its config with",
+                                   given.folder.string()));
+    const auto ours = pressing_lines(*pressed / "effective.toml");
+    const auto theirs = pressing_lines(given.folder / "effective.toml");
+    if (ours != theirs) {
+      const auto [a, b] = std::mismatch(ours.begin(), ours.end(), theirs.begin(), theirs.end());
+      throw InputError(fmt::format(
+          "{}: pressed by another config than the ladder's ({}: \"{}\" against \"{}\")",
+          (given.folder / "effective.toml").string(), (*pressed / "effective.toml").string(),
+          b == theirs.end() ? "(end)" : *b, a == ours.end() ? "(end)" : *a));
+    }
+    analysis::Rung rung;
+    rung.label =
+        fmt::format("given-{}-{}-f{}-s{}{}", recipe.kind, given.count, number_text(given.fraction),
+                    number_text(given.density_scale), seed_text(seed));
+    rung.sub_spheres = given.count;
+    rung.time_step_fraction = given.fraction;
+    rung.density_scale = given.density_scale;
+    rung.seed = seed ? static_cast<int>(*seed) : 0;
+    rung.cpu_seconds = -1.0;  // not measured by advise: never the pick while another holds
+    read_pressed_curve(rung, given.folder / "punch.csv", request.curve_axis == "solid_fraction");
+    if (given.loop_seconds) meta.fact("reference_run_loop_s", *given.loop_seconds);
+    ladder.push_back(std::move(rung));
+  }
   const analysis::Advice advice = analysis::advise(ladder, request.tolerance, 0.0, 1.0);
   write_advice(advice, out, meta);
   const int run_now = static_cast<int>(pending.size());
@@ -375,26 +525,39 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
   const double body_factor = static_cast<double>(full_bodies) / bodies;
   const double predicted = pick.cpu_seconds * body_factor * body_factor;
   meta.fact("reference", reference.label)
-      .fact("reference_cpu_s", reference.cpu_seconds)
       .fact("pick", pick.label)
       .fact("pick_sub_spheres", pick.sub_spheres)
       .fact("pick_time_step_fraction", pick.time_step_fraction)
       .fact("pick_density_scale", pick.density_scale)
       .fact("pick_error_vs_reference", advice.rows[*advice.pick].error)
-      .fact("pick_cpu_s", pick.cpu_seconds)
-      .fact("cost_scaling", "cpu_s x (full_bodies / bodies)^2")
-      .fact("predicted_full_run_cpu_s", predicted)
-      .fact("predicted_full_reference_cpu_s", reference.cpu_seconds * body_factor * body_factor)
-      .fact("cost_saved_factor", reference.cpu_seconds / pick.cpu_seconds);
+      .fact("cost_scaling", "cpu_s x (full_bodies / bodies)^2");
+  // A given reference run's CPU seconds are not advise's to know (its loop's wall seconds are
+  // stated when compact stated them).
+  if (reference.cpu_seconds >= 0.0)
+    meta.fact("reference_cpu_s", reference.cpu_seconds)
+        .fact("predicted_full_reference_cpu_s", reference.cpu_seconds * body_factor * body_factor);
+  if (pick.cpu_seconds >= 0.0)
+    meta.fact("pick_cpu_s", pick.cpu_seconds).fact("predicted_full_run_cpu_s", predicted);
+  if (reference.cpu_seconds >= 0.0 && pick.cpu_seconds > 0.0)
+    meta.fact("cost_saved_factor", reference.cpu_seconds / pick.cpu_seconds);
   meta.write(out / run_metadata_name);
+  if (pick.cpu_seconds < 0.0) {
+    spdlog::info("advise: no rung of the ladder within {:.2g} % of the given run {}: its setting",
+                 100.0 * request.tolerance, reference.label);
+    return 0;
+  }
   spdlog::info(
       "advise: pick {} ({} sub-spheres per body, step {} of critical, density scale {}): {:.2g} % "
-      "from {} (largest of curve RMS, peak, recovery, Py), {:.3g} s CPU against {:.3g} s ({:.3g}x "
-      "less) on {} bodies; {} bodies predicted at {:.3g} s CPU",
+      "from {} (largest of curve RMS, peak, recovery, Py), {:.3g} s CPU{} on {} bodies; {} bodies "
+      "predicted at {:.3g} s CPU",
       pick.label, pick.sub_spheres, number_text(pick.time_step_fraction),
       number_text(pick.density_scale), 100.0 * advice.rows[*advice.pick].error, reference.label,
-      pick.cpu_seconds, reference.cpu_seconds, reference.cpu_seconds / pick.cpu_seconds, bodies,
-      full_bodies, predicted);
+      pick.cpu_seconds,
+      reference.cpu_seconds >= 0.0
+          ? fmt::format(" against {:.3g} s ({:.3g}x less)", reference.cpu_seconds,
+                        reference.cpu_seconds / pick.cpu_seconds)
+          : std::string(),
+      bodies, full_bodies, predicted);
   return 0;
 }
 

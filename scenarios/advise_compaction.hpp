@@ -28,6 +28,9 @@ struct CompactionAdviseRequest {
   // The curve's abscissa: "strain" (from the punch's start) or "solid_fraction" (by shape
   // volume; beds packed to different densities compared where they are equally dense).
   std::string curve_axis = "strain";
+  // Finished compact runs of the same bed made outside the ladder (a full study's, at a count the
+  // ladder cannot afford), each taken as a rung of its seed: the finest, when it is.
+  std::vector<std::string> reference_runs;
   double tolerance = 0.05;
   bool resume = false;
 };

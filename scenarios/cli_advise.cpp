@@ -309,6 +309,12 @@ StageRunner setup_advise_cli(CLI::App& app) {
       ->needs(templates)
       ->delimiter(',')
       ->check(CLI::Range(1e-6, 1e12));
+  app.add_option("--reference-run", bed.reference_runs,
+                 "compaction: a finished compact run's folder of the same bed at a setting the "
+                 "ladder does not run (a full study's, at a count too dear to re-run), taken as a "
+                 "rung of its seed; repeatable")
+      ->needs(templates)
+      ->check(CLI::ExistingDirectory);
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -138,6 +138,79 @@ TEST(AdviseCompactionCli, RefillsRepacksPressesAndPicksAndAResumedAdviseRerunsNo
   EXPECT_THAT(refused.output, HasSubstr("--resume"));
 }
 
+// advice.csv's row of `label` from its cpu_s on: what it measured against the reference.
+std::string judged_fields(const fs::path& csv, const std::string& label) {
+  std::ifstream in(csv);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(label + ",", 0) == 0) {
+      std::size_t at = 0;
+      for (int comma = 0; comma < 8; ++comma)
+        at = line.find(',', at) + 1;
+      return line.substr(at);
+    }
+  return "(no row " + label + ")";
+}
+
+// A finest run made outside the ladder (a full study's) stands in for the rung it is: the ladder
+// judged against it says what it says against that rung run by advise itself. A run of another
+// bed or config is refused, naming what differs; with nothing within the tolerance its setting is
+// the pick, of no stated cost.
+TEST(AdviseCompactionCli, AGivenReferenceRunJudgesTheLadderAsItsOwnRungWould) {
+  const fs::path dir = fresh_directory("advise_compaction_reference");
+  const Bed bed = tiny_bed(dir);
+  const std::string ladder = "--threads 2 --quiet advise --config " +
+                             shell_quoted(bed.compact_config) + " --templates " +
+                             shell_quoted(bed.templates) + " --pack-config " +
+                             shell_quoted(bed.pack_config) + " --fractions 0.2";
+  const auto both = run_shapepress(ladder + " --tolerance 0.3 --counts 20,30 --bodies 10 --out " +
+                                   shell_quoted(dir / "both"));
+  ASSERT_EQ(both.exit_code, 0) << both.output;
+  const fs::path given = dir / "both" / "bms-30-f0.2-s100";
+
+  const std::string coarse = ladder + " --counts 20 --bodies 10 --reference-run " +
+                             shell_quoted(given) + " --out " + shell_quoted(dir / "coarse");
+  const auto r = run_shapepress(coarse + " --tolerance 0.3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json facts = read_json(dir / "coarse" / "run.json").at("facts");
+  EXPECT_EQ(facts.at("reference").get<std::string>(), "given-bms-30-f0.2-s100");
+  EXPECT_EQ(facts.at("rungs_run").get<int>(), 1);
+  EXPECT_FALSE(facts.contains("reference_cpu_s"));
+  EXPECT_EQ(judged_fields(dir / "coarse" / "advice.csv", "bms-20-f0.2-s100"),
+            judged_fields(dir / "both" / "advice.csv", "bms-20-f0.2-s100"));
+  EXPECT_EQ(statuses(dir / "coarse" / "advice.csv").at("given-bms-30-f0.2-s100"), "reference,-");
+
+  // Nothing within 0 %: the given run's setting, with no cost to predict.
+  const auto strict = run_shapepress(coarse + " --resume --tolerance 0");
+  ASSERT_EQ(strict.exit_code, 0) << strict.output;
+  const nlohmann::json picked = read_json(dir / "coarse" / "run.json").at("facts");
+  EXPECT_EQ(picked.at("pick").get<std::string>(), "given-bms-30-f0.2-s100");
+  EXPECT_EQ(picked.at("rungs_run").get<int>(), 0);
+  EXPECT_FALSE(picked.contains("predicted_full_run_cpu_s"));
+
+  // Another bed (8 bodies) is refused before anything runs.
+  const auto fewer = run_shapepress(ladder + " --counts 20 --bodies 8 --reference-run " +
+                                    shell_quoted(given) + " --out " + shell_quoted(dir / "fewer"));
+  EXPECT_EQ(fewer.exit_code, 2) << fewer.output;
+  EXPECT_THAT(fewer.output, HasSubstr("10 bodies, against the ladder's 8"));
+  EXPECT_FALSE(fs::exists(dir / "fewer" / "bed-20"));
+
+  // Another contact law: refused, naming the line.
+  const fs::path other = dir / "other-friction";
+  fs::copy(given, other);
+  std::ifstream in(other / "effective.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = text.find("sliding_friction = ");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, text.find('\n', at) - at, "sliding_friction = 0.9");
+  write_text(other / "effective.toml", text);
+  const auto differs =
+      run_shapepress(ladder + " --counts 20 --bodies 10 --resume --reference-run " +
+                     shell_quoted(other) + " --out " + shell_quoted(dir / "coarse"));
+  EXPECT_EQ(differs.exit_code, 2) << differs.output;
+  EXPECT_THAT(differs.output, HasSubstr("pressed by another config"));
+  EXPECT_THAT(differs.output, HasSubstr("sliding_friction = 0.9"));
+}
+
 TEST(AdviseCompactionCli, RefusesACompactionConfigWithoutItsBed) {
   const fs::path dir = fresh_directory("advise_compaction_bad");
   write_text(dir / "compact.toml",

@@ -70,6 +70,26 @@ TEST(Advise, PicksTheCheapestRungWithinTheTolerance) {
   EXPECT_EQ(pick(0.01), rungs[3].label);  // nothing but the finest holds 1 %
 }
 
+// A finest run made outside the ladder (advise --reference-run) has no CPU seconds: it is the
+// reference, and picked only when no rung of the ladder holds.
+TEST(Advise, AReferenceOfUnknownCostIsPickedOnlyWhenNothingElseHolds) {
+  std::vector<Rung> rungs = ladder();
+  rungs[3].cpu_seconds = -1.0;
+  const Advice loose = advise(rungs, 0.05);
+  EXPECT_EQ(loose.reference, 3u);
+  EXPECT_EQ(loose.pick, 2u);
+  const Advice strict = advise(rungs, 0.01);
+  EXPECT_EQ(strict.pick, 3u);
+  write_advice_csv(::testing::TempDir() + "/unknown_cost.csv", strict);
+  std::ifstream in(::testing::TempDir() + "/unknown_cost.csv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(rungs[3].label + ",reference,-,400,0.2,1,0,nan,"), std::string::npos) << text;
+  const Chart chart = speed_accuracy_chart(strict);
+  for (const Series& s : chart.series)
+    for (double x : s.x)
+      EXPECT_GE(x, 0.0) << s.title;
+}
+
 TEST(Advise, MeasuresEachRungAgainstTheFinestStableOne) {
   const std::vector<Rung> rungs = ladder();
   const Advice a = advise(rungs, 0.05);
@@ -117,7 +137,7 @@ TEST(Advise, TableNamesEveryRungItsStatusAndThePick) {
   EXPECT_EQ(lines[3].substr(0, lines[3].find(',')), rungs[2].label);
   EXPECT_EQ(lines[3].back(), '1');
   EXPECT_NE(lines[2].find(",off,-,100,0.2,1,0,2,0.08,"), std::string::npos) << lines[2];
-  EXPECT_NE(lines[6].find(",diverged,energy,50,0.8,1,0,-1,nan,nan,nan,nan,nan,nan,nan,nan,nan,0"),
+  EXPECT_NE(lines[6].find(",diverged,energy,50,0.8,1,0,nan,nan,nan,nan,nan,nan,nan,nan,nan,nan,0"),
             std::string::npos)
       << lines[6];
   const Chart map = stability_map_chart(a);
