@@ -2,13 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 
 #include <fmt/format.h>
 
 #include "common/csv.hpp"
+#include "common/error.hpp"
+#include "common/run_metadata.hpp"
 
 namespace shapepress::analysis {
 
@@ -195,6 +199,139 @@ void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
                   advice.pick == k ? "1" : "0"});
   }
   csv.commit();
+}
+
+namespace {
+
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t from = 0;
+  for (std::size_t at = line.find(','); at != std::string::npos; at = line.find(',', from)) {
+    fields.push_back(line.substr(from, at - from));
+    from = at + 1;
+  }
+  fields.push_back(line.substr(from));
+  return fields;
+}
+
+double field_number(const std::string& text, const std::filesystem::path& csv,
+                    std::string_view column) {
+  if (text == "nan") return NAN;
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw InputError(fmt::format("{}: column {}: '{}' is not a number", csv.string(), column, text));
+}
+
+}  // namespace
+
+AdviceRecord read_advice(const std::filesystem::path& folder) {
+  const RunRecord run = RunRecord::read(folder / run_metadata_name);
+  if (run.stage() != "advise")
+    throw InputError(
+        fmt::format("{}: made by {}, not by advise", run.path().string(), run.stage()));
+  AdviceRecord record;
+  record.folder = folder;
+  const std::filesystem::path csv = folder / "advice.csv";
+  std::ifstream in(csv);
+  if (!in) throw InputError(csv.string() + ": missing (advise writes it when its rungs are done)");
+  const std::vector<std::string> columns = {"label",
+                                            "status",
+                                            "cause",
+                                            "sub_spheres",
+                                            "time_step_fraction",
+                                            "density_scale",
+                                            "seed",
+                                            "cpu_s",
+                                            "rms_vs_reference",
+                                            "max_vs_reference",
+                                            "peak_vs_reference",
+                                            "recovery_vs_reference",
+                                            "py_vs_reference",
+                                            "peak_stress_Pa",
+                                            "elastic_recovery",
+                                            "yield_pressure_Pa",
+                                            "error",
+                                            "picked"};
+  auto rungs = std::make_shared<std::vector<Rung>>();
+  std::vector<AdviceRow> rows;
+  bool header = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<std::string> f = split_fields(line);
+    if (!header) {
+      if (f != columns)
+        throw InputError(fmt::format("{}: not advise's columns ({})", csv.string(), line));
+      header = true;
+      continue;
+    }
+    if (f.size() != columns.size())
+      throw InputError(fmt::format("{}: {} fields in '{}', expected {}", csv.string(), f.size(),
+                                   line, columns.size()));
+    const auto number = [&](std::size_t i) { return field_number(f[i], csv, columns[i]); };
+    Rung rung;
+    rung.label = f[0];
+    rung.cause = f[2] == "-" ? "" : f[2];
+    rung.sub_spheres = static_cast<int>(number(3));
+    rung.time_step_fraction = number(4);
+    rung.density_scale = number(5);
+    rung.seed = static_cast<int>(number(6));
+    rung.cpu_seconds = std::isfinite(number(7)) ? number(7) : -1.0;
+    AdviceRow row;
+    const std::pair<RungStatus, const char*> statuses[] = {{RungStatus::reference, "reference"},
+                                                           {RungStatus::within, "within"},
+                                                           {RungStatus::off, "off"},
+                                                           {RungStatus::diverged, "diverged"},
+                                                           {RungStatus::refused, "refused"}};
+    const auto status = std::find_if(std::begin(statuses), std::end(statuses),
+                                     [&](const auto& s) { return f[1] == s.second; });
+    if (status == std::end(statuses))
+      throw InputError(fmt::format("{}: status '{}' of {}", csv.string(), f[1], f[0]));
+    row.status = status->first;
+    rung.end = row.status == RungStatus::diverged  ? RunEnd::diverged
+               : row.status == RungStatus::refused ? RunEnd::refused
+                                                   : RunEnd::finished;
+    row.versus_reference.rms_relative = number(8);
+    row.versus_reference.max_relative = number(9);
+    row.peak_difference = number(10);
+    row.recovery_difference = number(11);
+    row.yield_pressure_difference = number(12);
+    if (std::isfinite(number(13))) {
+      rung.compaction = CompactionFigures{number(13), number(14), number(15)};
+      record.compaction = true;
+    }
+    row.error = number(16);
+    if (f[17] == "1") record.advice.pick = rows.size();
+    if (row.status == RungStatus::reference) {
+      record.advice.references.push_back(rows.size());
+      if (!record.advice.reference) record.advice.reference = rows.size();
+    }
+    rungs->push_back(std::move(rung));
+    rows.push_back(row);
+  }
+  if (!header) throw InputError(csv.string() + ": no header line");
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    rows[k].rung = &(*rungs)[k];
+  record.rungs = std::move(rungs);
+  record.advice.rows = std::move(rows);
+  const auto fact = [&](const char* key) {
+    return run.has(key) ? std::optional<double>(run.number(key)) : std::nullopt;
+  };
+  record.advice.tolerance = run.number("tolerance");
+  record.advice.from = fact("curve_from").value_or(record.advice.from);
+  record.advice.to = fact("curve_to").value_or(record.advice.to);
+  record.advice.seed_scatter = fact("seed_scatter");
+  if (run.has("pick")) record.pick = run.text("pick");
+  if (run.has("reference")) record.reference = run.text("reference");
+  record.pick_error = fact("pick_error_vs_reference");
+  record.cost_saved_factor = fact("cost_saved_factor");
+  record.predicted_full_run_cpu_s = fact("predicted_full_run_cpu_s");
+  if (run.has("bodies")) record.bodies = static_cast<int>(run.integer("bodies"));
+  if (run.has("full_bodies")) record.full_bodies = static_cast<int>(run.integer("full_bodies"));
+  return record;
 }
 
 Chart speed_accuracy_chart(const Advice& advice) {

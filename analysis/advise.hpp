@@ -6,6 +6,7 @@
 // (scenarios/cli_advise.cpp); this is the judgement, on curves and CPU seconds, so a test can
 // hand it a synthetic ladder.
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -96,6 +97,22 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from = 0.
 // elastic_recovery, yield_pressure_Pa (nan without a curve or for plate rungs), error (what the
 // tolerance judged), picked (1 or 0).
 void write_advice_csv(const std::filesystem::path& path, const Advice& advice);
+
+// An advise folder read back (report --advice): advice.csv's rows as rungs without their curves,
+// the judgement as advise made it, and the facts of its run.json (pick, cost, scatter).
+struct AdviceRecord {
+  std::filesystem::path folder;
+  std::shared_ptr<const std::vector<Rung>> rungs;  // what advice.rows point into
+  Advice advice;
+  bool compaction = false;          // a bed's ladder (the table has its peak, recovery and Py)
+  std::optional<std::string> pick;  // run.json's pick, reference and their numbers
+  std::optional<std::string> reference;
+  std::optional<double> pick_error, cost_saved_factor, predicted_full_run_cpu_s;
+  int bodies = 0, full_bodies = 0;  // a bed's ladder: reduced and full bed (0: a plate ladder)
+};
+// InputError naming the folder or file when it is not an advise folder (run.json of stage
+// advise, advice.csv with advise's columns).
+AdviceRecord read_advice(const std::filesystem::path& folder);
 
 // Speed against accuracy: the error from the reference against CPU seconds, one series
 // per time-step fraction, the tolerance line and the pick (as the plate study's chart).

@@ -22,6 +22,7 @@ struct ReportCli {
   std::vector<std::string> plate_curves;  // LABEL=FILE.csv
   std::vector<std::string> spread_from;   // METHOD=N
   std::vector<std::string> experiments;
+  std::vector<std::string> advice;
   std::vector<double> heckel_window{0.3, 1.0};
   std::vector<double> kawakita_window{0.05, 1.0};
 };
@@ -63,6 +64,10 @@ int run(const ReportCli& cli, const RunContext& context) {
   }
   for (const std::string& file : cli.experiments)
     options.experiments.emplace_back(file);
+  for (const std::string& folder : cli.advice)
+    options.advice.emplace_back(folder);
+  if (options.runs.empty() && options.advice.empty())
+    throw InputError("report: give run folders, --advice folders, or both");
   options.command_line = context.command_line;
   const ReportResult result = write_report(options);
   // The report's own record: which runs (their CSV and run.json, hashed) it was drawn from.
@@ -74,6 +79,8 @@ int run(const ReportCli& cli, const RunContext& context) {
     meta.input("plate_curve", curve.second);
   for (const auto& file : options.experiments)
     meta.input("experiment", file);
+  for (const auto& folder : options.advice)
+    meta.input("advice", folder / "advice.csv");
   meta.output(result.html.filename())
       .output(result.metrics.filename())
       .fact("compaction_runs", result.compaction_runs)
@@ -95,8 +102,7 @@ int run(const ReportCli& cli, const RunContext& context) {
 StageRunner setup_report_cli(CLI::App& app) {
   auto cli = std::make_shared<ReportCli>();
   app.add_option("runs", cli->runs,
-                 "run folders: compaction (punch.csv) or plate (force.csv); several are overlaid")
-      ->required();
+                 "run folders: compaction (punch.csv) or plate (force.csv); several are overlaid");
   app.add_option("--out", cli->out, "report folder (report.html, metrics.json, *.svg/png/csv)")
       ->required();
   app.add_option("--poisson-ratio", cli->poisson_ratio,
@@ -113,6 +119,10 @@ StageRunner setup_report_cli(CLI::App& app) {
                  "stress_<unit> and solid_fraction; strain_% and solid_fraction_% in percent); "
                  "repeatable")
       ->check(CLI::ExistingFile);
+  app.add_option("--advice", cli->advice,
+                 "an advise folder (advice.csv, run.json): its speed-accuracy chart "
+                 "(bed_speed_accuracy.svg for a bed), stability map and table; repeatable")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--spread-from", cli->spread_from,
                  "METHOD=N: the convergence spread of the plate runs with particle METHOD (cms, "
                  "bms) is taken over N and up (default: the method's two finest runs); repeatable");

@@ -341,6 +341,23 @@ ReportResult write_report(const ReportOptions& options) {
     const Chart chart = plate_chart(runs, options.poisson_ratio, options.plate_curves);
     charts.emplace_back(chart.title, plot_chart(chart, options.out / "plate_force").svg);
   }
+  std::vector<AdviceRecord> advice;
+  for (const std::filesystem::path& folder : options.advice) {
+    advice.push_back(read_advice(folder));
+    const AdviceRecord& record = advice.back();
+    // One advise folder's charts by their plain names; several, each with its folder's name.
+    const std::string suffix =
+        options.advice.size() > 1
+            ? fmt::format("_{}", std::filesystem::weakly_canonical(folder).filename().string())
+            : std::string();
+    const Chart speed = speed_accuracy_chart(record.advice);
+    const Chart map = stability_map_chart(record.advice);
+    const char* speed_stem = record.compaction ? "bed_speed_accuracy" : "advise_speed_accuracy";
+    charts.emplace_back(
+        speed.title, plot_chart(speed, options.out / fmt::format("{}{}", speed_stem, suffix)).svg);
+    charts.emplace_back(map.title,
+                        plot_chart(map, options.out / fmt::format("stability_map{}", suffix)).svg);
+  }
   if (const std::optional<PlateStudy> study = plate_study(runs, options.poisson_ratio)) {
     // Several plate runs with sub-sphere counts: cost against N and speed against accuracy.
     const std::vector<Chart> cs = plate_study_charts(*study);
@@ -366,10 +383,11 @@ ReportResult write_report(const ReportOptions& options) {
                                     shapepress_git_revision()};
   result.metrics = options.out / "metrics.json";
   const std::optional<StressSpread> spread = stress_spread(runs);
-  write_file_atomically(result.metrics,
-                        metrics_json(runs, options.windows, provenance, spread, experiments));
+  write_file_atomically(
+      result.metrics, metrics_json(runs, options.windows, provenance, spread, experiments, advice));
   result.html = options.out / "report.html";
-  write_file_atomically(result.html, report_html(runs, charts, provenance, spread, experiments));
+  write_file_atomically(result.html,
+                        report_html(runs, charts, provenance, spread, experiments, advice));
   return result;
 }
 

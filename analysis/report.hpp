@@ -29,6 +29,9 @@ struct ReportOptions {
   // Measured compaction curves to overlay (stress–strain or solid fraction–stress, the unit in
   // each column name; analysis/measured_curve.hpp), each compared with every compaction run.
   std::vector<std::filesystem::path> experiments;
+  // advise folders (advice.csv, run.json): their speed–accuracy chart (bed_speed_accuracy for a
+  // bed's ladder), stability map and table.
+  std::vector<std::filesystem::path> advice;
   std::string command_line;  // provenance of the report
 };
 

@@ -226,6 +226,87 @@ std::string experiments_html(const std::vector<ExperimentComparison>& experiment
   return s;
 }
 
+// "advice": one entry per advise folder: its pick, reference, tolerance, cost and every rung.
+std::string advice_json(const std::vector<AdviceRecord>& advice) {
+  std::string s = "  \"advice\": [";
+  for (std::size_t a = 0; a < advice.size(); ++a) {
+    const AdviceRecord& r = advice[a];
+    s += fmt::format(
+        "{}\n    {{\"folder\": \"{}\", \"pick\": \"{}\", \"reference\": \"{}\", "
+        "\"tolerance\": {}, \"pick_error_vs_reference\": {}, \"cost_saved_factor\": {}, "
+        "\"predicted_full_run_cpu_s\": {}, \"seed_scatter\": {}, \"rungs\": [",
+        a == 0 ? "" : ",", json_escape(r.folder.string()), json_escape(r.pick.value_or("")),
+        json_escape(r.reference.value_or("")), json_number(r.advice.tolerance),
+        json_number(r.pick_error.value_or(NAN)), json_number(r.cost_saved_factor.value_or(NAN)),
+        json_number(r.predicted_full_run_cpu_s.value_or(NAN)),
+        json_number(r.advice.seed_scatter.value_or(NAN)));
+    for (std::size_t k = 0; k < r.advice.rows.size(); ++k) {
+      const AdviceRow& row = r.advice.rows[k];
+      s += fmt::format(
+          "{}\n      {{\"label\": \"{}\", \"status\": \"{}\", \"cause\": \"{}\", "
+          "\"sub_spheres\": {}, \"time_step_fraction\": {}, \"density_scale\": {}, "
+          "\"seed\": {}, \"cpu_s\": {}, \"error\": {}}}",
+          k == 0 ? "" : ",", json_escape(row.rung->label), status_name(row.status),
+          json_escape(row.rung->cause), row.rung->sub_spheres,
+          json_number(row.rung->time_step_fraction), json_number(row.rung->density_scale),
+          row.rung->seed, json_number(row.rung->cpu_seconds >= 0 ? row.rung->cpu_seconds : NAN),
+          json_number(row.error));
+    }
+    s += "]}";
+  }
+  return s + "\n  ],\n";
+}
+
+// A percentage cell of a fraction; empty where it is not finite.
+std::string percent_cell(double fraction) {
+  return std::isfinite(fraction) ? fmt::format("{:.3g}", 100.0 * fraction) : std::string();
+}
+
+std::string advice_html(const AdviceRecord& r) {
+  std::string s = fmt::format("<h2>Advice: {}</h2>\n<p>", html_escape(r.folder.string()));
+  if (r.pick)
+    s += fmt::format("Pick <b>{}</b>, {} % from the reference {} (tolerance {} %)",
+                     html_escape(*r.pick), percent_cell(r.pick_error.value_or(NAN)),
+                     html_escape(r.reference.value_or("?")), percent_cell(r.advice.tolerance));
+  else
+    s += "No pick";
+  if (r.cost_saved_factor) s += fmt::format("; {:.3g} times less CPU", *r.cost_saved_factor);
+  if (r.predicted_full_run_cpu_s && r.full_bodies > 0)
+    s += fmt::format("; the full bed of {} bodies predicted at {:.3g} s CPU", r.full_bodies,
+                     *r.predicted_full_run_cpu_s);
+  if (r.advice.seed_scatter)
+    s += fmt::format("; the seeds' finest rungs differ by {} %",
+                     percent_cell(*r.advice.seed_scatter));
+  s += ".</p>\n<table>\n<tr><th>rung</th><th>status</th><th>cause</th><th>sub-spheres</th>"
+       "<th>step fraction</th><th>mass scaling</th><th>seed</th><th>CPU s</th>"
+       "<th>curve RMS %</th>";
+  if (r.compaction) s += "<th>peak %</th><th>recovery %</th><th>Py %</th>";
+  s += "<th>error %</th><th>pick</th></tr>\n";
+  for (const AdviceRow& row : r.advice.rows) {
+    const Rung& rung = *row.rung;
+    const bool judged = row.status == RungStatus::within || row.status == RungStatus::off;
+    s += fmt::format(
+        "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{:g}"
+        "</td><td class=\"num\">{:g}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>"
+        "<td class=\"num\">{}</td>",
+        html_escape(rung.label), status_name(row.status), html_escape(rung.cause), rung.sub_spheres,
+        rung.time_step_fraction, rung.density_scale, rung.seed,
+        rung.cpu_seconds >= 0 ? fmt::format("{:.3g}", rung.cpu_seconds) : std::string(),
+        judged ? percent_cell(row.versus_reference.rms_relative) : std::string());
+    if (r.compaction)
+      s += fmt::format(
+          "<td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}"
+          "</td>",
+          judged ? percent_cell(row.peak_difference) : std::string(),
+          judged ? percent_cell(row.recovery_difference) : std::string(),
+          judged ? percent_cell(row.yield_pressure_difference) : std::string());
+    const bool picked = r.advice.pick && &r.advice.rows[*r.advice.pick] == &row;
+    s += fmt::format("<td class=\"num\">{}</td><td>{}</td></tr>\n",
+                     judged ? percent_cell(row.error) : std::string(), picked ? "pick" : "");
+  }
+  return s + "</table>\n";
+}
+
 std::string beds_html(const std::vector<LoadedRun>& runs) {
   std::string s, notes;
   for (const LoadedRun& run : runs) {
@@ -347,7 +428,8 @@ std::string html_escape(std::string_view text) {
 std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& windows,
                          const ReportProvenance& provenance,
                          const std::optional<StressSpread>& spread,
-                         const std::vector<ExperimentComparison>& experiments) {
+                         const std::vector<ExperimentComparison>& experiments,
+                         const std::vector<AdviceRecord>& advice) {
   std::string s = "{\n";
   s += fmt::format(
       "  \"provenance\": {{\"command_line\": \"{}\", \"shapepress_version\": \"{}\", "
@@ -370,6 +452,7 @@ std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& w
     s += "]},\n";
   }
   if (!experiments.empty()) s += experiments_json(experiments);
+  if (!advice.empty()) s += advice_json(advice);
   s += "  \"runs\": [";
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const LoadedRun& run = runs[r];
@@ -410,7 +493,8 @@ std::string report_html(const std::vector<LoadedRun>& runs,
                         const std::vector<std::pair<std::string, std::filesystem::path>>& charts,
                         const ReportProvenance& provenance,
                         const std::optional<StressSpread>& spread,
-                        const std::vector<ExperimentComparison>& experiments) {
+                        const std::vector<ExperimentComparison>& experiments,
+                        const std::vector<AdviceRecord>& advice) {
   std::string s =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<title>shapepress report</title>\n<style>\n"
@@ -428,6 +512,8 @@ std::string report_html(const std::vector<LoadedRun>& runs,
     s += fmt::format("<figure>\n{}\n<figcaption>{} ({})</figcaption>\n</figure>\n", inline_svg(svg),
                      html_escape(title), html_escape(svg.filename().string()));
   s += beds_html(runs);
+  for (const AdviceRecord& record : advice)
+    s += advice_html(record);
   s += "<h2>Metrics</h2>\n";
   for (const LoadedRun& run : runs) {
     s += fmt::format(

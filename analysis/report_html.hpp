@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/advise.hpp"
 #include "analysis/beds.hpp"
 #include "analysis/compaction.hpp"
 #include "analysis/measured_curve.hpp"
@@ -50,10 +51,15 @@ struct ReportProvenance {
 // "experiments": [{"file", "axes", "x_column", "y_column", "rows", "runs": [{"label",
 // "points", "x_from", "x_to", "x_unit", "rms", "max", "at_x", "unit", "rms_relative",
 // "max_relative"}]}] when experiments are given (SI units, as every number there).
+// "advice": [{"folder", "pick", "reference", "tolerance", "pick_error_vs_reference",
+// "cost_saved_factor", "predicted_full_run_cpu_s", "seed_scatter", "rungs": [{"label", "status",
+// "cause", "sub_spheres", "time_step_fraction", "density_scale", "seed", "cpu_s", "error"}]}]
+// for each advise folder (report --advice).
 std::string metrics_json(const std::vector<LoadedRun>& runs, const FitWindows& windows,
                          const ReportProvenance& provenance,
                          const std::optional<StressSpread>& spread = std::nullopt,
-                         const std::vector<ExperimentComparison>& experiments = {});
+                         const std::vector<ExperimentComparison>& experiments = {},
+                         const std::vector<AdviceRecord>& advice = {});
 
 // A plain page: the charts' SVGs inline, one metrics table per run, the comparison with each
 // experiment, the provenance of every input (its CSV comment lines) and of the report.
@@ -63,7 +69,8 @@ std::string report_html(const std::vector<LoadedRun>& runs,
                         const std::vector<std::pair<std::string, std::filesystem::path>>& charts,
                         const ReportProvenance& provenance,
                         const std::optional<StressSpread>& spread = std::nullopt,
-                        const std::vector<ExperimentComparison>& experiments = {});
+                        const std::vector<ExperimentComparison>& experiments = {},
+                        const std::vector<AdviceRecord>& advice = {});
 
 // The table of beds, one row per compaction run (paper §4.4's comparison of shapes): particle
 // kind, bodies, sub-spheres per body, the bodies' projected aspect ratio, settled and

@@ -178,6 +178,15 @@ TEST(AdviseCompactionCli, AGivenReferenceRunJudgesTheLadderAsItsOwnRungWould) {
   EXPECT_EQ(judged_fields(dir / "coarse" / "advice.csv", "bms-20-f0.2-s100"),
             judged_fields(dir / "both" / "advice.csv", "bms-20-f0.2-s100"));
   EXPECT_EQ(statuses(dir / "coarse" / "advice.csv").at("given-bms-30-f0.2-s100"), "reference,-");
+  // The report draws a bed's ladder from the advise folder.
+  const auto report = run_shapepress("--quiet report --advice " + shell_quoted(dir / "coarse") +
+                                     " --out " + shell_quoted(dir / "report"));
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  for (const char* chart : {"bed_speed_accuracy.svg", "stability_map.svg"})
+    EXPECT_TRUE(fs::exists(dir / "report" / chart)) << chart;
+  const nlohmann::json advice = read_json(dir / "report" / "metrics.json").at("advice").at(0);
+  EXPECT_EQ(advice.at("reference").get<std::string>(), "given-bms-30-f0.2-s100");
+  EXPECT_EQ(advice.at("rungs").size(), 2u);
 
   // Nothing within 0 %: the given run's setting, with no cost to predict.
   const auto strict = run_shapepress(coarse + " --resume --tolerance 0");

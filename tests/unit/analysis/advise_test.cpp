@@ -13,6 +13,9 @@
 #include <fmt/format.h>
 
 #include "analysis/advise.hpp"
+#include "analysis/report.hpp"
+#include "common/error.hpp"
+#include "common/run_metadata.hpp"
 #include "tests/support/files.hpp"
 
 namespace shapepress::analysis {
@@ -88,6 +91,59 @@ TEST(Advise, AReferenceOfUnknownCostIsPickedOnlyWhenNothingElseHolds) {
   for (const Series& s : chart.series)
     for (double x : s.x)
       EXPECT_GE(x, 0.0) << s.title;
+}
+
+// report --advice reads an advise folder back: the table as advise judged it, its run.json's
+// pick, and from them the charts and the table of the report.
+TEST(Advise, AReportReadsTheAdviceBackAndDrawsItsCharts) {
+  const std::filesystem::path dir = shapepress::testing::fresh_directory("advise_read_back");
+  const std::vector<Rung> rungs = ladder();
+  const Advice advice = advise(rungs, 0.05);
+  write_advice_csv(dir / "advice.csv", advice);
+  RunMetadata meta("advise", "shapepress advise ...");
+  meta.fact("tolerance", 0.05)
+      .fact("pick", rungs[*advice.pick].label)
+      .fact("reference", rungs[*advice.reference].label)
+      .fact("pick_error_vs_reference", advice.rows[*advice.pick].error)
+      .fact("cost_saved_factor", 2.0);
+  meta.write(dir / run_metadata_name);
+
+  const AdviceRecord read = read_advice(dir);
+  ASSERT_EQ(read.advice.rows.size(), advice.rows.size());
+  for (std::size_t k = 0; k < rungs.size(); ++k) {
+    EXPECT_EQ(read.advice.rows[k].status, advice.rows[k].status) << k;
+    if (rungs[k].stable())
+      EXPECT_NEAR(read.advice.rows[k].error, advice.rows[k].error, 1e-9) << k;
+    else
+      EXPECT_TRUE(std::isnan(read.advice.rows[k].error)) << k;  // a diverged rung has none
+    EXPECT_EQ(read.advice.rows[k].rung->label, rungs[k].label);
+    EXPECT_EQ(read.advice.rows[k].rung->sub_spheres, rungs[k].sub_spheres);
+    EXPECT_EQ(read.advice.rows[k].rung->stable(), rungs[k].stable()) << k;
+  }
+  EXPECT_EQ(read.advice.pick, advice.pick);
+  EXPECT_EQ(read.advice.reference, advice.reference);
+  EXPECT_FALSE(read.compaction);
+  EXPECT_EQ(read.pick, rungs[*advice.pick].label);
+  // The charts from the table are the charts from the judgement.
+  EXPECT_EQ(speed_accuracy_chart(read.advice).series.size(),
+            speed_accuracy_chart(advice).series.size());
+  EXPECT_EQ(stability_map_chart(read.advice).series.size(),
+            stability_map_chart(advice).series.size());
+
+  ReportOptions options;
+  options.advice = {dir};
+  options.out = dir / "report";
+  const ReportResult result = write_report(options);
+  EXPECT_TRUE(std::filesystem::exists(options.out / "advise_speed_accuracy.svg"));
+  EXPECT_TRUE(std::filesystem::exists(options.out / "stability_map.svg"));
+  std::ifstream in(result.html);
+  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("Pick <b>" + rungs[*advice.pick].label + "</b>"), std::string::npos);
+  EXPECT_NE(html.find("2 times less CPU"), std::string::npos);
+
+  // Not an advise folder: named.
+  std::ofstream(dir / "advice.csv") << "label,status\n";
+  EXPECT_THROW(read_advice(dir), InputError);
 }
 
 TEST(Advise, MeasuresEachRungAgainstTheFinestStableOne) {

@@ -74,6 +74,8 @@ TEST(BedConvergence, EveryCountOfBothPackingsIsMeasuredAgainstItsFinest) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const fs::path advice = out / "bed-convergence" / "advise";
   EXPECT_TRUE(fs::exists(out / "bed-convergence" / "bed_speed_accuracy.svg"));
+  for (const char* chart : {"bed_speed_accuracy.svg", "stability_map.svg", "report.html"})
+    EXPECT_TRUE(fs::exists(out / "bed-convergence" / "report" / chart)) << chart;
 
   auto table = read_table(advice / "advice.csv");
   const std::size_t rungs = table["label"].size();
