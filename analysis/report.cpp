@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -195,36 +198,62 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs,
 // Peak stress, elastic recovery and Heckel Py against the bodies' projected aspect ratio (paper
 // §4.4: the shape effect), one marker per compaction run whose bodies' aspect ratio is known;
 // nothing with fewer than two.
-std::vector<Chart> shape_effect_charts(const std::vector<LoadedRun>& runs) {
-  const std::string x_label = "projected aspect ratio of the bodies (Feret min/max)";
-  Chart peak{"Shape effect: peak stress", x_label,           "peak stress [MPa]",
-             "projected_aspect_ratio",    "peak_stress_MPa", {}};
-  Chart recovery{"Shape effect: elastic recovery", x_label,
-                 "elastic recovery [%]",           "projected_aspect_ratio",
-                 "elastic_recovery_percent",       {}};
-  Chart yield{"Shape effect: Heckel yield pressure",
+// Peak stress, elastic recovery and Py of every bed against one of its facts (`x`; beds without
+// it are left out), one point per run; empty with fewer than two such beds.
+std::vector<Chart> figure_charts(const std::vector<LoadedRun>& runs, const std::string& effect,
+                                 const std::string& x_label, const std::string& x_column,
+                                 const std::function<std::optional<double>(const BedFacts&)>& x) {
+  Chart peak{effect + ": peak stress", x_label, "peak stress [MPa]", x_column,
+             "peak_stress_MPa",        {}};
+  Chart recovery{effect + ": elastic recovery", x_label, "elastic recovery [%]", x_column,
+                 "elastic_recovery_percent",    {}};
+  Chart yield{effect + ": Heckel yield pressure",
               x_label,
               "Heckel Py [MPa]",
-              "projected_aspect_ratio",
+              x_column,
               "yield_pressure_MPa",
               {}};
   int colour = 0;
   for (const LoadedRun& run : runs) {
-    if (!run.bed || !run.bed->projected_aspect_ratio) continue;
+    if (!run.bed) continue;
+    const std::optional<double> at = x(*run.bed);
+    if (!at) continue;
     ++colour;
-    const double asr = *run.bed->projected_aspect_ratio;
     const CompactionMetrics& m = *run.compaction;
-    peak.series.push_back({run.label, {asr}, {m.peak_stress / mega}, SeriesStyle::markers, colour});
+    peak.series.push_back({run.label, {*at}, {m.peak_stress / mega}, SeriesStyle::markers, colour});
     if (m.unloaded)
       recovery.series.push_back(
-          {run.label, {asr}, {100.0 * m.elastic_recovery}, SeriesStyle::markers, colour});
+          {run.label, {*at}, {100.0 * m.elastic_recovery}, SeriesStyle::markers, colour});
     if (std::isfinite(m.heckel.yield_pressure))
       yield.series.push_back(
-          {run.label, {asr}, {m.heckel.yield_pressure / mega}, SeriesStyle::markers, colour});
+          {run.label, {*at}, {m.heckel.yield_pressure / mega}, SeriesStyle::markers, colour});
   }
   if (colour < 2) return {};
   return {peak, recovery, yield};
 }
+
+// The shape effect (paper §4.4, Fig. 8): each bed against its bodies' projected aspect ratio.
+std::vector<Chart> shape_effect_charts(const std::vector<LoadedRun>& runs) {
+  return figure_charts(runs, "Shape effect", "projected aspect ratio of the bodies (Feret min/max)",
+                       "projected_aspect_ratio",
+                       [](const BedFacts& bed) { return bed.projected_aspect_ratio; });
+}
+
+}  // namespace
+
+std::vector<Chart> bed_size_charts(const std::vector<LoadedRun>& runs) {
+  std::map<std::pair<std::string, double>, std::set<std::int64_t>> sizes;
+  for (const LoadedRun& run : runs)
+    if (run.bed)
+      sizes[{run.bed->particle_kind, run.bed->sub_spheres_per_body}].insert(run.bed->bodies);
+  const auto varied = [&](const BedFacts& bed) -> std::optional<double> {
+    if (sizes.at({bed.particle_kind, bed.sub_spheres_per_body}).size() < 2) return std::nullopt;
+    return static_cast<double>(bed.bodies);
+  };
+  return figure_charts(runs, "Bed size", "bodies in the bed", "bodies", varied);
+}
+
+namespace {
 
 // An extra plate curve: deformation and force_N (or top_force_N, as force.csv has it).
 Series plate_curve_series(const std::string& label, const std::filesystem::path& path) {
@@ -336,6 +365,12 @@ ReportResult write_report(const ReportOptions& options) {
       if (!shapes[i].series.empty())
         charts.emplace_back(shapes[i].title,
                             plot_chart(shapes[i], options.out / shape_stems[i]).svg);
+    const std::vector<Chart> sizes = bed_size_charts(runs);
+    const char* size_stems[] = {"bed_size_peak_stress", "bed_size_elastic_recovery",
+                                "bed_size_yield_pressure"};
+    for (std::size_t i = 0; i < sizes.size(); ++i)
+      if (!sizes[i].series.empty())
+        charts.emplace_back(sizes[i].title, plot_chart(sizes[i], options.out / size_stems[i]).svg);
   }
   if (result.plate_runs > 0 || !options.plate_curves.empty()) {
     const Chart chart = plate_chart(runs, options.poisson_ratio, options.plate_curves);

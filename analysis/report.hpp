@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "analysis/compaction.hpp"
+#include "analysis/plot.hpp"
+#include "analysis/report_html.hpp"
 
 namespace shapepress::analysis {
 
@@ -42,6 +44,11 @@ struct ReportResult {
   int compaction_runs = 0;
   int plate_runs = 0;
 };
+
+// The representative volume: the peak stress, elastic recovery and Py of beds of one particle
+// (kind and sub-spheres per body) in more than one size, against their bodies (seeds of a size
+// show its scatter beside the size's trend); empty when no particle has two sizes.
+std::vector<Chart> bed_size_charts(const std::vector<LoadedRun>& runs);
 
 // Reads every run (InputError naming the folder, file or column that is wrong), then writes the
 // charts, metrics.json and report.html into options.out.

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "analysis/beds.hpp"
+#include "analysis/report.hpp"
 
 namespace shapepress::analysis {
 namespace {
@@ -46,6 +47,39 @@ TEST(Beds, ViewingDirectionsAreUnitVectorsSpreadOverTheSphere) {
   EXPECT_NEAR(mean_z, 0.0, 0.03);
   EXPECT_NEAR(mean_z2, 1.0 / 3.0, 0.02);  // <z²> of a uniform direction
   EXPECT_EQ(viewing_directions(8, 1), viewing_directions(8, 1));
+}
+
+// A bed of `bodies` bodies of one particle and its figures, as the report loads it.
+LoadedRun bed_run(const std::string& label, std::int64_t bodies, double per_body, double peak) {
+  LoadedRun run;
+  run.label = label;
+  run.bed = BedFacts{};
+  run.bed->particle_kind = "bms";
+  run.bed->bodies = bodies;
+  run.bed->sub_spheres_per_body = per_body;
+  run.compaction = CompactionMetrics{};
+  run.compaction->peak_stress = peak;
+  run.compaction->unloaded = true;
+  run.compaction->elastic_recovery = 0.2;
+  run.compaction->heckel.yield_pressure = 8e6;
+  return run;
+}
+
+// Beds of one particle in several sizes are charted against their bodies; a particle in one
+// size is not, and with no particle in two sizes there is no chart.
+TEST(Beds, BedSizeChartsOnlyAParticleInSeveralSizes) {
+  std::vector<LoadedRun> runs = {bed_run("40", 40, 80, 1e6), bed_run("150", 150, 80, 2e6),
+                                 bed_run("150-seed2", 150, 80, 2.2e6),
+                                 bed_run("350", 150, 350, 3e6)};
+  const std::vector<Chart> charts = bed_size_charts(runs);
+  ASSERT_EQ(charts.size(), 3u);
+  const Chart& peak = charts[0];
+  ASSERT_EQ(peak.series.size(), 3u);  // not the N = 350 bed, of one size
+  EXPECT_EQ(peak.series[0].x, std::vector<double>{40.0});
+  EXPECT_EQ(peak.series[2].y, std::vector<double>{2.2});
+  runs.resize(1);
+  runs.push_back(bed_run("350", 150, 350, 3e6));
+  EXPECT_TRUE(bed_size_charts(runs).empty());
 }
 
 }  // namespace
