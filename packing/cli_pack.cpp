@@ -222,8 +222,10 @@ int run(const PackCli& given, const RunContext& context) {
       .fact("steps", result.steps)
       .fact("loop_s", result.loop_seconds)
       .fact("settled", result.settled)
-      .fact("settled_solid_fraction", result.settled_solid_fraction)
-      .fact("precompression_solid_fraction", result.precompression_solid_fraction);
+      .fact("settled_solid_fraction", result.settled_solid_fraction);
+  // Absent when there was no press, or the bed settled denser than its target.
+  if (result.precompression_solid_fraction > 0.0)
+    meta.fact("precompression_solid_fraction", result.precompression_solid_fraction);
   add_measures(meta, m);
   meta.fact("effective_config", pack_config_toml(config));
   meta.write(run_metadata_beside(out));

@@ -595,6 +595,12 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
             next_phase(PackPhase::release);
           break;
         }
+        if (state.settled_solid_fraction >= *request.target_solid_fraction)
+          spdlog::warn(
+              "pack: the bed settled denser ({:.4f} by shape volume) than press.solid_fraction = "
+              "{}: the punch does not touch it, and the bed is stated as settled, not "
+              "pre-compressed",
+              state.settled_solid_fraction, *request.target_solid_fraction);
         next_phase(PackPhase::press);
         PlaneWall& punch = engine->walls()[1];
         punch.position = std::max(bed_top(engine->state(), request.floor), request.floor + gap);
@@ -634,8 +640,10 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
           run.interrupted = done = true;
           break;
         }
-        state.precompression_solid_fraction =
-            solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
+        // Where the punch stopped is the bed's solid fraction only if it reached the bed.
+        if (state.settled_solid_fraction < *request.target_solid_fraction)
+          state.precompression_solid_fraction =
+              solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
         // Release: the punch back to where it was parked; the bed relaxes under gravity.
         engine->walls()[1].velocity = 0.0;
         engine->walls()[1].position = walls[1].position;

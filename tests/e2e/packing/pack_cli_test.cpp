@@ -83,6 +83,24 @@ TEST(PackCli, FillThenPackWritesAPackingTheReaderAcceptsWithItsMeasures) {
   EXPECT_GE(run["facts"]["precompression_solid_fraction"].get<double>(), 0.5 - 1e-9);
 }
 
+// A target looser than the bed settles to is never reached by the punch: the bed is stated as
+// settled only, with a warning, not as pre-compressed to a solid fraction it never had.
+TEST(PackCli, ABedThatSettlesDenserThanItsPressIsNotStatedPreCompressed) {
+  const fs::path dir = fresh_directory("pack_e2e_loose_press");
+  const fs::path templates = filled_templates(dir);
+  write_text(dir / "pack.toml",
+             config(two_templates, "[press]\nsolid_fraction = 0.1\nspeed = 0.1\n"));
+  const auto r =
+      run_shapepress("pack " + templates.string() + " --config " + (dir / "pack.toml").string() +
+                     " --out " + (dir / "packed.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the punch does not touch it"), std::string::npos) << r.output;
+  const nlohmann::json facts =
+      nlohmann::json::parse(read_text(dir / "packed.h5.run.json"))["facts"];
+  EXPECT_GT(facts["settled_solid_fraction"].get<double>(), 0.1);
+  EXPECT_FALSE(facts.contains("precompression_solid_fraction"));
+}
+
 // settle.density_scale: the same bed settled, pressed and relaxed at 100 × density takes far
 // fewer steps (its step is 10 times longer), and its release at the true density leaves the true
 // weight's overlaps, not the scaled weight's (100^(2/3) ≈ 22 times deeper).
