@@ -229,10 +229,7 @@ double field_number(const std::string& text, const std::filesystem::path& csv,
 }  // namespace
 
 AdviceRecord read_advice(const std::filesystem::path& folder) {
-  const RunRecord run = RunRecord::read(folder / run_metadata_name);
-  if (run.stage() != "advise")
-    throw InputError(
-        fmt::format("{}: made by {}, not by advise", run.path().string(), run.stage()));
+  const RunRecord run = RunRecord::read(folder / run_metadata_name, "advise");
   AdviceRecord record;
   record.folder = folder;
   const std::filesystem::path csv = folder / "advice.csv";

@@ -86,6 +86,13 @@ RunRecord RunRecord::read(const std::filesystem::path& path) {
   return record;
 }
 
+RunRecord RunRecord::read(const std::filesystem::path& path, std::string_view stage) {
+  RunRecord record = read(path);
+  if (record.stage_ != stage)
+    throw InputError(fmt::format("{}: made by {}, not by {}", path.string(), record.stage_, stage));
+  return record;
+}
+
 bool RunRecord::has(const std::string& key) const {
   return json_.at("facts").contains(key);
 }

@@ -63,6 +63,8 @@ class RunRecord {
  public:
   // InputError naming the file when it is missing, not JSON, or lacks stage/facts.
   static RunRecord read(const std::filesystem::path& path);
+  // The same, and InputError naming both when another stage made it.
+  static RunRecord read(const std::filesystem::path& path, std::string_view stage);
 
   const std::filesystem::path& path() const { return path_; }
   const std::string& stage() const { return stage_; }

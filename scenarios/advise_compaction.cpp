@@ -56,10 +56,7 @@ std::string locate_mesh(const std::string& recorded, const fs::path& templates) 
 }
 
 FillRecipe fill_recipe(const fs::path& templates) {
-  const RunRecord record = RunRecord::read(run_metadata_beside(templates));
-  if (record.stage() != "fill")
-    throw InputError(
-        fmt::format("{}: made by {}, not by fill", record.path().string(), record.stage()));
+  const RunRecord record = RunRecord::read(run_metadata_beside(templates), "fill");
   FillRecipe recipe;
   recipe.kind = record.text("particle_kind");
   for (const auto& input : record.json().at("inputs"))
@@ -277,10 +274,7 @@ fs::path input_of(const RunRecord& record, const std::string& role) {
 }
 
 GivenRun read_given_run(const fs::path& folder, const FillRecipe& recipe, int bodies) {
-  const RunRecord run = RunRecord::read(folder / run_metadata_name);
-  if (run.stage() != "compact")
-    throw InputError(
-        fmt::format("{}: made by {}, not by compact", run.path().string(), run.stage()));
+  const RunRecord run = RunRecord::read(folder / run_metadata_name, "compact");
   GivenRun given;
   given.folder = folder;
   const fs::path packing = input_of(run, "packing");
@@ -290,7 +284,7 @@ GivenRun read_given_run(const fs::path& folder, const FillRecipe& recipe, int bo
   if (!fs::exists(packing) || sha256_file(packing) != pressed_sha256)
     throw InputError(fmt::format("{}: its packing {} is gone or changed since", run.path().string(),
                                  packing.string()));
-  const RunRecord pack = RunRecord::read(run_metadata_beside(packing));
+  const RunRecord pack = RunRecord::read(run_metadata_beside(packing), "pack");
   if (pack.integer("bodies") != bodies)
     throw InputError(fmt::format("{}: {} bodies, against the ladder's {} (--bodies)",
                                  pack.path().string(), pack.integer("bodies"), bodies));
