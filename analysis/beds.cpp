@@ -171,7 +171,10 @@ BedFacts bed_facts(const std::filesystem::path& run_json, const PunchCurve& curv
   if (!bed.compaction_seconds)
     bed.notes.push_back("the compaction's loop_s is not in its run.json");
   const std::int64_t spheres = run.has("spheres") ? run.integer("spheres") : 0;
-  bed.bodies = spheres;
+  // A bed of rigid clumps: its bodies are the clumps, not their sub-spheres.
+  const std::int64_t clumps = run.has("clumps") ? run.integer("clumps") : 0;
+  bed.bodies = clumps > 0 ? clumps : spheres;
+  if (bed.bodies > 0) bed.sub_spheres_per_body = static_cast<double>(spheres) / bed.bodies;
   const bool plain_spheres = bed.particle_kind == "sphere";
   if (plain_spheres) bed.projected_aspect_ratio = 1.0, bed.projected_aspect_ratio_sd = 0.0;
 

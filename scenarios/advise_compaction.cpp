@@ -363,7 +363,9 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
       request.fractions.empty() ? std::vector{config.run.time_step_fraction} : request.fractions;
   const std::vector<double> scales =
       request.density_scales.empty() ? std::vector{config.density_scale} : request.density_scales;
-  const fs::path out(request.out);
+  // Absolute, so that every rung's run.json names its packing wherever it is read from (the
+  // report follows a compaction to its bed).
+  const fs::path out = fs::absolute(request.out);
   ensure_output_folder(out);
 
   const nlohmann::json bed_key = {{"templates_sha256", sha256_file(request.templates)},

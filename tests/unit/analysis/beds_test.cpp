@@ -8,6 +8,8 @@
 
 #include "analysis/beds.hpp"
 #include "analysis/report.hpp"
+#include "common/run_metadata.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::analysis {
 namespace {
@@ -80,6 +82,21 @@ TEST(Beds, BedSizeChartsOnlyAParticleInSeveralSizes) {
   runs.resize(1);
   runs.push_back(bed_run("350", 150, 350, 3e6));
   EXPECT_TRUE(bed_size_charts(runs).empty());
+}
+
+// A bed of rigid clumps counts its clumps as bodies, its sub-spheres per clump, whatever is
+// known of its packing.
+TEST(Beds, ABedOfClumpsCountsItsClumps) {
+  const std::filesystem::path dir = shapepress::testing::fresh_directory("beds_clumps");
+  RunMetadata meta("compact", "shapepress compact ...");
+  meta.fact("particle_kind", "cms").fact("spheres", 890).fact("clumps", 10);
+  meta.write(dir / run_metadata_name);
+  PunchCurve curve;
+  curve.solid_fraction = {0.6, 0.7};
+  const BedFacts bed = bed_facts(dir / run_metadata_name, curve);
+  EXPECT_EQ(bed.particle_kind, "cms");
+  EXPECT_EQ(bed.bodies, 10);
+  EXPECT_DOUBLE_EQ(bed.sub_spheres_per_body, 89.0);
 }
 
 }  // namespace
