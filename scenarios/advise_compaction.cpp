@@ -352,17 +352,27 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
                      ": advise presses the packed bed; [generate] and [clumps] pour another");
   const FillRecipe recipe = fill_recipe(request.templates);
   const int bodies = request.bodies > 0 ? request.bodies : pack_count(request.pack_config);
-  std::vector<GivenRun> given_runs;
-  for (const std::string& folder : request.reference_runs) {
-    given_runs.push_back(read_given_run(folder, recipe, bodies));
-    meta.input("reference_run", fs::path(folder) / "punch.csv");
-  }
   const int full_bodies =
       request.full_bodies > 0 ? request.full_bodies : pack_count(request.pack_config);
   const std::vector<double> fractions =
       request.fractions.empty() ? std::vector{config.run.time_step_fraction} : request.fractions;
   const std::vector<double> scales =
       request.density_scales.empty() ? std::vector{config.density_scale} : request.density_scales;
+  const auto in_ladder = [](const auto& values, auto value) {
+    return std::find(values.begin(), values.end(), value) != values.end();
+  };
+  std::vector<GivenRun> given_runs;
+  for (const std::string& folder : request.reference_runs) {
+    given_runs.push_back(read_given_run(folder, recipe, bodies));
+    const GivenRun& given = given_runs.back();
+    // Refused before the ladder runs: its own rung of that setting would be the same run.
+    if (in_ladder(request.counts, given.count) && in_ladder(fractions, given.fraction) &&
+        in_ladder(scales, given.density_scale))
+      throw InputError(fmt::format(
+          "{}: the ladder runs its setting itself (N = {}, step {} of critical, density scale {})",
+          folder, given.count, number_text(given.fraction), number_text(given.density_scale)));
+    meta.input("reference_run", fs::path(folder) / "punch.csv");
+  }
   // Absolute, so that every rung's run.json names its packing wherever it is read from (the
   // report follows a compaction to its bed).
   const fs::path out = fs::absolute(request.out);
@@ -461,14 +471,9 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
           given.folder.string(), out.string()));
     const auto& seed = beds[*bed].seed;
     std::optional<fs::path> pressed;  // a rung of that bed that ran, to compare configs with
-    for (const RungJob& job : rungs) {
-      if (beds[job.bed].seed != seed) continue;
-      if (beds[job.bed].count == given.count && job.fraction == given.fraction &&
-          job.density_scale == given.density_scale)
-        throw InputError(fmt::format("{}: the ladder runs its setting itself ({})",
-                                     given.folder.string(), job.label));
-      if (!pressed && fs::exists(job.folder / "effective.toml")) pressed = job.folder;
-    }
+    for (const RungJob& job : rungs)
+      if (!pressed && beds[job.bed].seed == seed && fs::exists(job.folder / "effective.toml"))
+        pressed = job.folder;
     if (!pressed)
       throw InputError(fmt::format("{}: no rung of its bed ran to compare its config with",
                                    given.folder.string()));

@@ -203,6 +203,13 @@ TEST(AdviseCompactionCli, AGivenReferenceRunJudgesTheLadderAsItsOwnRungWould) {
   EXPECT_THAT(fewer.output, HasSubstr("10 bodies, against the ladder's 8"));
   EXPECT_FALSE(fs::exists(dir / "fewer" / "bed-20"));
 
+  // A setting the ladder runs itself is refused before anything runs.
+  const auto twice = run_shapepress(ladder + " --counts 20,30 --bodies 10 --reference-run " +
+                                    shell_quoted(given) + " --out " + shell_quoted(dir / "twice"));
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  EXPECT_THAT(twice.output, HasSubstr("the ladder runs its setting itself"));
+  EXPECT_FALSE(fs::exists(dir / "twice" / "bed-20"));
+
   // Another contact law: refused, naming the line.
   const fs::path other = dir / "other-friction";
   fs::copy(given, other);
