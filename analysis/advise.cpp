@@ -159,12 +159,34 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
   return advice;
 }
 
+namespace {
+
+// advice.csv's columns, as write_advice_csv writes them and read_advice expects them.
+std::vector<std::string> advice_columns() {
+  return {"label",
+          "status",
+          "cause",
+          "sub_spheres",
+          "time_step_fraction",
+          "density_scale",
+          "seed",
+          "cpu_s",
+          "rms_vs_reference",
+          "max_vs_reference",
+          "peak_vs_reference",
+          "recovery_vs_reference",
+          "py_vs_reference",
+          "peak_stress_Pa",
+          "elastic_recovery",
+          "yield_pressure_Pa",
+          "error",
+          "picked"};
+}
+
+}  // namespace
+
 void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
-  CsvWriter csv(path,
-                {"label", "status", "cause", "sub_spheres", "time_step_fraction", "density_scale",
-                 "seed", "cpu_s", "rms_vs_reference", "max_vs_reference", "peak_vs_reference",
-                 "recovery_vs_reference", "py_vs_reference", "peak_stress_Pa", "elastic_recovery",
-                 "yield_pressure_Pa", "error", "picked"});
+  CsvWriter csv(path, advice_columns());
   csv.comment(fmt::format(
       "shapepress advise: each rung against the reference {} (RMS and largest relative "
       "difference of the curve over {:.3g}-{:.3g}; compaction rungs also the peak stress, "
@@ -235,24 +257,7 @@ AdviceRecord read_advice(const std::filesystem::path& folder) {
   const std::filesystem::path csv = folder / "advice.csv";
   std::ifstream in(csv);
   if (!in) throw InputError(csv.string() + ": missing (advise writes it when its rungs are done)");
-  const std::vector<std::string> columns = {"label",
-                                            "status",
-                                            "cause",
-                                            "sub_spheres",
-                                            "time_step_fraction",
-                                            "density_scale",
-                                            "seed",
-                                            "cpu_s",
-                                            "rms_vs_reference",
-                                            "max_vs_reference",
-                                            "peak_vs_reference",
-                                            "recovery_vs_reference",
-                                            "py_vs_reference",
-                                            "peak_stress_Pa",
-                                            "elastic_recovery",
-                                            "yield_pressure_Pa",
-                                            "error",
-                                            "picked"};
+  const std::vector<std::string> columns = advice_columns();
   auto rungs = std::make_shared<std::vector<Rung>>();
   std::vector<AdviceRow> rows;
   bool header = false;
@@ -278,16 +283,13 @@ AdviceRecord read_advice(const std::filesystem::path& folder) {
     rung.seed = static_cast<int>(number(6));
     rung.cpu_seconds = std::isfinite(number(7)) ? number(7) : -1.0;
     AdviceRow row;
-    const std::pair<RungStatus, const char*> statuses[] = {{RungStatus::reference, "reference"},
-                                                           {RungStatus::within, "within"},
-                                                           {RungStatus::off, "off"},
-                                                           {RungStatus::diverged, "diverged"},
-                                                           {RungStatus::refused, "refused"}};
+    const RungStatus statuses[] = {RungStatus::reference, RungStatus::within, RungStatus::off,
+                                   RungStatus::diverged, RungStatus::refused};
     const auto status = std::find_if(std::begin(statuses), std::end(statuses),
-                                     [&](const auto& s) { return f[1] == s.second; });
+                                     [&](RungStatus s) { return f[1] == status_name(s); });
     if (status == std::end(statuses))
       throw InputError(fmt::format("{}: status '{}' of {}", csv.string(), f[1], f[0]));
-    row.status = status->first;
+    row.status = *status;
     rung.end = row.status == RungStatus::diverged  ? RunEnd::diverged
                : row.status == RungStatus::refused ? RunEnd::refused
                                                    : RunEnd::finished;
@@ -326,7 +328,6 @@ AdviceRecord read_advice(const std::filesystem::path& folder) {
   record.pick_error = fact("pick_error_vs_reference");
   record.cost_saved_factor = fact("cost_saved_factor");
   record.predicted_full_run_cpu_s = fact("predicted_full_run_cpu_s");
-  if (run.has("bodies")) record.bodies = static_cast<int>(run.integer("bodies"));
   if (run.has("full_bodies")) record.full_bodies = static_cast<int>(run.integer("full_bodies"));
   return record;
 }

@@ -108,7 +108,7 @@ struct AdviceRecord {
   std::optional<std::string> pick;  // run.json's pick, reference and their numbers
   std::optional<std::string> reference;
   std::optional<double> pick_error, cost_saved_factor, predicted_full_run_cpu_s;
-  int bodies = 0, full_bodies = 0;  // a bed's ladder: reduced and full bed (0: a plate ladder)
+  int full_bodies = 0;  // a bed's ladder: the full bed whose cost is predicted (0: a plate ladder)
 };
 // InputError naming the folder or file when it is not an advise folder (run.json of stage
 // advise, advice.csv with advise's columns).

@@ -41,6 +41,7 @@ struct FillRecipe {
   std::vector<std::string> options;  // fill's options besides the meshes, --count and --out
   // The shapes themselves: each mesh's SHA-256 when filled, and the analytic shapes' sizes.
   std::vector<std::string> shapes;
+  int count = 0;  // the sub-spheres these templates were filled with (0: not stated)
 };
 
 // A recorded mesh path as given to fill: relative to where fill ran (unknown), so it is taken
@@ -59,6 +60,8 @@ FillRecipe fill_recipe(const fs::path& templates) {
   const RunRecord record = RunRecord::read(run_metadata_beside(templates), "fill");
   FillRecipe recipe;
   recipe.kind = record.text("particle_kind");
+  if (record.has("requested_count"))
+    recipe.count = static_cast<int>(record.integer("requested_count"));
   for (const auto& input : record.json().at("inputs"))
     if (input.value("role", "") == "mesh") {
       recipe.meshes.push_back(locate_mesh(input.at("path").get<std::string>(), templates));
@@ -267,9 +270,10 @@ struct GivenRun {
   std::optional<double> loop_seconds;  // its loop's wall seconds, when compact stated them
 };
 
-fs::path input_of(const RunRecord& record, const std::string& role) {
+// The record's input of `role`: its path and SHA-256.
+const nlohmann::json& input_of(const RunRecord& record, const std::string& role) {
   for (const auto& input : record.json().at("inputs"))
-    if (input.value("role", "") == role) return input.at("path").get<std::string>();
+    if (input.value("role", "") == role) return input;
   throw InputError(fmt::format("{}: names no {} among its inputs", record.path().string(), role));
 }
 
@@ -277,11 +281,9 @@ GivenRun read_given_run(const fs::path& folder, const FillRecipe& recipe, int bo
   const RunRecord run = RunRecord::read(folder / run_metadata_name, "compact");
   GivenRun given;
   given.folder = folder;
-  const fs::path packing = input_of(run, "packing");
-  std::string pressed_sha256;
-  for (const auto& input : run.json().at("inputs"))
-    if (input.value("role", "") == "packing") pressed_sha256 = input.value("sha256", "");
-  if (!fs::exists(packing) || sha256_file(packing) != pressed_sha256)
+  const nlohmann::json& pressed = input_of(run, "packing");
+  const fs::path packing = pressed.at("path").get<std::string>();
+  if (!fs::exists(packing) || sha256_file(packing) != pressed.value("sha256", ""))
     throw InputError(fmt::format("{}: its packing {} is gone or changed since", run.path().string(),
                                  packing.string()));
   const RunRecord pack = RunRecord::read(run_metadata_beside(packing), "pack");
@@ -289,7 +291,7 @@ GivenRun read_given_run(const fs::path& folder, const FillRecipe& recipe, int bo
     throw InputError(fmt::format("{}: {} bodies, against the ladder's {} (--bodies)",
                                  pack.path().string(), pack.integer("bodies"), bodies));
   given.pack_config = pack.text("effective_config");
-  const fs::path templates = input_of(pack, "templates");
+  const fs::path templates = input_of(pack, "templates").at("path").get<std::string>();
   const FillRecipe filled = fill_recipe(templates);
   if (filled.kind != recipe.kind || filled.options != recipe.options ||
       filled.shapes != recipe.shapes)
@@ -297,8 +299,11 @@ GivenRun read_given_run(const fs::path& folder, const FillRecipe& recipe, int bo
         "{}: filled from other shapes or with other options than the ladder's templates "
         "(fill {} against {})",
         templates.string(), fmt::join(filled.options, " "), fmt::join(recipe.options, " ")));
-  given.count =
-      static_cast<int>(RunRecord::read(run_metadata_beside(templates)).integer("requested_count"));
+  given.count = filled.count;
+  if (given.count == 0)
+    throw InputError(
+        fmt::format("{}: no requested_count (a fill from before fill stated it: fill again)",
+                    run_metadata_beside(templates).string()));
   const ConfigTable effective = ConfigTable::load_file(folder / "effective.toml");
   given.fraction = effective.table("run").number("time_step_fraction");
   given.density_scale = effective.table("run").number("density_scale", 1.0);
