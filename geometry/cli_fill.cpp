@@ -99,8 +99,10 @@ int run(const FillCli& cli, const RunContext& context) {
   ProgressReporter progress("fill", static_cast<double>(shapes.size()),
                             {.quiet = context.quiet, .unit = "templates"});
   std::vector<TemplateRecord> records;
-  fmt::print("{:<24} {:>4} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>6}\n", "template", "kind", "N",
-             "Vfrac", "Verr", "rms/d", "haus/d", "inertia", "bonds");
+  // Vbody: the body's volume in a bed (the union closed by a ball of the sub-spheres' radius) over
+  // the shape's, what its solid fraction and mass are by.
+  fmt::print("{:<24} {:>4} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>6} {:>8}\n", "template", "kind",
+             "N", "Vfrac", "Verr", "rms/d", "haus/d", "inertia", "bonds", "Vbody");
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     const NamedShape& shape = shapes[i];
     const SignedDistance distance = distance_of(shape, cli.resolution);
@@ -130,10 +132,11 @@ int run(const FillCli& cli, const RunContext& context) {
         shape.name, shape.source, filled, template_mass_properties(filled), shape.mass, quality);
     record.seed = seed;
     record.bond_multiplier = bonded ? cli.bond_multiplier : 0.0;
-    fmt::print("{:<24} {:>4} {:>6} {:>8.4f} {:>8.4f} {:>8.4f} {:>8.4f} {:>8.4f} {:>6}\n",
+    fmt::print("{:<24} {:>4} {:>6} {:>8.4f} {:>8.4f} {:>8.4f} {:>8.4f} {:>8.4f} {:>6} {:>8.4f}\n",
                shape.name, cli.kind, quality.sphere_count, quality.volume_fraction,
                quality.volume_error, quality.surface_rms_relative, quality.hausdorff_relative,
-               quality.inertia_error, quality.bond_count);
+               quality.inertia_error, quality.bond_count,
+               record.body_mass.volume / shape.mass.volume);
     records.push_back(std::move(record));
     progress.update(static_cast<double>(i + 1));
   }
@@ -144,11 +147,12 @@ int run(const FillCli& cli, const RunContext& context) {
   for (const std::string& mesh : cli.meshes)
     meta.input("mesh", mesh);
   nlohmann::json names = nlohmann::json::array(), counts = nlohmann::json::array(),
-                 bonds = nlohmann::json::array();
+                 bonds = nlohmann::json::array(), body_fractions = nlohmann::json::array();
   for (const TemplateRecord& record : records) {
     names.push_back(record.name);
     counts.push_back(record.quality.sphere_count);
     bonds.push_back(record.quality.bond_count);
+    body_fractions.push_back(record.body_mass.volume / record.shape_mass.volume);
   }
   meta.output(std::filesystem::path(cli.out).filename())
       .fact("particle_kind", cli.kind)
@@ -156,6 +160,7 @@ int run(const FillCli& cli, const RunContext& context) {
       .fact("template_names", names)
       .fact("sub_spheres", counts)
       .fact("bonds", bonds)
+      .fact("body_volume_fractions", body_fractions)
       .fact("requested_count", cli.count > 0 ? cli.count
                                : bonded      ? 350
                                              : 150)

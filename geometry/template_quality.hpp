@@ -11,6 +11,14 @@ namespace shapepress::geometry {
 // (overlaps counted once; Giannis et al. 2023 §2.4 use Monte Carlo for the same reason).
 MassProperties union_mass_properties(const std::vector<Vec3>& centres,
                                      const std::vector<double>& radii, int cells = 128);
+// The same of the union closed by a ball of `probe_radius` (dilated, then eroded): every pore and
+// crevice of the union that such a ball cannot enter is filled. A BMS or CMS body's volume as a
+// neighbouring sub-sphere of that radius sees it (docs/models.md, "A body's volume"). The grid's
+// cells are a sixteenth of the probe radius, or coarser so that at most `cells` span the longest
+// side of the box around the union.
+MassProperties closed_union_mass_properties(const std::vector<Vec3>& centres,
+                                            const std::vector<double>& radii, double probe_radius,
+                                            int cells = 320);
 // Exact for spheres that do not overlap (BMS): sums of spheres with the parallel-axis theorem.
 MassProperties sphere_sum_mass_properties(const std::vector<Vec3>& centres,
                                           const std::vector<double>& radii);

@@ -1,5 +1,7 @@
 #include "geometry/templates_file.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "common/error.hpp"
@@ -50,6 +52,29 @@ std::vector<Metric> metrics(const FillQuality& q) {
 
 }  // namespace
 
+MassProperties body_mass_properties(const SphereTemplate& spheres, double* probe_radius,
+                                    int cells) {
+  std::vector<double> sorted = spheres.radii;
+  if (sorted.empty()) return {};
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                   sorted.end());
+  const double probe = sorted[sorted.size() / 2];
+  if (probe_radius) *probe_radius = probe;
+  MassProperties m =
+      spheres.centres.size() == 1
+          ? ellipsoid_mass_properties(Vec3::Constant(spheres.radii[0]), spheres.centres[0])
+          : closed_union_mass_properties(spheres.centres, spheres.radii, probe, cells);
+  // About the body origin (parallel axes), the body frame's diagonal kept: the body is turned and
+  // integrated about its sub-spheres' principal axes.
+  const Vec3 d = m.centre;
+  const Mat3 about_origin =
+      m.inertia + m.volume * (d.squaredNorm() * Mat3::Identity() - d * d.transpose());
+  m.inertia = about_origin.diagonal().asDiagonal();
+  m.centre = Vec3::Zero();
+  diagonalise(m);
+  return m;
+}
+
 TemplateRecord make_template_record(std::string name, std::string source,
                                     const SphereTemplate& filled,
                                     const MassProperties& template_mass,
@@ -68,6 +93,7 @@ TemplateRecord make_template_record(std::string name, std::string source,
   r.mass.principal_axes = Mat3::Identity();
   r.shape_mass = shape_mass;
   r.quality = quality;
+  r.body_mass = body_mass_properties(r.body, &r.body_probe_radius);
   return r;
 }
 
@@ -103,6 +129,13 @@ void write_templates(const std::filesystem::path& path, const std::vector<Templa
     file.unit(child(g, "shape_volume"), "m^3");
     file.write(child(g, "shape_principal_inertia"), as_vector(r.shape_mass.principal_moments));
     file.unit(child(g, "shape_principal_inertia"), "m^5");
+    const std::vector<double> body_volume = {r.body_mass.volume}, probe = {r.body_probe_radius};
+    file.write(child(g, "body_volume"), body_volume);
+    file.unit(child(g, "body_volume"), "m^3");
+    file.write(child(g, "body_inertia"), as_vector(r.body_mass.inertia.diagonal()));
+    file.unit(child(g, "body_inertia"), "m^5");
+    file.write(child(g, "body_probe_radius"), probe);
+    file.unit(child(g, "body_probe_radius"), "m");
     file.write(child(g, "body_origin"), as_vector(r.body_origin));
     file.unit(child(g, "body_origin"), "m");
     std::vector<double> axes(9);  // row-major: axes[3 i + j] = R(i, j)
@@ -155,6 +188,15 @@ std::vector<TemplateRecord> read_templates(const std::filesystem::path& path) {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
           r.body_axes(i, j) = axes.at(static_cast<std::size_t>(3 * i + j));
+      if (file.has(child(g, "body_volume"))) {
+        r.body_mass.volume = file.doubles(child(g, "body_volume")).at(0);
+        const std::vector<double> body = file.doubles(child(g, "body_inertia"));
+        r.body_mass.inertia = Vec3(body.at(0), body.at(1), body.at(2)).asDiagonal();
+        diagonalise(r.body_mass);
+        r.body_probe_radius = file.doubles(child(g, "body_probe_radius")).at(0);
+      } else {
+        r.body_mass = body_mass_properties(r.body, &r.body_probe_radius);
+      }
       r.quality.volume_error = file.doubles(child(g, "quality/volume_error")).at(0);
       r.quality.volume_fraction = file.doubles(child(g, "quality/volume_fraction")).at(0);
       r.quality.connected = file.doubles(child(g, "quality/connected")).at(0) != 0.0;

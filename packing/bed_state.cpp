@@ -13,6 +13,7 @@ Bed bed_from_packing(const BodyPacking& packing, const BedRequest& request) {
   for (std::size_t b = 0; b < packing.size(); ++b) {
     const PackedBody& body = packing.bodies[b];
     const BodyTemplate& shape = packing.templates[static_cast<std::size_t>(body.template_index)];
+    bed.body_volume += body.body_volume;
     bed.shape_volume += body.shape_volume;
     bed.sphere_volume += body.sphere_volume;
     const auto first = static_cast<std::size_t>(packing.first_particle[b]);
@@ -26,17 +27,19 @@ Bed bed_from_packing(const BodyPacking& packing, const BedRequest& request) {
         body_centres.push_back({s * c[0], s * c[1], s * c[2]});
       const std::vector<double> radii(packing.particles.radius.begin() + static_cast<long>(first),
                                       packing.particles.radius.begin() + static_cast<long>(last));
-      const Vector3 inertia = {request.density * s5 * shape.principal_inertia[0],
-                               request.density * s5 * shape.principal_inertia[1],
-                               request.density * s5 * shape.principal_inertia[2]};
+      const Vector3 inertia = {request.density * s5 * shape.body_inertia[0],
+                               request.density * s5 * shape.body_inertia[1],
+                               request.density * s5 * shape.body_inertia[2]};
       add_rigid_clump(bed.state, bed.clumps, body_centres, radii, body.centre, body.orientation,
-                      request.density * s3 * shape.sphere_volume, s3 * shape.sphere_volume, inertia,
+                      request.density * s3 * shape.body_volume, s3 * shape.body_volume, inertia,
                       request.material, fmt::format("{} (body {})", shape.name, b));
       continue;
     }
+    // A plain sphere's body volume is its own (the factor is 1 to the bit).
+    const double density = request.density * (shape.body_volume / shape.sphere_volume);
     for (std::size_t i = first; i < last; ++i) {
       bed.state.add_sphere(packing.particles.x[i], packing.particles.y[i], packing.particles.z[i],
-                           packing.particles.radius[i], request.density, request.material);
+                           packing.particles.radius[i], density, request.material);
       bed.state.body.back() = static_cast<std::int32_t>(first);
     }
   }

@@ -25,13 +25,17 @@ struct Bed {
   SphereState state;
   BondSet bonds;
   ClumpSet clumps;
-  // Σ of the bodies' shape volumes and of their sub-sphere volumes (CMS: union volumes), m³:
-  // the solid fraction of a bed of bodies is by shape volume; a BMS body's sub-spheres fill
-  // only part of it (their packing fraction).
+  // Σ of the bodies' volumes in the bed (BodyTemplate::body_volume), of their shape (mesh)
+  // volumes and of their sub-sphere volumes (CMS: union volumes), m³: the solid fraction of a bed
+  // of bodies is by body volume; a BMS body's sub-spheres fill only part of it.
+  double body_volume = 0.0;
   double shape_volume = 0.0;
   double sphere_volume = 0.0;
 };
 
+// A body weighs ρ × its body volume, with the inertia of that volume: a BMS body's sub-spheres
+// carry it at ρ × body_volume / Σ sub-sphere volumes each (the body's inertia is then its
+// sub-spheres' distribution scaled to that mass), a rigid clump its template's body_inertia.
 // InputError when the packing has BMS bodies and no bond parameters are given.
 Bed bed_from_packing(const BodyPacking& packing, const BedRequest& request);
 

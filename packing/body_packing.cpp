@@ -9,11 +9,28 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "common/hdf5_file.hpp"
+#include "geometry/templates_file.hpp"
 
 namespace shapepress::packing {
 
 double BodyTemplate::volume_equivalent_diameter() const {
   return std::cbrt(6.0 * shape_volume / std::numbers::pi);
+}
+
+void set_body_volume(BodyTemplate& shape) {
+  if (shape.radii.size() == 1) {  // a plain sphere is its own body, to the bit
+    shape.body_volume = shape.sphere_volume;
+    shape.body_inertia = shape.principal_inertia;
+    return;
+  }
+  geometry::SphereTemplate spheres;
+  for (const Vector3& c : shape.centres)
+    spheres.centres.emplace_back(c[0], c[1], c[2]);
+  spheres.radii = shape.radii;
+  const geometry::MassProperties body = geometry::body_mass_properties(spheres);
+  shape.body_volume = body.volume;
+  for (int k = 0; k < 3; ++k)
+    shape.body_inertia[static_cast<std::size_t>(k)] = body.inertia(k, k);
 }
 
 void place_body(const BodyTemplate& shape, const PackedBody& body, std::vector<Vector3>& centres,
@@ -29,6 +46,17 @@ void place_body(const BodyTemplate& shape, const PackedBody& body, std::vector<V
 }
 
 void place_bodies(BodyPacking& packing) {
+  // A template or body made without its body volume (by hand, or read from an older file) gets it
+  // from its sub-spheres.
+  for (BodyTemplate& shape : packing.templates)
+    if (!(shape.body_volume > 0.0)) set_body_volume(shape);
+  for (PackedBody& body : packing.bodies)
+    if (!(body.body_volume > 0.0)) {
+      const double s = body.scale;
+      body.body_volume =
+          packing.templates.at(static_cast<std::size_t>(body.template_index)).body_volume * s * s *
+          s;
+    }
   packing.particles = SphereList{};
   packing.particle_body.clear();
   packing.first_particle.assign(1, 0);
@@ -126,16 +154,20 @@ void write_packing(const std::filesystem::path& path, const BodyPacking& p,
     file.write(group + "/bonds", flatten(shape.bonds), {shape.bonds.size(), 2});
     file.attribute(group, "shape_volume", shape.shape_volume);
     file.attribute(group, "sphere_volume", shape.sphere_volume);
+    file.attribute(group, "body_volume", shape.body_volume);
     file.write(group + "/principal_inertia",
                std::vector<double>(shape.principal_inertia.begin(), shape.principal_inertia.end()));
     file.unit(group + "/principal_inertia", "m^5");
+    file.write(group + "/body_inertia",
+               std::vector<double>(shape.body_inertia.begin(), shape.body_inertia.end()));
+    file.unit(group + "/body_inertia", "m^5");
   }
   file.write_strings("/templates/name", names);
   file.write_strings("/templates/source", sources);
   file.write("/templates/kind", kinds);
 
   std::vector<std::int32_t> body_template, body_kind;
-  std::vector<double> scale, orientation, centre, shape_volume, sphere_volume;
+  std::vector<double> scale, orientation, centre, shape_volume, sphere_volume, body_volume;
   for (const PackedBody& b : p.bodies) {
     body_template.push_back(b.template_index);
     body_kind.push_back(
@@ -146,6 +178,7 @@ void write_packing(const std::filesystem::path& path, const BodyPacking& p,
     centre.insert(centre.end(), b.centre.begin(), b.centre.end());
     shape_volume.push_back(b.shape_volume);
     sphere_volume.push_back(b.sphere_volume);
+    body_volume.push_back(b.body_volume);
   }
   const std::size_t m = p.bodies.size();
   file.write("/bodies/template", body_template);
@@ -158,6 +191,8 @@ void write_packing(const std::filesystem::path& path, const BodyPacking& p,
   file.unit("/bodies/shape_volume", "m^3");
   file.write("/bodies/sphere_volume", sphere_volume);
   file.unit("/bodies/sphere_volume", "m^3");
+  file.write("/bodies/body_volume", body_volume);
+  file.unit("/bodies/body_volume", "m^3");
   file.write("/bodies/first_particle", p.first_particle);
 
   const std::size_t n = p.particles.size();
@@ -278,6 +313,14 @@ BodyPacking read_packing(const std::filesystem::path& path) {
     std::copy(inertia.begin(), inertia.end(), shape.principal_inertia.begin());
     if (shape.radii.empty() || !(shape.shape_volume > 0.0) || !(shape.sphere_volume > 0.0))
       read.fail(group + ": a template needs sub-spheres and volumes > 0");
+    if (file.has_attribute(group, "body_volume")) {
+      shape.body_volume = file.attribute_double(group, "body_volume");
+      const std::vector<double> body = read.sized(group + "/body_inertia", 3);
+      std::copy(body.begin(), body.end(), shape.body_inertia.begin());
+      if (!(shape.body_volume > 0.0)) read.fail(group + ": body_volume must be > 0");
+    } else {  // a packing from before body volumes: computed from its sub-spheres
+      set_body_volume(shape);
+    }
     p.templates.push_back(std::move(shape));
   }
 
@@ -288,6 +331,9 @@ BodyPacking read_packing(const std::filesystem::path& path) {
   const std::vector<double> centre = read.sized("/bodies/centre", 3 * m);
   const std::vector<double> shape_volume = read.sized("/bodies/shape_volume", m);
   const std::vector<double> sphere_volume = read.sized("/bodies/sphere_volume", m);
+  const bool has_body_volume = file.has("/bodies/body_volume");
+  const std::vector<double> body_volume =
+      has_body_volume ? read.sized("/bodies/body_volume", m) : std::vector<double>{};
   p.first_particle = file.int32s("/bodies/first_particle");
   if (p.first_particle.size() != m + 1) read.fail("/bodies/first_particle must hold M + 1 values");
   for (std::size_t b = 0; b < m; ++b) {
@@ -302,6 +348,11 @@ BodyPacking read_packing(const std::filesystem::path& path) {
     body.centre = {centre[3 * b], centre[3 * b + 1], centre[3 * b + 2]};
     body.shape_volume = shape_volume[b];
     body.sphere_volume = sphere_volume[b];
+    const double s = body.scale;
+    body.body_volume =
+        has_body_volume
+            ? body_volume[b]
+            : p.templates[static_cast<std::size_t>(body.template_index)].body_volume * s * s * s;
     p.bodies.push_back(body);
   }
 

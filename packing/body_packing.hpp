@@ -19,6 +19,11 @@
 //   /bodies/centre         (M, 3) m: the centre of mass
 //   /bodies/shape_volume   (M) m³: the particle shape's volume (the mesh's; a sphere's own)
 //   /bodies/sphere_volume  (M) m³: Σ sub-sphere volumes (BMS, sphere), the union's (CMS)
+//   /bodies/body_volume    (M) m³: the volume the body occupies in a bed (BodyTemplate); the
+//                          bed's solid fraction and the body's mass are by it
+//   /templates/<t>         attributes shape_volume, sphere_volume, body_volume (m³, scale 1);
+//                          datasets principal_inertia (3) of the sub-spheres, body_inertia (3)
+//                          of the body volume, m⁵ per unit density about the body axes
 //   /bodies/first_particle (M+1) int32: body b's sub-spheres are [first[b], first[b + 1])
 //   /particles/position    (N, 3) m, /particles/radius (N) m, /particles/body (N) int32
 //   /bonds/pairs           (B, 2) int32: particle indices i < j of one BMS body, sorted
@@ -50,12 +55,23 @@ struct BodyTemplate {
   std::vector<std::array<std::int32_t, 2>> bonds;  // BMS only, i < j
   double shape_volume = 0.0;                       // m³, of the particle's shape at scale 1
   double sphere_volume = 0.0;  // m³, Σ sub-sphere volumes (BMS) or the union's (CMS)
+  // m³, the volume the body occupies in a bed (geometry::body_mass_properties: the union of its
+  // sub-spheres closed by a ball of their median radius; a sphere's own): its solid fraction
+  // and its mass ρ × body_volume are by it, so a bed's solid fraction does not move with the
+  // sub-sphere count as the mesh volume's does (docs/models.md, "A body's volume").
+  double body_volume = 0.0;
   // Per unit density about the body axes, ascending, m⁵: of the sub-spheres (BMS: their sum
   // with the parallel-axis terms; CMS: the union's).
   Vector3 principal_inertia = {0.0, 0.0, 0.0};
+  // Per unit density about the body axes, m⁵: of the body volume, the inertia of the body.
+  Vector3 body_inertia = {0.0, 0.0, 0.0};
   // The diameter of the sphere of the shape's volume, (6 V / π)^(1/3), at scale 1.
   double volume_equivalent_diameter() const;
 };
+
+// body_volume and body_inertia from the template's sub-spheres (a template or packing written
+// before body volumes were kept).
+void set_body_volume(BodyTemplate& shape);
 
 struct PackedBody {
   std::int32_t template_index = 0;
@@ -64,10 +80,12 @@ struct PackedBody {
   Vector3 centre = {0.0, 0.0, 0.0};
   double shape_volume = 0.0;   // m³, at this scale
   double sphere_volume = 0.0;  // m³, at this scale
+  double body_volume = 0.0;    // m³, at this scale
 };
 
 // What `pack` measured on its bed, written to /measures and to run.json.
 struct PackMeasures {
+  double solid_fraction = 0.0;             // Σ body volumes / (box area × bed height)
   double solid_fraction_shape = 0.0;       // Σ shape volumes / (box area × bed height)
   double solid_fraction_spheres = 0.0;     // Σ sub-sphere volumes (CMS: unions) / the same
   double bed_height = 0.0;                 // m, highest sub-sphere top above the floor
@@ -84,6 +102,7 @@ struct PackMeasures {
 // Each measure as (name, SI unit, value), one table for /measures and run.json.
 template <class Measures, class Visit>
 void for_each_measure(Measures& m, Visit&& visit) {
+  visit("solid_fraction", "1", m.solid_fraction);
   visit("solid_fraction_shape", "1", m.solid_fraction_shape);
   visit("solid_fraction_spheres", "1", m.solid_fraction_spheres);
   visit("bed_height", "m", m.bed_height);
@@ -124,7 +143,7 @@ void place_body(const BodyTemplate& shape, const PackedBody& body, std::vector<V
                 std::vector<double>& radii);
 
 // Fills particles, particle_body, first_particle, bonds and bond_rest_length from templates and
-// bodies.
+// bodies, and the body volumes of templates and bodies that have none (set_body_volume).
 void place_bodies(BodyPacking& packing);
 
 // packed.h5 and its sidecar packed.xmf beside it, each written atomically. InputError naming the

@@ -234,15 +234,15 @@ int run(const PackCli& given, const RunContext& context) {
   std::filesystem::remove_all(checkpoints, ignored);
   std::printf(
       "pack: %zu bodies, %zu sub-spheres, %zu bonds; bed height %.4g m\n"
-      "  solid fraction %.4f by shape volume, %.4f by sub-sphere volume\n"
+      "  solid fraction %.4f by body volume, %.4f by shape volume, %.4f by sub-sphere volume\n"
       "  coordination %.3f; orientation order <P2> %.4f; largest overlap %.3g m (%.3g of a "
       "radius)\n"
       "  x10/x50/x90 %.4g/%.4g/%.4g m (target %.4g/%.4g/%.4g, %s-weighted)\n"
       "  %lld steps of %.3g s%s in %.1f s%s\n",
       result.packing.size(), result.packing.particles.size(), result.packing.bonds.size(),
-      m.bed_height, m.solid_fraction_shape, m.solid_fraction_spheres, m.coordination,
-      m.orientation_order, m.largest_overlap, m.largest_overlap_relative, m.x10, m.x50, m.x90,
-      m.target_x10, m.target_x50, m.target_x90,
+      m.bed_height, m.solid_fraction, m.solid_fraction_shape, m.solid_fraction_spheres,
+      m.coordination, m.orientation_order, m.largest_overlap, m.largest_overlap_relative, m.x10,
+      m.x50, m.x90, m.target_x10, m.target_x50, m.target_x90,
       config.request.sizes.volume_weighted ? "volume" : "number",
       static_cast<long long>(result.steps), result.time_step,
       config.request.settle_density_scale == 1.0

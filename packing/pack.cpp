@@ -34,9 +34,9 @@ BodyTemplate unit_sphere() {
   t.kind = BodyKind::sphere;
   t.centres = {{0.0, 0.0, 0.0}};
   t.radii = {0.5};
-  t.shape_volume = t.sphere_volume = std::numbers::pi / 6.0;
+  t.shape_volume = t.sphere_volume = t.body_volume = std::numbers::pi / 6.0;
   const double moment = 0.4 * t.shape_volume * 0.25;  // (2/5) m r², per unit density
-  t.principal_inertia = {moment, moment, moment};
+  t.principal_inertia = t.body_inertia = {moment, moment, moment};
   return t;
 }
 
@@ -53,9 +53,13 @@ BodyTemplate body_template(const geometry::TemplateRecord& r, const std::filesys
   t.shape_volume = r.shape_mass.volume;
   t.sphere_volume = r.mass.volume;
   // The body frame is the template's principal frame: its inertia there is diagonal.
-  for (int k = 0; k < 3; ++k)
+  t.body_volume = r.body_mass.volume;
+  for (int k = 0; k < 3; ++k) {
     t.principal_inertia[k] = r.mass.inertia(k, k);
-  if (!(t.shape_volume > 0.0) || !(t.sphere_volume > 0.0) || t.radii.empty())
+    t.body_inertia[k] = r.body_mass.inertia(k, k);
+  }
+  if (!(t.shape_volume > 0.0) || !(t.sphere_volume > 0.0) || !(t.body_volume > 0.0) ||
+      t.radii.empty())
     throw InputError(
         fmt::format("{}: template {} has no volume or no sub-spheres", file.string(), t.name));
   return t;
@@ -243,9 +247,10 @@ std::vector<PackedBody> draw_bodies(const PackRequest& request,
     const double s3 = body.scale * body.scale * body.scale;
     body.shape_volume = shape.shape_volume * s3;
     body.sphere_volume = shape.sphere_volume * s3;
+    body.body_volume = shape.body_volume * s3;
     template_volume[pick] += volume;
     drawn_volume += volume;
-    drawn_mass += request.density * body.shape_volume;
+    drawn_mass += request.density * body.body_volume;
     bodies.push_back(body);
   }
   return bodies;
@@ -446,10 +451,11 @@ void scale_masses(SphereState& s, ClumpSet& clumps, double factor) {
   }
 }
 
-double solid_shape_volume(const std::vector<PackedBody>& bodies) {
+// Σ body volumes: what the bed's solid fraction is by (BodyTemplate::body_volume).
+double solid_body_volume(const std::vector<PackedBody>& bodies) {
   double v = 0.0;
   for (const PackedBody& b : bodies)
-    v += b.shape_volume;
+    v += b.body_volume;
   return v;
 }
 
@@ -550,9 +556,9 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
     state.phase_step = 0;
   };
 
-  double rest = 0.0;  // Σ m g d: KE below ratio × this is rest
+  double rest = 0.0;  // Σ m g d: KE below ratio × this is rest, m the body's mass in the engine
   for (const PackedBody& b : bodies)
-    rest += request.density * b.shape_volume * request.gravity *
+    rest += request.density * b.body_volume * request.gravity *
             std::cbrt(6.0 * b.shape_volume / std::numbers::pi);
   rest *= request.kinetic_energy_ratio;
   // The bed released from the scaled weight's deeper overlaps springs back by a few per cent of
@@ -570,7 +576,7 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   const double free_fall = std::sqrt(2.0 * fall / request.gravity);
   const double area = request.box_x * request.box_y;
   const double gap = request.target_solid_fraction
-                         ? solid_shape_volume(bodies) / (area * *request.target_solid_fraction)
+                         ? solid_body_volume(bodies) / (area * *request.target_solid_fraction)
                          : 0.0;
   const auto same = [] { return true; };
   for (bool done = false; !done;) {
@@ -584,9 +590,9 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
         }
         state.settled = end == PhaseEnd::rest;
         state.settled_solid_fraction =
-            solid_shape_volume(bodies) /
+            solid_body_volume(bodies) /
             (area * (bed_top(engine->state(), request.floor) - request.floor));
-        spdlog::info("pack: settled at solid fraction {:.4f} by shape volume",
+        spdlog::info("pack: settled at solid fraction {:.4f} by body volume",
                      state.settled_solid_fraction);
         if (!request.target_solid_fraction) {
           if (mass_scale == 1.0)
@@ -597,7 +603,7 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
         }
         if (state.settled_solid_fraction >= *request.target_solid_fraction)
           spdlog::warn(
-              "pack: the bed settled denser ({:.4f} by shape volume) than press.solid_fraction = "
+              "pack: the bed settled denser ({:.4f} by body volume) than press.solid_fraction = "
               "{}: the punch does not touch it, and the bed is stated as settled, not "
               "pre-compressed",
               state.settled_solid_fraction, *request.target_solid_fraction);
@@ -628,9 +634,9 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
           // short of the target: it then drives a sub-sphere into its neighbour until the
           // overlap check trips. The target is what cannot be had.
           const double reached =
-              solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
+              solid_body_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
           throw InputError(fmt::format(
-              "pack: the press jammed at a solid fraction of {:.4f} by shape volume, short of "
+              "pack: the press jammed at a solid fraction of {:.4f} by body volume, short of "
               "press.solid_fraction = {}: the rigid bodies cannot be pressed further without "
               "overlapping ({}); lower press.solid_fraction, or pack more bodies so that they "
               "can rearrange",
@@ -643,7 +649,7 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
         // Where the punch stopped is the bed's solid fraction only if it reached the bed.
         if (state.settled_solid_fraction < *request.target_solid_fraction)
           state.precompression_solid_fraction =
-              solid_shape_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
+              solid_body_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
         // Release: the punch back to where it was parked; the bed relaxes under gravity.
         engine->walls()[1].velocity = 0.0;
         engine->walls()[1].position = walls[1].position;
@@ -776,12 +782,12 @@ PackMeasures measure_packing(const BodyPacking& p, const SizeTable& target, bool
     m.largest_overlap_relative = std::max(m.largest_overlap_relative, wall_overlap / s.radius[i]);
   }
   m.bed_height = top - p.floor;
-  double shape = 0.0, spheres = 0.0;
+  double body = 0.0, shape = 0.0, spheres = 0.0;
   std::vector<double> diameters;
   double order = 0.0;
   std::size_t oriented = 0;
   for (const PackedBody& b : p.bodies) {
-    shape += b.shape_volume, spheres += b.sphere_volume;
+    body += b.body_volume, shape += b.shape_volume, spheres += b.sphere_volume;
     diameters.push_back(std::cbrt(6.0 * b.shape_volume / std::numbers::pi));
     const BodyTemplate& t = p.templates[static_cast<std::size_t>(b.template_index)];
     if (t.kind == BodyKind::sphere) continue;
@@ -796,6 +802,7 @@ PackMeasures measure_packing(const BodyPacking& p, const SizeTable& target, bool
     ++oriented;
   }
   const double bed_volume = p.box.length_x * p.box.length_y * m.bed_height;
+  m.solid_fraction = bed_volume > 0.0 ? body / bed_volume : 0.0;
   m.solid_fraction_shape = bed_volume > 0.0 ? shape / bed_volume : 0.0;
   m.solid_fraction_spheres = bed_volume > 0.0 ? spheres / bed_volume : 0.0;
   m.orientation_order = oriented > 0 ? order / static_cast<double>(oriented) : 0.0;

@@ -44,7 +44,7 @@ struct PackRequest {
   std::vector<TemplateChoice> templates;
   TemplateWeighting weighting = TemplateWeighting::number;
   std::int64_t count = 0;                         // bodies; 0: draw until target_mass
-  std::optional<double> target_mass;              // kg of shape volume × density
+  std::optional<double> target_mass;              // kg of body volume × density
   SizeQuantiles sizes;                            // of the volume-equivalent diameter
   double diameter_min = 0.0, diameter_max = 0.0;  // m, truncation
   double box_x = 1e-3, box_y = 1e-3;              // m, periodic cross-section
@@ -150,7 +150,7 @@ struct PackRun {
   double settle_time_step = 0.0;  // s, at settle_density_scale × density (settle, press, relax)
   std::int64_t steps = 0;
   bool settled = true;                  // every phase ended below the kinetic-energy threshold
-  double settled_solid_fraction = 0.0;  // by shape volume after the gravity settle
+  double settled_solid_fraction = 0.0;  // by body volume after the gravity settle
   double precompression_solid_fraction = 0.0;  // reached by the punch (0: no press)
   double loop_seconds = 0.0;
   std::int64_t loop_steps = 0;  // steps taken in this process (after the checkpoint if resumed)

@@ -17,7 +17,7 @@ const OptionTable<PackRequest>& pack_table() {
     p.integer("count", &PackRequest::count, Range::non_negative(),
               "bodies (0: draw until target_mass)")
         .quantity("target_mass", &PackRequest::target_mass, dim::mass, Range::positive(),
-                  "draw bodies until their mass (shape volume × density) reaches this")
+                  "draw bodies until their mass (body volume × density) reaches this")
         .default_text("none (count)")
         .choice("weighting", &PackRequest::weighting,
                 std::vector<std::pair<std::string, TemplateWeighting>>{
@@ -141,9 +141,9 @@ const OptionTable<PackRequest>& press_table() {
     OptionTable<PackRequest> p(
         "press",
         "optional pre-compression: the punch presses the settled bed to a solid fraction (by "
-        "shape volume), goes back up, and the bed relaxes");
+        "body volume), goes back up, and the bed relaxes");
     p.number("solid_fraction", &PackRequest::target_solid_fraction, Range::positive(),
-             "target solid fraction by shape volume (the paper: 0.59)")
+             "target solid fraction by body volume (the paper: 0.59)")
         .default_text("none (no press)")
         .number("friction", &PackRequest::press_friction, Range::non_negative(),
                 "sliding friction of every contact while pressing (0: the bodies slide into a "

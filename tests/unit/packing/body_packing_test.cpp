@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "common/error.hpp"
+#include "geometry/template_quality.hpp"
 #include "packing/bed_state.hpp"
 #include "packing/body_packing.hpp"
 #include "simulate/clumps.hpp"
@@ -80,28 +81,42 @@ TEST(BodyPacking, AStoredRestLengthLoadsTheBond) {
               1e-9 * bed.bonds.normal_spring[0] * r);
 }
 
-TEST(BodyPacking, AScaledTemplateKeepsItsShapesMassAndInertia) {
+// A body weighs ρ × its body volume (the union of its sub-spheres closed by a ball of their
+// radius), at any scale, with that volume's inertia: as a rigid clump, and as bonded sub-spheres
+// whose masses add up to it.
+TEST(BodyPacking, AScaledBodyWeighsItsBodyVolumeWithItsInertia) {
   const double density = 1541.0, scale = 0.7;
   for (const BodyKind kind : {BodyKind::cms, BodyKind::bms}) {
     BodyPacking p = cluster_bed(kind, r, 1, 1);
     p.bodies[0].scale = scale;
+    p.bodies[0].body_volume = 0.0;  // from the template at this scale
     place_bodies(p);
     BedRequest request{density, 0, BondParameters{}, true};
     const Bed bed = bed_from_packing(p, request);
     ASSERT_EQ(bed.clumps.size(), 1u);
-    // The voxel integration of the placed union (the sub-spheres only touch: their sum).
-    std::vector<Vector3> centres;
+    // The closed union of the placed sub-spheres, integrated on its own grid.
+    std::vector<geometry::Vec3> centres;
     for (std::size_t i = 0; i < p.particles.size(); ++i)
-      centres.push_back({p.particles.x[i], p.particles.y[i], p.particles.z[i]});
-    const ClumpGeometry g = clump_geometry(centres, p.particles.radius, "placed", 160);
-    EXPECT_NEAR(bed.clumps.mass[0], density * g.volume, 0.01 * bed.clumps.mass[0]);
+      centres.emplace_back(p.particles.x[i], p.particles.y[i], p.particles.z[i]);
+    const geometry::MassProperties g =
+        geometry::closed_union_mass_properties(centres, p.particles.radius, scale * r, 1000);
+    // 13 touching spheres hold more than their own volume once closed (the pores between them).
     const double s3 = scale * scale * scale;
-    EXPECT_DOUBLE_EQ(bed.clumps.mass[0], density * s3 * p.templates[0].sphere_volume);
+    EXPECT_GT(g.volume, 1.2 * s3 * p.templates[0].sphere_volume);
+    EXPECT_NEAR(bed.clumps.mass[0], density * g.volume, 0.01 * bed.clumps.mass[0]);
+    EXPECT_DOUBLE_EQ(bed.clumps.mass[0], density * s3 * p.templates[0].body_volume);
     for (int k = 0; k < 3; ++k) {
       EXPECT_NEAR(bed.clumps.rotation[0].principal_inertia[k], density * g.principal_moments[k],
                   0.02 * bed.clumps.rotation[0].principal_inertia[k]);
       EXPECT_DOUBLE_EQ(bed.clumps.rotation[0].principal_inertia[k],
-                       density * s3 * scale * scale * p.templates[0].principal_inertia[k]);
+                       density * s3 * scale * scale * p.templates[0].body_inertia[k]);
+    }
+    const Bed bonded = bed_from_packing(p, {density, 0, BondParameters{}, false});
+    if (kind == BodyKind::bms) {
+      double mass = 0.0;
+      for (double m : bonded.state.mass)
+        mass += m;
+      EXPECT_NEAR(mass, bed.clumps.mass[0], 1e-12 * mass);
     }
     for (std::size_t i = 0; i < bed.state.size(); ++i)
       EXPECT_NEAR(bed.state.position.z[i], p.particles.z[i], 1e-15);

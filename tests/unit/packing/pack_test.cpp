@@ -55,6 +55,7 @@ BodyTemplate bms_chain() {
   t.shape_volume = 1.3 * t.sphere_volume;  // a shape a little larger than its sub-spheres
   for (int k = 0; k < 3; ++k)
     t.principal_inertia[k] = eigen.eigenvalues()[k] * 1e-25;
+  set_body_volume(t);
   return t;
 }
 
@@ -64,6 +65,7 @@ BodyTemplate sphere_template() {
   t.centres = {{0.0, 0.0, 0.0}};
   t.radii = {0.5};
   t.shape_volume = t.sphere_volume = std::numbers::pi / 6.0;
+  set_body_volume(t);
   return t;
 }
 
