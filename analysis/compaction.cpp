@@ -103,8 +103,11 @@ HeckelFit fit_heckel(const PunchCurve& curve, double stress_lower, double stress
 
 KawakitaFit fit_kawakita(const PunchCurve& curve, double stress_lower, double stress_upper) {
   std::vector<double> p, p_over_c;
+  // V0 is the powder's apparent volume when the punch starts pressing it, not the strain's H0
+  // (which may be where the bed would be at a reference density it never had).
+  const double v0 = curve.gap.front();
   for (std::size_t i : window_rows(curve, stress_lower, stress_upper)) {
-    const double c = (curve.reference_gap - curve.gap[i]) / curve.reference_gap;
+    const double c = (v0 - curve.gap[i]) / v0;
     if (!(c > 0.0)) continue;
     p.push_back(curve.stress[i]);
     p_over_c.push_back(curve.stress[i] / c);

@@ -7,7 +7,9 @@
 
 namespace shapepress::analysis {
 
-enum class PunchPhase : int { load = 0, hold = 1, unload = 2, done = 3 };
+// punch.csv's phase column (scenarios/punch.hpp): the run goes load, hold, unload, release,
+// done; release (the punch following the bed's spring-back at near-zero stress) came later.
+enum class PunchPhase : int { load = 0, hold = 1, unload = 2, done = 3, release = 4 };
 
 // One record per row of punch.csv, SI units.
 struct PunchCurve {
@@ -17,7 +19,7 @@ struct PunchCurve {
   std::vector<double> stress;          // P = F_top / A_die [Pa]
   std::vector<double> solid_fraction;  // D = V_solid/(A_die H)
   std::vector<int> phase;              // PunchPhase
-  double reference_gap = 0.0;          // H0 of the strain and of Kawakita's V0 [m]
+  double reference_gap = 0.0;          // H0 of the strain [m]
   double die_area = 0.0;               // m²
   // From the run's run.json, where the run states them (compact since mass scaling).
   double density_scale = 1.0;         // run.density_scale: particle mass × this
@@ -54,7 +56,9 @@ struct HeckelFit {              // ln(1/(1−D)) = K P + A
   double stress_lower = 0.0, stress_upper = 0.0;  // the window used [Pa]
 };
 
-struct KawakitaFit {  // P/C = P/a + 1/(a b), C = (V0 − V)/V0 = (H0 − H)/H0
+// C = (V0 − V)/V0 with V0 the gap of the first row, where loading starts (the powder's apparent
+// volume as the punch meets it).
+struct KawakitaFit {  // P/C = P/a + 1/(a b), C = (V0 − V)/V0
   double a = 0.0;     // limiting volume reduction, −
   double b = 0.0;     // 1/Pa
   double r_squared = 0.0;

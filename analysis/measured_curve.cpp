@@ -28,8 +28,11 @@ std::string column_of(const CsvTable& table, std::string_view quantity) {
   std::string found;
   for (const std::string& c : table.columns) {
     if (!names_quantity(c, quantity)) continue;
-    // solid_fraction_spheres (punch.csv) is the sub-spheres' fraction, not the bed's.
-    if (quantity == solid_fraction && c == "solid_fraction_spheres") continue;
+    // solid_fraction_spheres and solid_fraction_shape (punch.csv) are the sub-spheres' and the
+    // meshes' fractions, not the bed's.
+    if (quantity == solid_fraction &&
+        (c == "solid_fraction_spheres" || c == "solid_fraction_shape"))
+      continue;
     if (!found.empty())
       throw InputError(fmt::format("{}: columns '{}' and '{}' both name {}; give the columns",
                                    table.source, found, c, quantity));

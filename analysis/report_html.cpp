@@ -32,7 +32,9 @@ struct Metric {
 std::vector<Metric> compaction_metrics(const CompactionMetrics& m) {
   const double nan = NAN;
   std::vector<Metric> rows = {
-      {"H0", m.reference_gap, "m", "reference gap of strain and Kawakita V0 (from punch.csv)"},
+      {"H0", m.reference_gap, "m",
+       "reference gap of the strain (from punch.csv); Kawakita's V0 is the gap where loading "
+       "starts"},
       {"peak_stress", m.peak_stress, "Pa", "maximum punch stress"},
       {"peak_force", m.peak_force, "N", "punch force at the peak stress"},
       {"solid_fraction_at_peak", m.solid_fraction_at_peak, "1", "D at the peak stress", true},

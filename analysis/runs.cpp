@@ -86,9 +86,10 @@ PunchCurve read_punch_curve(const std::filesystem::path& path) {
   curve.stress = table.finite_column("stress_Pa");
   curve.solid_fraction = table.finite_column("solid_fraction");
   for (double p : table.column("phase")) {
-    if (p < 0 || p > 3 || p != static_cast<int>(p))
-      throw InputError(
-          fmt::format("{}: column 'phase' has {}, expected 0, 1, 2 or 3", path.string(), p));
+    if (p < 0 || p > 4 || p != static_cast<int>(p))
+      throw InputError(fmt::format(
+          "{}: column 'phase' has {}, expected 0, 1, 2, 3 or 4 (load, hold, unload, done, release)",
+          path.string(), p));
     curve.phase.push_back(static_cast<int>(p));
   }
   const RunRecord record = run_record_of(path, punch_facts);

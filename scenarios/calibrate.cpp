@@ -122,9 +122,11 @@ void set_parameter(PlateConfig& config, const std::string& name, double value) {
     b.normal_stiffness = value;
   else if (name == "shear_stiffness")
     b.shear_stiffness = value;
-  else if (name == "modulus")
+  else if (name == "modulus") {
+    // Bonds stated as a fraction of the solid's modulus stay in that form: the fraction moves.
+    if (b.modulus_fraction > 0.0) b.modulus_fraction *= value / b.modulus;
     b.modulus = value;
-  else if (name == "shear_ratio")
+  } else if (name == "shear_ratio")
     b.shear_ratio = value;
   else if (name == "radius_multiplier")
     b.radius_multiplier = value;

@@ -16,7 +16,7 @@
 namespace shapepress::scenarios {
 
 std::vector<std::string> compaction_parameter_names() {
-  return {"loading_stiffness",      "youngs_modulus",   "plasticity_ratio",
+  return {"loading_stiffness",      "loading_modulus",  "youngs_modulus", "plasticity_ratio",
           "multicontact_prefactor", "normal_stiffness", "shear_stiffness"};
 }
 
@@ -102,9 +102,23 @@ analysis::PunchCurve punch_curve(const CompactionTrial& trial) {
 
 }  // namespace
 
+double implied_loading_modulus(double loading_stiffness, double diameter, double poisson_ratio) {
+  return loading_stiffness / (4.0 / 3.0 * std::sqrt(0.25 * diameter)) * 2.0 *
+         (1.0 - poisson_ratio * poisson_ratio);
+}
+
+double implied_loading_stiffness(double loading_modulus, double diameter, double poisson_ratio) {
+  return 4.0 / 3.0 * loading_modulus / (2.0 * (1.0 - poisson_ratio * poisson_ratio)) *
+         std::sqrt(0.25 * diameter);
+}
+
 double get_parameter(const CompactConfig& config, const std::string& name) {
   CompactConfig c = config;
   if (name == "youngs_modulus") return particle_material(c).youngs_modulus;
+  if (name == "loading_modulus") {
+    const Material& m = particle_material(c);
+    return m.loading_modulus.value_or(m.youngs_modulus);
+  }
   if (is_law_parameter(name)) {
     const MulticontactParameters& p = particle_laws(c, name).front()->parameters;
     if (name == "plasticity_ratio") return p.plasticity_ratio;
@@ -118,8 +132,16 @@ double get_parameter(const CompactConfig& config, const std::string& name) {
 }
 
 void set_parameter(CompactConfig& config, const std::string& name, double value) {
-  if (name == "youngs_modulus") {
-    particle_material(config).youngs_modulus = value;
+  if (name == "youngs_modulus" || name == "loading_modulus") {
+    Material& m = particle_material(config);
+    if (name == "youngs_modulus")
+      m.youngs_modulus = value;
+    else
+      m.loading_modulus = value;
+    // Bonds stated as a fraction of the bodies' solid modulus are the same solid: they follow it.
+    if (config.bond && config.bond->modulus_fraction > 0.0)
+      config.bond->modulus =
+          config.bond->modulus_fraction * m.loading_modulus.value_or(m.youngs_modulus);
   } else if (is_law_parameter(name)) {
     for (MulticontactLaw* law : particle_laws(config, name)) {
       MulticontactParameters& p = law->parameters;

@@ -22,6 +22,8 @@ namespace shapepress::scenarios {
 
 // Names of the parameters a compaction calibration can fit, each in the config's SI unit:
 //   loading_stiffness       k1 [N/m^1.5] of every multi-contact interaction of the particles
+//   loading_modulus         E_L [Pa] of the particle material: k1 = 4/3 E*_L √R* per contact
+//                           (its youngs_modulus when the config states none)
 //   youngs_modulus          E [Pa] of the particle material (k1 = 4/3 E* √R* when k1 is absent)
 //   plasticity_ratio        λp in (0, 1] of every multi-contact interaction of the particles
 //   multicontact_prefactor  β of the same interactions
@@ -34,6 +36,14 @@ std::vector<std::string> compaction_parameter_names();
 // of the mean of [generate]'s diameter bounds, where there is a [generate].
 double get_parameter(const CompactConfig& config, const std::string& name);
 void set_parameter(CompactConfig& config, const std::string& name, double value);
+
+// The two forms of the loading branch's stiffness carried into each other at one size: a k1 fitted
+// for the bed states the loading modulus E_L with k1 = 4/3 E*_L √R* between two particles of the
+// bed's mean diameter d (R* = d/4, E*_L = E_L / (2 (1 - ν²)), the particle's own ν), and back.
+// The rule that keeps a calibrated k1 the same material at another size (docs/models.md, "One
+// material"); `calibrate` states it beside what it fitted.
+double implied_loading_modulus(double loading_stiffness, double diameter, double poisson_ratio);
+double implied_loading_stiffness(double loading_modulus, double diameter, double poisson_ratio);
 
 // The bed every evaluation presses: a packing (`pack`'s bodies, or spheres), or the config's
 // [generate] bed settled once.

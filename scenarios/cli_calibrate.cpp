@@ -331,7 +331,7 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   if (options.density_scale)
     punch.comment(fmt::format("mass scaling: particle density x {} (calibrate --density-scale)",
                               *options.density_scale));
-  punch.comment("phase: 0 load, 1 hold, 2 unload, 3 done");
+  punch.comment("phase: 0 load, 1 hold, 2 unload, 4 release, 3 done");
   for (const PunchRecord& r : result.best.records)
     punch.row(punch_csv_row(r));
   punch.commit();
@@ -342,9 +342,37 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
       error.points, cli.reference, error.from, error.to, x_unit, error.rms, y_unit,
       error.rms_relative, error.max, y_unit, error.max_relative, result.converged ? 1 : 0,
       result.evaluations.size()));
+  // A fitted k1 is a statement about the material at the bed's size: the loading modulus it
+  // implies carries it to another size of contact (sub-spheres, walls), and the other way round.
+  const double diameter = best.setup.inertial.diameter;
+  double poisson_ratio = 0.0;
+  for (const Material& m : result.config.materials.materials)
+    if (m.name == result.config.particle_material) poisson_ratio = m.poisson_ratio;
+  nlohmann::json implied = nlohmann::json::object();
+  std::vector<std::vector<std::string>> implied_rows;
+  for (std::size_t k = 0; k < options.parameters.size() && diameter > 0.0; ++k) {
+    const std::string& name = options.parameters[k];
+    if (name != "loading_stiffness" && name != "loading_modulus") continue;
+    const bool stiffness = name == "loading_stiffness";
+    const auto carry = [&](double v) {
+      return stiffness ? implied_loading_modulus(v, diameter, poisson_ratio)
+                       : implied_loading_stiffness(v, diameter, poisson_ratio);
+    };
+    const std::string other = stiffness ? "implied_loading_modulus" : "implied_loading_stiffness";
+    implied_rows.push_back({other, fmt::format("{:.10g}", carry(result.start[k])),
+                            fmt::format("{:.10g}", carry(result.values[k]))});
+    implied[other] = carry(result.values[k]);
+  }
+  if (!implied.empty())
+    summary.comment(fmt::format(
+        "implied_*: k1 = 4/3 E*_L sqrt(R*) between two particles of the bed's mean diameter "
+        "{:.6g} m (R* = d/4, E*_L = E_L / (2 (1 - nu^2)), nu = {})",
+        diameter, poisson_ratio));
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
     summary.row_text({options.parameters[k], fmt::format("{:.10g}", result.start[k]),
                       fmt::format("{:.10g}", result.values[k])});
+  for (const std::vector<std::string>& row : implied_rows)
+    summary.row_text(row);
   summary.commit();
   // The folder is also a compaction run (punch.csv of the best fit), so `report` reads it.
   CompactConfig scene = result.config;
@@ -361,6 +389,7 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
       .fact("window", nlohmann::json::array({error.from, error.to}))
       .fact("converged", result.converged)
       .fact("evaluations", result.evaluations.size());
+  if (!implied.empty()) meta.fact("implied", implied).fact("implied_at_diameter_m", diameter);
   for (const char* name :
        {"evaluations.csv", "calibrated.toml", "punch.csv", "calibration.csv", invocation_name})
     meta.output(name);

@@ -132,6 +132,14 @@ int run(const CompactCli& given, const RunContext& context) {
   if (checkpoint) {
     history = read_checkpoint_history(checkpoint->history);
     prepared = resume_compaction(config, read_snapshot(checkpoint->snapshot));
+    if (history.compaction.records.empty() && prepared.punch.phase != PunchPhase::relax)
+      throw InputError(
+          fmt::format("{}: no records, and the snapshot's punch is past its "
+                      "relaxation (a damaged checkpoint)",
+                      checkpoint->history.string()));
+    // The checkpoint keeps each record's gap; its fraction by shape volume follows from it.
+    for (PunchRecord& r : history.compaction.records)
+      r.solid_fraction_shape = prepared.setup.shape_volume / (prepared.setup.die_area * r.gap);
     // The inputs the run started from, so run.json is the uninterrupted run's.
     if (!cli.restart.empty()) meta.input("restart", cli.restart);
     if (!cli.packing.empty()) meta.input("packing", cli.packing);
@@ -175,16 +183,15 @@ int run(const CompactCli& given, const RunContext& context) {
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
                           prepared.punch.reference_gap, setup.die_area));
-  csv.comment(setup.strain_from_fill
-                  ? "H0 is the loose fill height (generate.height, punch.strain_reference = fill)"
-                  : "H0 is the gap when loading starts (punch.strain_reference = start)");
+  csv.comment(strain_reference_comment(setup));
   csv.comment(fmt::format("solid volume {:.10g} m^3; solid fraction ceiling {} at gap {:.10g} m",
                           setup.solid_volume, setup.max_solid_fraction, *setup.program.min_gap));
   if (setup.sphere_volume != setup.solid_volume)
     csv.comment(fmt::format(
-        "solid_fraction is by the bodies' shape volume {:.10g} m^3; solid_fraction_spheres by "
-        "their sub-spheres' {:.10g} m^3 ({:.4g} of it)",
-        setup.solid_volume, setup.sphere_volume, setup.sphere_volume / setup.solid_volume));
+        "solid_fraction is by the bodies' volume in the bed {:.10g} m^3 (their sub-spheres' "
+        "union closed by a ball of their radius); solid_fraction_shape by their shapes' (meshes') "
+        "{:.10g} m^3; solid_fraction_spheres by their sub-spheres' {:.10g} m^3",
+        setup.solid_volume, setup.shape_volume, setup.sphere_volume));
   if (config.density_scale != 1.0)
     csv.comment(fmt::format("mass scaling: particle density x {} (run.density_scale)",
                             config.density_scale));
@@ -194,7 +201,7 @@ int run(const CompactCli& given, const RunContext& context) {
         "the target gap {:.10g} m",
         setup.max_solid_fraction, *setup.program.min_gap,
         1.0 - *setup.program.min_gap / prepared.punch.reference_gap, *setup.program.target_gap));
-  csv.comment("phase: 0 load, 1 hold, 2 unload, 3 done");
+  csv.comment("phase: 0 load, 1 hold, 2 unload, 4 release, 3 done");
   std::vector<SnapshotIndexEntry>& index = history.snapshots;
   CompactionHooks hooks;
   hooks.record = [&](const PunchRecord& r) { csv.row(punch_csv_row(r)); };
@@ -229,13 +236,18 @@ int run(const CompactCli& given, const RunContext& context) {
   progress.finish();
   if (summary.interrupted) return stopped(engine.step_index());
   const QuasiStaticCheck& qs = summary.quasi_static;
-  if (qs.records > 0 && !qs.quasi_static())
+  const auto warn_phase = [](const char* phase, const PhaseQuasiStatic& p) {
+    if (p.records == 0 || p.quasi_static()) return;
     spdlog::warn(
-        "compact: the run was not quasi-static: kinetic energy up to {:.3g} of the punch's work "
-        "(limit {}), top and bottom forces {:.3g} apart on average (limit {}); slow the punch, "
-        "or lower run.density_scale",
-        qs.max_kinetic_to_work, QuasiStaticCheck::max_kinetic_energy_ratio, qs.mean_force_imbalance,
-        QuasiStaticCheck::max_mean_force_imbalance);
+        "compact: the {} was not quasi-static: kinetic energy up to {:.3g} of the punch's work "
+        "(limit {}), top and bottom forces {:.3g} apart on average (limit {}), inertial number "
+        "up to {:.3g} (limit {}); slow the punch, or lower run.density_scale",
+        phase, p.max_kinetic_to_work, PhaseQuasiStatic::max_kinetic_energy_ratio,
+        p.mean_force_imbalance, PhaseQuasiStatic::max_mean_force_imbalance, p.max_inertial_number,
+        PhaseQuasiStatic::max_inertial_number_limit);
+  };
+  warn_phase("loading", qs);
+  warn_phase("unloading", qs.unload);
   csv.commit();
   meta.output("punch.csv");
   if (!index.empty()) meta.output("snapshots.xdmf");

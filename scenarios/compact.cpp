@@ -6,13 +6,51 @@
 #include <numbers>
 #include <vector>
 
+#include <fmt/format.h>
+
 namespace shapepress::scenarios {
 
 ScenarioState compaction_scenario_state(const PunchState& punch, const CompactionSetup& setup) {
   ScenarioState state = punch_scenario_state(punch);
-  state.emplace_back("bed_shape_volume", setup.solid_volume);
+  state.emplace_back("bed_body_volume", setup.solid_volume);
+  state.emplace_back("bed_shape_volume", setup.shape_volume);
   state.emplace_back("bed_sphere_volume", setup.sphere_volume);
+  state.emplace_back("bed_mean_diameter", setup.inertial.diameter);
+  const TimeStepChoice& t = setup.time_step;
+  state.emplace_back("time_step_s", t.time_step);
+  state.emplace_back("rayleigh_time_s", t.rayleigh_time);
+  state.emplace_back("collision_time_s", t.collision_time);
+  state.emplace_back("collision_speed_m_per_s", t.collision_speed);
+  state.emplace_back("bond_period_s", t.bond_period);
+  state.emplace_back("clump_period_s", t.clump_period);
   return state;
+}
+
+std::string strain_reference_name(CompactionSetup::StrainReference reference) {
+  switch (reference) {
+    case CompactionSetup::StrainReference::fill:
+      return "fill";
+    case CompactionSetup::StrainReference::solid_fraction:
+      return "solid_fraction";
+    case CompactionSetup::StrainReference::start:
+      break;
+  }
+  return "start";
+}
+
+std::string strain_reference_comment(const CompactionSetup& setup) {
+  switch (setup.strain_reference) {
+    case CompactionSetup::StrainReference::fill:
+      return "H0 is the loose fill height (generate.height, punch.strain_reference = fill)";
+    case CompactionSetup::StrainReference::solid_fraction:
+      return fmt::format(
+          "H0 is the gap at which the bed's solid fraction would be {} (punch.strain_reference "
+          "= solid_fraction): strain = 1 - {} / solid_fraction",
+          setup.reference_solid_fraction, setup.reference_solid_fraction);
+    case CompactionSetup::StrainReference::start:
+      break;
+  }
+  return "H0 is the gap when loading starts (punch.strain_reference = start)";
 }
 
 std::vector<std::string> punch_csv_columns() {
@@ -31,7 +69,8 @@ std::vector<std::string> punch_csv_columns() {
           "contacts_per_particle",
           "intact_bonds",
           "solid_fraction_spheres",
-          "punch_work_J"};
+          "punch_work_J",
+          "solid_fraction_shape"};
 }
 
 std::vector<double> punch_csv_row(const PunchRecord& r) {
@@ -50,7 +89,8 @@ std::vector<double> punch_csv_row(const PunchRecord& r) {
           r.contacts_per_particle,
           static_cast<double>(r.intact_bonds),
           r.solid_fraction_spheres,
-          r.punch_work};
+          r.punch_work,
+          r.solid_fraction_shape};
 }
 
 PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
@@ -66,6 +106,7 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   r.stress = r.top_force / setup.die_area;
   r.solid_fraction = setup.solid_volume / (setup.die_area * r.gap);
   r.solid_fraction_spheres = setup.sphere_volume / (setup.die_area * r.gap);
+  r.solid_fraction_shape = setup.shape_volume / (setup.die_area * r.gap);
   r.phase = punch.phase;
   r.kinetic_energy = engine.energy().kinetic;
   r.punch_work = punch.work;
@@ -77,25 +118,44 @@ PunchRecord punch_record(const Engine& engine, const CompactionSetup& setup,
   return r;
 }
 
-QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& records) {
+QuasiStaticCheck quasi_static_check(const std::vector<PunchRecord>& records,
+                                    const InertialScale& scale) {
   QuasiStaticCheck check;
-  double peak = 0.0;
-  for (const PunchRecord& r : records)
+  double peak = 0.0, unload_work = 0.0;
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const PunchRecord& r = records[k];
     if (r.phase == PunchPhase::load) peak = std::max(peak, r.stress);
-  double imbalance_sum = 0.0;
-  for (const PunchRecord& r : records) {
-    if (r.phase != PunchPhase::load || !(peak > 0.0) || r.stress < 0.1 * peak ||
-        !(r.punch_work > 0.0))
+    if (r.phase == PunchPhase::unload && unload_work == 0.0)
+      unload_work = k > 0 ? records[k - 1].punch_work : r.punch_work;
+  }
+  double imbalance_sum[2] = {0.0, 0.0};
+  for (std::size_t k = 1; k < records.size(); ++k) {
+    const PunchRecord& r = records[k];
+    const bool loading = r.phase == PunchPhase::load;
+    if ((!loading && r.phase != PunchPhase::unload) || !(peak > 0.0) || r.stress < 0.1 * peak)
       continue;
-    ++check.records;
-    check.max_kinetic_to_work =
-        std::max(check.max_kinetic_to_work, r.kinetic_energy / r.punch_work);
+    const double work = loading ? r.punch_work : unload_work;
+    if (!(work > 0.0)) continue;
+    PhaseQuasiStatic& phase = loading ? check : check.unload;
+    ++phase.records;
+    phase.max_kinetic_to_work = std::max(phase.max_kinetic_to_work, r.kinetic_energy / work);
     const double imbalance = std::fabs(r.top_force - r.bottom_force) / r.top_force;
-    imbalance_sum += imbalance;
-    check.max_force_imbalance = std::max(check.max_force_imbalance, imbalance);
+    imbalance_sum[loading ? 0 : 1] += imbalance;
+    phase.max_force_imbalance = std::max(phase.max_force_imbalance, imbalance);
+    const PunchRecord& before = records[k - 1];
+    const double dt = r.time - before.time;
+    if (scale.diameter > 0.0 && scale.density > 0.0 && dt > 0.0) {
+      const double strain_rate = std::fabs(r.gap - before.gap) / dt / r.gap;
+      phase.max_inertial_number =
+          std::max(phase.max_inertial_number,
+                   strain_rate * scale.diameter * std::sqrt(scale.density / r.stress));
+    }
   }
   if (check.records > 0)
-    check.mean_force_imbalance = imbalance_sum / static_cast<double>(check.records);
+    check.mean_force_imbalance = imbalance_sum[0] / static_cast<double>(check.records);
+  if (check.unload.records > 0)
+    check.unload.mean_force_imbalance =
+        imbalance_sum[1] / static_cast<double>(check.unload.records);
   return check;
 }
 
@@ -111,8 +171,10 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     history.records.push_back(record);
   };
   // A resumed run's first record is the checkpoint's; recomputed here it would miss the contact
-  // counts, which only a force evaluation sets.
-  if (history.records.empty()) emit(punch_record(engine, setup, punch));
+  // counts, which only a force evaluation sets. The relaxation before loading is not recorded:
+  // the first record is where loading starts.
+  const auto relaxing = [&] { return punch.phase == PunchPhase::relax; };
+  if (history.records.empty() && !relaxing()) emit(punch_record(engine, setup, punch));
   const auto start = std::chrono::steady_clock::now();
   const double seconds_before = history.loop_seconds;
   history.loop_started = start;
@@ -122,6 +184,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     const double gap = walls[setup.punch_wall].position - walls[setup.bottom_wall].position;
     const double stress = engine.wall_load(setup.punch_wall) / setup.die_area;
     const double velocity = punch_velocity(setup.program, punch, engine.time(), gap, stress);
+    if (history.records.empty() && !relaxing()) emit(punch_record(engine, setup, punch));
     walls[setup.punch_wall].velocity = velocity;
     engine.step();
     // The punch moves down at -velocity against the bed's load on it.
@@ -129,7 +192,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     ++history.steps;
     ++summary.loop_steps;
     const std::int64_t step = engine.step_index();
-    if (setup.record_every > 0 && step % setup.record_every == 0)
+    if (setup.record_every > 0 && step % setup.record_every == 0 && !relaxing())
       emit(punch_record(engine, setup, punch));
     if (setup.snapshot_every > 0 && step % setup.snapshot_every == 0 && hooks.snapshot)
       hooks.snapshot(engine, punch);
@@ -141,14 +204,18 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
   }
   summary.loop_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!summary.interrupted && history.records.back().step != engine.step_index())
+  if (!summary.interrupted &&
+      (history.records.empty() || history.records.back().step != engine.step_index()))
     emit(punch_record(engine, setup, punch));
   for (const PunchRecord& r : history.records)
     summary.max_stress = std::max(summary.max_stress, r.stress);
-  summary.last = history.records.back();
+  if (!history.records.empty()) {
+    summary.first = history.records.front();
+    summary.last = history.records.back();
+  }
   summary.steps = history.steps;
   summary.total_loop_seconds = seconds_before + summary.loop_seconds;
-  summary.quasi_static = quasi_static_check(history.records);
+  summary.quasi_static = quasi_static_check(history.records, setup.inertial);
   return summary;
 }
 

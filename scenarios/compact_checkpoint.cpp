@@ -109,8 +109,6 @@ CheckpointHistory read_checkpoint_history(const std::filesystem::path& path) {
     e.clumps = static_cast<std::size_t>(whole());
     h.snapshots.push_back(e);
   }
-  if (h.compaction.records.empty())
-    throw InputError(fmt::format("{}: no records (a damaged checkpoint)", path.string()));
   return h;
 }
 

@@ -34,7 +34,9 @@ void write_compact_checkpoint(const std::filesystem::path& out, const Engine& en
                               const CheckpointHistory& history);
 void write_settle_checkpoint(const std::filesystem::path& out, const Engine& engine,
                              const Provenance& provenance);
-// InputError naming the file when it is not a checkpoint history.
+// InputError naming the file when it is not a checkpoint history. A history without records is
+// one taken before loading began (the punch's relaxation, which is not recorded): the caller
+// judges it against the snapshot's punch phase.
 CheckpointHistory read_checkpoint_history(const std::filesystem::path& path);
 
 }  // namespace shapepress::scenarios

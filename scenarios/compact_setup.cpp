@@ -66,12 +66,37 @@ MaterialConfig scaled_materials(const CompactConfig& c) {
   return m;
 }
 
-CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap, double solid_volume,
-                                 double sphere_volume) {
+// The bed's volumes: of its bodies in the bed (the solid fraction's), of their shapes (meshes)
+// and of their sub-spheres; one number for a bed of spheres and clumps.
+struct BedVolumes {
+  double body = 0.0, shape = 0.0, spheres = 0.0;
+  double mean_diameter =
+      0.0;  // m, of the bodies' volume-equivalent diameters (the inertial number's)
+};
+
+// The mean volume-equivalent diameter of the bed's bodies: spheres, and clumps by their volume.
+double mean_diameter(const SphereState& s, const ClumpSet& clumps) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (clumps.clump_of.empty() || clumps.clump_of[i] < 0) sum += 2.0 * s.radius[i], ++count;
+  for (double v : clumps.volume)
+    sum += std::cbrt(6.0 * v / std::numbers::pi), ++count;
+  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+}
+
+CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
+                                 const BedVolumes& volumes) {
   CompactionSetup setup = c.setup;
   if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
-  setup.solid_volume = solid_volume;
-  setup.sphere_volume = sphere_volume;
+  if (c.target_solid_fraction)
+    setup.program.target_gap = volumes.body / (c.box_x * c.box_y * *c.target_solid_fraction);
+  setup.solid_volume = volumes.body;
+  setup.shape_volume = volumes.shape;
+  setup.sphere_volume = volumes.spheres;
+  setup.inertial.diameter = volumes.mean_diameter;
+  for (const Material& m : c.materials.materials)
+    if (m.name == c.particle_material) setup.inertial.density = m.density * c.density_scale;
   // Solid-fraction ceiling: D = V / (A H) reaches it at H = V / (A D_max).
   const double min_gap = setup.solid_volume / (c.box_x * c.box_y * setup.max_solid_fraction);
   setup.program.min_gap = min_gap;
@@ -90,6 +115,14 @@ CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap, d
       setup.program.mode == PunchProgram::Mode::displacement)
     throw InputError("punch: give target_gap or target_strain, or run.steps to stop the run");
   return setup;
+}
+
+// H0 of the strain: the gap when loading starts, or where the bed would be at the reference
+// solid fraction (the fill height is the caller's: it needs the pour).
+double reference_gap(const CompactConfig& c, double start_gap, double solid_volume) {
+  return c.setup.strain_reference == CompactionSetup::StrainReference::solid_fraction
+             ? solid_volume / (c.box_x * c.box_y * c.setup.reference_solid_fraction)
+             : start_gap;
 }
 
 // The [clumps] templates: a templates file's /cms groups or the one given inline.
@@ -166,11 +199,19 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
       std::make_unique<Engine>(std::move(state), box, table, walls, settings, BondSet{}, clumps);
   // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
   // paper's "maximum initial height"), which strains like its 57 % need (docs/stages.md, H0).
-  out.punch.reference_gap = c.setup.strain_from_fill && c.generate
-                                ? c.generate->z_high - c.generate->z_low
-                                : walls[1].position - walls[0].position;
   const double volume = solid_volume(out.engine->state(), out.engine->clumps());
-  out.setup = compaction_setup(c, out.punch.reference_gap, volume, volume);
+  out.punch.reference_gap =
+      c.setup.strain_reference == CompactionSetup::StrainReference::fill && c.generate
+          ? c.generate->z_high - c.generate->z_low
+          : reference_gap(c, walls[1].position - walls[0].position, volume);
+  out.setup = compaction_setup(
+      c, out.punch.reference_gap,
+      {volume, volume, volume, mean_diameter(out.engine->state(), out.engine->clumps())});
+  out.setup.time_step = out.time_step;
+  if (out.setup.program.relax_time > 0.0) {
+    out.punch.phase = PunchPhase::relax;
+    out.punch.phase_start = out.engine->time();
+  }
   return out;
 }
 
@@ -212,8 +253,19 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   const EngineSettings settings = compaction_settings(c, bed.state, out.time_step.time_step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
-  out.punch.reference_gap = punch - c.bottom;
-  out.setup = compaction_setup(c, out.punch.reference_gap, bed.shape_volume, bed.sphere_volume);
+  out.punch.reference_gap = reference_gap(c, punch - c.bottom, bed.body_volume);
+  double diameters = 0.0;
+  for (const PackedBody& b : packing.bodies)
+    diameters += std::cbrt(6.0 * b.shape_volume / std::numbers::pi);
+  out.setup = compaction_setup(
+      c, out.punch.reference_gap,
+      {bed.body_volume, bed.shape_volume, bed.sphere_volume,
+       packing.bodies.empty() ? 0.0 : diameters / static_cast<double>(packing.bodies.size())});
+  out.setup.time_step = out.time_step;
+  if (out.setup.program.relax_time > 0.0) {
+    out.punch.phase = PunchPhase::relax;
+    out.punch.phase_start = out.engine->time();
+  }
   return out;
 }
 
@@ -226,18 +278,38 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   out.time_step = select_time_step(snapshot.state, table, wall_materials, c.run.time_step,
                                    c.run.time_step_fraction, expected_speed(c, snapshot.state),
                                    snapshot.checkpoint.bonds, snapshot.checkpoint.clumps);
+  // The uninterrupted run's step, where the snapshot keeps it (compaction_scenario_state): the
+  // bound just computed reads the bonds' lengths now, not at the start.
+  std::optional<double> kept_step;
+  for (const auto& [name, value] : snapshot.scenario) {
+    TimeStepChoice& t = out.time_step;
+    if (name == "time_step_s") kept_step = value;
+    if (name == "rayleigh_time_s") t.rayleigh_time = value;
+    if (name == "collision_time_s") t.collision_time = value;
+    if (name == "collision_speed_m_per_s") t.collision_speed = value;
+    if (name == "bond_period_s") t.bond_period = value;
+    if (name == "clump_period_s") t.clump_period = value;
+  }
+  if (kept_step) out.time_step.time_step = *kept_step;
   const EngineSettings settings = compaction_settings(c, snapshot.state, out.time_step.time_step);
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = punch_state_from(snapshot.scenario);
-  // A bed of bodies keeps its shape and sub-sphere volumes in the snapshot
-  // (compaction_scenario_state); a bed of spheres and clumps has them in its state.
-  double shape = solid_volume(out.engine->state(), out.engine->clumps()), spheres = shape;
+  // A bed of bodies keeps its body, shape and sub-sphere volumes in the snapshot
+  // (compaction_scenario_state); a bed of spheres and clumps has them in its state. A snapshot
+  // from before body volumes has no bed_body_volume: its solid fraction was by shape volume.
+  const double own = solid_volume(out.engine->state(), out.engine->clumps());
+  BedVolumes volumes{own, own, own, mean_diameter(out.engine->state(), out.engine->clumps())};
+  bool body_volume = false;
   for (const auto& [name, value] : snapshot.scenario) {
-    if (name == "bed_shape_volume") shape = value;
-    if (name == "bed_sphere_volume") spheres = value;
+    if (name == "bed_body_volume") volumes.body = value, body_volume = true;
+    if (name == "bed_shape_volume") volumes.shape = value;
+    if (name == "bed_sphere_volume") volumes.spheres = value;
+    if (name == "bed_mean_diameter") volumes.mean_diameter = value;
   }
-  out.setup = compaction_setup(c, out.punch.reference_gap, shape, spheres);
+  if (!body_volume) volumes.body = volumes.shape;
+  out.setup = compaction_setup(c, out.punch.reference_gap, volumes);
+  out.setup.time_step = out.time_step;
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "scenarios/config_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include "scenarios/bms_particle.hpp"
@@ -29,7 +30,12 @@ const OptionTable<Material>& material_table() {
                 "Poisson's ratio")
         .required()
         .quantity("density", &Material::density, dim::density, Range::non_negative(),
-                  "density (unused for walls and plates)");
+                  "density (unused for walls and plates)")
+        .quantity("loading_modulus", &Material::loading_modulus, dim::pressure, Range::positive(),
+                  "E of the multi-contact law's loading branch, k1 = 4/3 E*_L sqrt(R*) per "
+                  "contact: a calibrated loading stiffness as the modulus it implies, so every "
+                  "size of contact gets its own k1")
+        .default_text("youngs_modulus");
     return m;
   }();
   return t;
@@ -263,7 +269,7 @@ const OptionTable<BmsConfig>& bms_table() {
   return t;
 }
 
-// [bond] comes in two forms, chosen by the keys given (read_bond).
+// [bond] comes in three forms, chosen by the keys given (read_bond).
 const OptionTable<BondParameters>& bond_modulus_table() {
   static const OptionTable<BondParameters> t = [] {
     OptionTable<BondParameters> b("bond");
@@ -272,6 +278,21 @@ const OptionTable<BondParameters>& bond_modulus_table() {
         .required()
         .default_text("required in this form")
         .number("shear_ratio", &BondParameters::shear_ratio, Range::any(), "ks / kn, with modulus");
+    return b;
+  }();
+  return t;
+}
+
+const OptionTable<BondParameters>& bond_fraction_table() {
+  static const OptionTable<BondParameters> t = [] {
+    OptionTable<BondParameters> b("bond");
+    b.number("modulus_fraction", &BondParameters::modulus_fraction, Range::positive(),
+             "bond Young's modulus as a fraction of the body material's solid modulus (its "
+             "loading_modulus, else youngs_modulus): the third form, kn = fraction E / (ri + rj)")
+        .required()
+        .default_text("required in this form")
+        .number("shear_ratio", &BondParameters::shear_ratio, Range::any(),
+                "ks / kn, with modulus or modulus_fraction");
     return b;
   }();
   return t;
@@ -298,8 +319,8 @@ const OptionTable<BondParameters>& bond_table() {
     // Signs are checked by BondParameters::check() so that every cause reads the same way.
     OptionTable<BondParameters> b(
         "bond",
-        "the parallel bonds of --particle bms: modulus (with shear_ratio) or "
-        "normal_stiffness and shear_stiffness, not both");
+        "the parallel bonds of BMS bodies: modulus or modulus_fraction (with shear_ratio), or "
+        "normal_stiffness and shear_stiffness; one form");
     b.number("radius_multiplier", &BondParameters::radius_multiplier, Range::any(),
              "lambda: bond radius / smaller sub-sphere radius")
         .quantity("tensile_strength", &BondParameters::tensile_strength, dim::pressure,
@@ -335,15 +356,28 @@ const OptionTable<CmsConfig>& cms_table() {
   return t;
 }
 
-BondParameters read_bond(const ConfigTable& root) {
+// `body_material`: the [[material]] of the bodies' sub-spheres, whose solid modulus a
+// modulus_fraction is of.
+BondParameters read_bond(const ConfigTable& root, const MaterialConfig& materials,
+                         const std::string& body_material) {
   const ConfigTable k = root.table("bond");
   BondParameters p;
+  if (k.has("modulus") + k.has("modulus_fraction") +
+          (k.has("normal_stiffness") || k.has("shear_stiffness")) >
+      1)
+    throw InputError(root.source_name() +
+                     ": bond: give modulus or modulus_fraction (with shear_ratio), or "
+                     "normal_stiffness and shear_stiffness: one form");
   if (k.has("modulus")) {
-    if (k.has("normal_stiffness") || k.has("shear_stiffness"))
-      throw InputError(root.source_name() +
-                       ": bond: give modulus (with shear_ratio) or normal_stiffness and "
-                       "shear_stiffness, not both");
     bond_modulus_table().read(k, p);
+  } else if (k.has("modulus_fraction")) {
+    bond_fraction_table().read(k, p);
+    const auto m = std::find_if(materials.materials.begin(), materials.materials.end(),
+                                [&](const Material& x) { return x.name == body_material; });
+    if (m == materials.materials.end())
+      throw InputError(root.source_name() + ": bond.modulus_fraction: no [[material]] '" +
+                       body_material + "' for the bodies");
+    p.modulus = p.modulus_fraction * m->loading_modulus.value_or(m->youngs_modulus);
   } else {
     if (k.has("shear_ratio"))
       throw InputError(root.source_name() +
@@ -364,6 +398,7 @@ BondParameters read_bond(const ConfigTable& root) {
 OptionSection bond_docs() {
   OptionSection bond = bond_table().docs();
   std::vector<OptionDoc> rows = bond_modulus_table().docs().rows;
+  rows.push_back(bond_fraction_table().docs().rows.front());
   for (const OptionDoc& row : bond_stiffness_table().docs().rows)
     rows.push_back(row);
   rows.insert(rows.end(), bond.rows.begin(), bond.rows.end());
@@ -373,7 +408,9 @@ OptionSection bond_docs() {
 
 std::string bond_toml(const BondParameters& p) {
   return "[bond]\n" +
-         (p.modulus > 0.0 ? bond_modulus_table().lines(p) : bond_stiffness_table().lines(p)) +
+         (p.modulus_fraction > 0.0 ? bond_fraction_table().lines(p)
+          : p.modulus > 0.0        ? bond_modulus_table().lines(p)
+                                   : bond_stiffness_table().lines(p)) +
          bond_table().lines(p);
 }
 
@@ -393,7 +430,7 @@ PlateConfig read_plate_config(const ConfigTable& root,
     BmsConfig b = bms_table().read(root.table("bms"));
     if (b.material.empty()) b.material = c.sphere_material;
     table.index_of(b.material);
-    b.bond = read_bond(root);
+    b.bond = read_bond(root, c.materials, b.material);
     c.bms = b;
   }
   const bool from_template = c.bms && !c.bms->templates.empty();
@@ -564,10 +601,38 @@ const OptionTable<CompactConfig>& punch_table() {
         .number("target_strain", &CompactConfig::target_strain, Range{0.0, 1.0, false, false},
                 "displacement: strain from H0 to reach (or target_gap)")
         .when(displacement, "with punch.mode = \"servo\"")
+        .number("target_solid_fraction", &CompactConfig::target_solid_fraction,
+                Range{0.0, 1.0, false, false},
+                "displacement: solid fraction to reach, by the bed's solid volume (or "
+                "target_gap, target_strain): one endpoint for beds of any kind")
+        .when(displacement, "with punch.mode = \"servo\"")
         .choice(
-            "strain_reference", [](auto& c) -> auto& { return c.setup.strain_from_fill; },
-            std::vector<std::pair<std::string, bool>>{{"start", false}, {"fill", true}},
-            "H0: the gap when loading starts, or the loose fill height (generate.height)")
+            "strain_reference", [](auto& c) -> auto& { return c.setup.strain_reference; },
+            std::vector<std::pair<std::string, CompactionSetup::StrainReference>>{
+                {"start", CompactionSetup::StrainReference::start},
+                {"fill", CompactionSetup::StrainReference::fill},
+                {"solid_fraction", CompactionSetup::StrainReference::solid_fraction}},
+            "H0: the gap when loading starts, the loose fill height (generate.height), or "
+            "the gap at which the bed's solid fraction is reference_solid_fraction")
+        .number(
+            "reference_solid_fraction",
+            [](auto& c) -> auto& { return c.setup.reference_solid_fraction; },
+            Range{0.0, 1.0, false, false},
+            "the solid fraction of H0 with strain_reference = \"solid_fraction\"")
+        .quantity(
+            "relax_time", [program](auto& c) -> auto& { return program(c).relax_time; }, dim::time,
+            Range::non_negative(),
+            "the punch still this long before loading, the bed settling under the compaction's "
+            "contact law (not recorded in punch.csv)")
+        .quantity(
+            "release_time", [program](auto& c) -> auto& { return program(c).release_time; },
+            dim::time, Range::non_negative(),
+            "after unloading, the punch follows the bed's spring-back this long at "
+            "release_stress_fraction of the peak stress; the elastic recovery is read at its end")
+        .number(
+            "release_stress_fraction",
+            [program](auto& c) -> auto& { return program(c).release_stress_fraction; },
+            Range{0.0, 1.0, false, false}, "the stress held while releasing, of the peak")
         .number(
             "max_solid_fraction", [](auto& c) -> auto& { return c.setup.max_solid_fraction; },
             Range{0.0, 1.0, false, false}, "loading stops when the solid fraction passes it");
@@ -660,11 +725,14 @@ CompactConfig read_compact_config(const ConfigTable& root) {
   particles_table().read(root.table("particles"), c);
   walls_table().read(root.table("walls"), c);
   const ConfigTable punch = root.table("punch");
-  if (punch.has("target_gap") && punch.has("target_strain"))
+  if (punch.has("target_gap") + punch.has("target_strain") + punch.has("target_solid_fraction") > 1)
     throw InputError(root.source_name() +
-                     ": give punch.target_gap or punch.target_strain, not both");
+                     ": give one of punch.target_gap, target_strain and target_solid_fraction");
   punch_table().read(punch, c);
-  if (c.setup.strain_from_fill && !root.has("generate"))
+  if (c.setup.program.release_time > 0.0 && !(c.setup.program.unload_speed > 0.0))
+    throw InputError(root.source_name() +
+                     ": punch.release_time follows the unloading: it needs punch.unload_speed > 0");
+  if (c.setup.strain_reference == CompactionSetup::StrainReference::fill && !root.has("generate"))
     throw InputError(root.source_name() +
                      ": punch.strain_reference = \"fill\" needs a [generate] table (the loose "
                      "fill height is generate.height)");
@@ -700,7 +768,7 @@ CompactConfig read_compact_config(const ConfigTable& root) {
                        ": clumps.spheres must hold x, y, z, r (metres) per sub-sphere");
     c.clumps = k;
   }
-  if (root.has("bond")) c.bond = read_bond(root);
+  if (root.has("bond")) c.bond = read_bond(root, c.materials, c.particle_material);
   return c;
 }
 

@@ -73,7 +73,8 @@ struct CompactConfig {
   // prepare_compaction completes it with what the bed decides (H0, solid volume, ceiling).
   CompactionSetup setup;
   std::optional<double> target_strain;
-  std::optional<InsertionRequest> generate;  // filled in from [generate] when present
+  std::optional<double> target_solid_fraction;  // [punch]: the endpoint by the bed's solid volume
+  std::optional<InsertionRequest> generate;     // filled in from [generate] when present
   // [generate] height: the insertion region's top above box.bottom (generate->z_high); read
   // back from the effective config, the box height when the config gives none.
   std::optional<double> fill_height;

@@ -1,6 +1,7 @@
 #include "scenarios/punch.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "common/error.hpp"
 
@@ -10,7 +11,8 @@ ScenarioState punch_scenario_state(const PunchState& state) {
   return {{"punch_phase", static_cast<double>(state.phase)},
           {"punch_phase_start", state.phase_start},
           {"punch_reference_gap", state.reference_gap},
-          {"punch_work", state.work}};
+          {"punch_work", state.work},
+          {"punch_peak_stress", state.peak_stress}};
 }
 
 PunchState punch_state_from(const ScenarioState& scenario) {
@@ -24,8 +26,14 @@ PunchState punch_state_from(const ScenarioState& scenario) {
   state.phase_start = value("punch_phase_start");
   state.reference_gap = value("punch_reference_gap");
   // Snapshots written before the punch's work was kept have none: it counts from the restart.
-  for (const auto& [key, v] : scenario)
+  // Nor the peak stress before the release phase: it is the one the run records from then on.
+  for (const auto& [key, v] : scenario) {
     if (key == "punch_work") state.work = v;
+    if (key == "punch_peak_stress") state.peak_stress = v;
+  }
+  if (static_cast<int>(state.phase) < 0 || static_cast<int>(state.phase) > 5)
+    throw InputError("snapshot: /scenario punch_phase " +
+                     std::to_string(static_cast<int>(state.phase)) + " is not a punch phase");
   return state;
 }
 
@@ -39,6 +47,10 @@ std::string phase_name(PunchPhase phase) {
       return "unload";
     case PunchPhase::done:
       return "done";
+    case PunchPhase::release:
+      return "release";
+    case PunchPhase::relax:
+      return "relax";
   }
   return "done";
 }
@@ -55,11 +67,27 @@ double servo_velocity(const PunchProgram& p, double stress) {
   return -p.max_speed * std::clamp(error / p.servo_band, -1.0, 1.0);
 }
 
+// After unloading: up at the unloading speed per held stress of excess (so a bed that springs
+// back faster than the unloading is followed, up to 100 times that speed), down to follow it at
+// most at the unloading speed when it pushes less. The gain is small against a bed's stiffness:
+// a step moves the punch by unload_speed × dt per held stress, a tiny fraction of the overlaps.
+double release_velocity(const PunchProgram& p, const PunchState& state, double stress) {
+  const double held = p.release_stress_fraction * state.peak_stress;
+  if (!(held > 0.0)) return 0.0;
+  return p.unload_speed * std::clamp((stress - held) / held, -1.0, 100.0);
+}
+
 }  // namespace
 
 double punch_velocity(const PunchProgram& p, PunchState& state, double time, double gap,
                       double stress) {
   const bool servo = p.mode == PunchProgram::Mode::servo;
+  if (state.phase == PunchPhase::relax) {
+    if (time - state.phase_start < p.relax_time) return 0.0;
+    enter(state, PunchPhase::load, time);
+  }
+  if (state.phase == PunchPhase::load || state.phase == PunchPhase::hold)
+    state.peak_stress = std::max(state.peak_stress, stress);
   if (state.phase == PunchPhase::load) {
     if (p.min_gap && gap <= *p.min_gap) {
       enter(state, PunchPhase::hold, time);  // the solid-fraction ceiling
@@ -80,6 +108,10 @@ double punch_velocity(const PunchProgram& p, PunchState& state, double time, dou
   }
   if (state.phase == PunchPhase::unload) {
     if (stress > 0.0) return p.unload_speed;
+    enter(state, p.release_time > 0.0 ? PunchPhase::release : PunchPhase::done, time);
+  }
+  if (state.phase == PunchPhase::release) {
+    if (time - state.phase_start < p.release_time) return release_velocity(p, state, stress);
     enter(state, PunchPhase::done, time);
   }
   return 0.0;

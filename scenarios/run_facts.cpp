@@ -1,5 +1,6 @@
 #include "scenarios/run_facts.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <variant>
 
@@ -8,6 +9,14 @@
 #include "simulate/multicontact_law.hpp"
 
 namespace shapepress::scenarios {
+// Which bound set a run's step: the Rayleigh time of its smallest sphere at its stiffest
+// contact, the bonded network's period, or the rigid clumps' rocking (a fixed step: "fixed").
+std::string time_step_bound(const TimeStepChoice& t) {
+  const double bound = std::min({t.rayleigh_time, t.bond_period, t.clump_period});
+  if (t.rayleigh_time == bound) return "rayleigh";
+  return t.bond_period == bound ? "bonds" : "clumps";
+}
+
 nlohmann::json interaction_laws(const MaterialConfig& materials) {
   nlohmann::json laws = nlohmann::json::array();
   for (const Interaction& in : materials.interactions) {
@@ -37,7 +46,20 @@ void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
       .fact("mean_force_imbalance", summary.quasi_static.mean_force_imbalance)
       .fact("max_force_imbalance", summary.quasi_static.max_force_imbalance)
       .fact("quasi_static_records", summary.quasi_static.records)
-      .fact("strain_reference", setup.strain_from_fill ? "fill" : "start")
+      .fact("max_inertial_number", summary.quasi_static.max_inertial_number)
+      .fact("unload_records", summary.quasi_static.unload.records)
+      .fact("unload_max_kinetic_to_work", summary.quasi_static.unload.max_kinetic_to_work)
+      .fact("unload_mean_force_imbalance", summary.quasi_static.unload.mean_force_imbalance)
+      .fact("unload_max_inertial_number", summary.quasi_static.unload.max_inertial_number)
+      .fact("unload_quasi_static",
+            summary.quasi_static.unload.records == 0 || summary.quasi_static.unload.quasi_static())
+      .fact("inertial_diameter_m", setup.inertial.diameter)
+      .fact("inertial_density_kg_per_m3", setup.inertial.density)
+      .fact("body_volume_m3", setup.solid_volume)
+      .fact("shape_volume_m3", setup.shape_volume)
+      .fact("relax_time_s", setup.program.relax_time)
+      .fact("release_time_s", setup.program.release_time)
+      .fact("strain_reference", strain_reference_name(setup.strain_reference))
       .fact("max_solid_fraction", setup.max_solid_fraction)
       .fact("ceiling_limits_load", setup.ceiling_limits_load)
       // A bed of rigid clumps is CMS, of bonded spheres BMS; otherwise plain spheres.
@@ -52,12 +74,21 @@ void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
       .fact("laws", interaction_laws(config.materials))
       .fact("time_step_s", time_step.time_step)
       .fact("rayleigh_time_s", time_step.rayleigh_time)
+      .fact("time_step_bound", time_step_bound(time_step))
       .fact("steps", summary.steps)
       .fact("final_step", engine.step_index())
       .fact("record_every", setup.record_every);
   // The stepping loop's wall seconds, a resumed run's whole; absent when a checkpoint older than
   // this fact did not keep the part before it.
   if (std::isfinite(summary.total_loop_seconds)) meta.fact("loop_s", summary.total_loop_seconds);
+  if (std::isfinite(time_step.bond_period)) meta.fact("bond_period_s", time_step.bond_period);
+  if (std::isfinite(time_step.clump_period)) meta.fact("clump_period_s", time_step.clump_period);
+  if (setup.strain_reference == CompactionSetup::StrainReference::solid_fraction)
+    meta.fact("reference_solid_fraction", setup.reference_solid_fraction);
+  // Where loading starts, after the relaxation: the bed's pre-stress and motion then.
+  meta.fact("start_top_force_N", summary.first.top_force)
+      .fact("start_bottom_force_N", summary.first.bottom_force)
+      .fact("start_kinetic_energy_J", summary.first.kinetic_energy);
   if (setup.program.min_gap) meta.fact("min_gap_m", *setup.program.min_gap);
   if (setup.program.target_gap) meta.fact("target_gap_m", *setup.program.target_gap);
   if (config.generate) meta.fact("seed", config.generate->seed);

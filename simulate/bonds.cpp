@@ -28,6 +28,8 @@ void BondParameters::check() const {
     if (!positive(shear_ratio))
       throw InputError(fmt::format("bond shear ratio k̄s/k̄n = {} must be > 0", shear_ratio));
   }
+  if (!(modulus_fraction >= 0.0 && std::isfinite(modulus_fraction)))
+    throw InputError(fmt::format("bond modulus fraction = {} must be >= 0", modulus_fraction));
   if (!(radius_multiplier > 0.0 && radius_multiplier <= 2.0))
     throw InputError(
         fmt::format("bond radius multiplier λ̄ = {} must be in (0, 2]", radius_multiplier));

@@ -34,7 +34,12 @@ struct BondParameters {
   // same whatever the sub-sphere size) and k̄s = k̄n · shear_ratio.
   double normal_stiffness = 1.15e6;
   double shear_stiffness = 1.25e6;
-  double modulus = 0.0;            // Ē [Pa], 0: use normal_stiffness/shear_stiffness as given
+  double modulus = 0.0;  // Ē [Pa], 0: use normal_stiffness/shear_stiffness as given
+  // Ē as a fraction of the solid modulus of the body's material (its loading_modulus, else its
+  // Young's modulus), resolved into `modulus` by the config reader: the bonds of a body
+  // calibrated against its own FEM at one modulus follow the material's (docs/models.md, "One
+  // material"). 0: Ē (or k̄n, k̄s) stated.
+  double modulus_fraction = 0.0;
   double shear_ratio = 1.0;        // k̄s/k̄n when `modulus` is used
   double radius_multiplier = 1.0;  // λ̄
   double tensile_strength = std::numeric_limits<double>::infinity();  // σc [Pa]

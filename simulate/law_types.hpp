@@ -3,6 +3,7 @@
 // normal law reads, and what a normal law returns. The normal laws themselves (hertz_law.hpp,
 // multicontact_law.hpp, …) are value types registered in normal_laws.hpp; contact_law.hpp composes
 // them with the damping, tangential and rolling sub-models.
+#include <optional>
 #include <string>
 
 namespace shapepress::simulate {
@@ -12,6 +13,11 @@ struct Material {
   double youngs_modulus = 0.0;  // E, Pa
   double poisson_ratio = 0.0;   // ν
   double density = 0.0;         // ρ, kg/m³ (unused for walls)
+  // E of the multi-contact law's loading branch, k1 = 4/3 E*_L √R* (Eq. 6, Giannis 2023), where it
+  // is not the elastic E: a loading stiffness calibrated on one size of particle, stated as the
+  // modulus it implies, gives every contact its own k1 (a sub-sphere's, a wall's) from its R*,
+  // where a k1 copied between sizes would not (docs/models.md, "One material"). Absent: E.
+  std::optional<double> loading_modulus = std::nullopt;
 };
 
 struct ContactKinematics {

@@ -1,5 +1,6 @@
 #include "simulate/materials.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <type_traits>
@@ -28,6 +29,38 @@ void check_material(const Material& m) {
   if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5))
     throw InputError("material '" + m.name + "': Poisson's ratio must be in (-1, 0.5)");
   if (!(m.density >= 0.0)) throw InputError("material '" + m.name + "': density must be >= 0");
+  if (m.loading_modulus && !(*m.loading_modulus > 0.0 && std::isfinite(*m.loading_modulus)))
+    throw InputError("material '" + m.name + "': loading_modulus must be > 0");
+}
+
+// A loading modulus and a stated k1 or E* of the same pair would each set the loading branch.
+void check_loading_modulus(const Material& a, const Material& b, const Interaction& in) {
+  const Material* stated = a.loading_modulus ? &a : b.loading_modulus ? &b : nullptr;
+  if (!stated) return;
+  const std::string pair = "interaction " + in.first + "–" + in.second;
+  const auto* law = std::get_if<MulticontactLaw>(&in.normal_law);
+  if (law && law->parameters.loading_stiffness)
+    throw InputError(pair + ": loading_stiffness and the loading_modulus of material '" +
+                     stated->name + "' both set k1: give one");
+  if (law && in.effective_modulus)
+    throw InputError(pair + ": effective_modulus and the loading_modulus of material '" +
+                     stated->name + "' both set the loading branch's modulus: give one");
+}
+
+// A loading modulus no multi-contact interaction reads would be silently ignored.
+void check_loading_modulus_read(const std::vector<Material>& materials,
+                                const std::vector<Interaction>& interactions) {
+  for (const Material& m : materials) {
+    if (!m.loading_modulus) continue;
+    const bool read = std::any_of(interactions.begin(), interactions.end(), [&](const auto& in) {
+      return (in.first == m.name || in.second == m.name) &&
+             std::holds_alternative<MulticontactLaw>(in.normal_law);
+    });
+    if (!read)
+      throw InputError("material '" + m.name +
+                       "': loading_modulus is read by the multi-contact law only, and no "
+                       "[[interaction]] of this material has normal_law = \"multicontact\"");
+  }
 }
 
 PairConstants pair_constants(const Material& a, const Material& b, const Interaction& in) {
@@ -66,6 +99,7 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
   if (materials_.empty()) throw InputError("no material given: at least one [[material]]");
   for (const Material& m : materials_)
     check_material(m);
+  check_loading_modulus_read(materials_, interactions);
   const int n = count();
   pairs_.assign(static_cast<std::size_t>(n * n), PairConstants{});
   defined_.assign(static_cast<std::size_t>(n * n), 0);
@@ -84,6 +118,7 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
                in.normal_law);
     const int i = index_of(in.first);
     const int j = index_of(in.second);
+    check_loading_modulus(materials_[i], materials_[j], in);
     const PairConstants p = pair_constants(materials_[i], materials_[j], in);
     pairs_[i * n + j] = p;
     pairs_[j * n + i] = p;

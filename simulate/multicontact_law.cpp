@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "common/error.hpp"
 
 namespace shapepress::simulate {
@@ -73,6 +75,21 @@ MulticontactLaw::Constants MulticontactLaw::constants(const Material& a, const M
   const double ca = 1.0 / a.youngs_modulus, cb = 1.0 / b.youngs_modulus;
   const double nu = (a.poisson_ratio * ca + b.poisson_ratio * cb) / (ca + cb);
   k.multicontact_factor = 3.0 * m.prefactor * nu * std::numbers::pi;
+  // E*_L from the loading moduli as E* from the Young's moduli (Eq. 2, standard form): a stated
+  // loading modulus of the particles reaches every contact through the same pair rule, a wall's
+  // included, so one calibrated modulus sets the k1 of every size of contact.
+  if (a.loading_modulus || b.loading_modulus) {
+    const auto compliance = [](const Material& m, double e) {
+      return (1.0 - m.poisson_ratio * m.poisson_ratio) / e;
+    };
+    const double elastic =
+        1.0 / (compliance(a, a.youngs_modulus) + compliance(b, b.youngs_modulus));
+    const double loading = 1.0 / (compliance(a, a.loading_modulus.value_or(a.youngs_modulus)) +
+                                  compliance(b, b.loading_modulus.value_or(b.youngs_modulus)));
+    k.loading_factor = loading / elastic;
+    k.loading_coefficient = 4.0 / 3.0 * k.loading_factor;
+    k.loading_damping_factor = std::sqrt(k.loading_factor);
+  }
   return k;
 }
 
@@ -82,7 +99,9 @@ std::string MulticontactLaw::describe(const ElasticPair&, const Constants& k) {
       "= {:.6g}",
       1.0 / k.unloading_factor,
       k.loading_stiffness > 0.0 ? fmt::format("{:.6g} N/m^1.5", k.loading_stiffness)
-                                : std::string("4/3 E* sqrt(R*)"),
+      : k.loading_factor != 1.0
+          ? fmt::format("4/3 E*_L sqrt(R*), E*_L = {:.6g} E*", k.loading_factor)
+          : std::string("4/3 E* sqrt(R*)"),
       k.adhesion_stiffness, k.pull_off_force, k.multicontact_factor);
 }
 

@@ -32,7 +32,7 @@ namespace shapepress::simulate {
 // law"). The defaults make it Hertz–Mindlin: λp = 1, kc = 0, F0 = 0, β = 0.
 struct MulticontactParameters {
   std::optional<double> loading_stiffness =
-      std::nullopt;                 // k1, N/m^1.5; absent: 4/3 E* √R* per contact
+      std::nullopt;                 // k1, N/m^1.5; absent: 4/3 E*_L √R* per contact
   double plasticity_ratio = 1.0;    // λp = k1/k2 in (0, 1]; 1: elastic
   double adhesion_stiffness = 0.0;  // kc ≥ 0, N/m^1.5
   double pull_off_force = 0.0;      // F0 ≤ 0, N (constant attraction while touching)
@@ -54,7 +54,14 @@ struct MulticontactLaw {
       {{"plastic_force", "N", "k1 δp^{3/2} = (1 - λp) k1 δmax^{3/2}: the plastic overlap"}}};
 
   struct Constants {
-    double loading_stiffness = 0.0;    // k1, N/m^1.5; 0: 4/3 E* √R* per contact (Hertz)
+    double loading_stiffness = 0.0;  // k1, N/m^1.5; 0: 4/3 E*_L √R* per contact
+    // Without a stated k1: k1 = 4/3 E*_L √R* = loading_coefficient E* √R*, with
+    // loading_factor = E*_L / E* (1 when no material states a loading_modulus: Hertz's k1),
+    // loading_coefficient = 4/3 × it, and the damping on that loading stiffness
+    // loading_damping_factor = √(loading_factor) times Hertz's.
+    double loading_factor = 1.0;
+    double loading_coefficient = 4.0 / 3.0;
+    double loading_damping_factor = 1.0;
     double unloading_factor = 1.0;     // k2/k1 = 1/λp
     double plastic_fraction = 0.0;     // 1 - λp: δp^{3/2} = (1 - k1/k2) δmax^{3/2}
     double adhesion_stiffness = 0.0;   // kc
@@ -70,18 +77,19 @@ struct MulticontactLaw {
   static std::string describe(const ElasticPair& p, const Constants& k);
 
   // Largest tangent stiffness over the Hertz tangent 2 E* √(R* δ) of the pair (timestep.cpp):
-  // the loading branch k1 δ^{3/2} has 3/2 k1 √δ, s1 = k1 / (4/3 E* √R*) times Hertz's (1 with k1
-  // from E*); the unloading branch k2 (δ^{3/2} - δp^{3/2}) has k2/k1 = 1/λp times that (Eq. 6,
-  // Giannis 2023); the adhesive branch -kc δ^{3/2} softens and adds nothing. The term
-  // β ν π R* δ 3p̄ (Eq. 6, P_ij the mean trace 3p̄) has stiffness 3 β ν π R* p̄ at the step's p̄;
-  // with the Love–Weber pressure p̄ = Σ rc Fn / (4π r³) of a sphere holding 12 contacts (a dense
-  // bed's most) on the loading branch at δ ≤ r/2 with R* ≤ r, p̄ ≤ 4 s1 E* √R* δ^{3/2} / (π r²)
-  // and the term's stiffness is at most 3 β ν s1 times Hertz's (the factor holds 3 β ν π).
+  // the loading branch k1 δ^{3/2} has 3/2 k1 √δ, s1 = k1 / (4/3 E* √R*) times Hertz's (E*_L / E*
+  // with k1 from the loading modulus, 1 from E*); the unloading branch k2 (δ^{3/2} - δp^{3/2}) has
+  // k2/k1 = 1/λp times that (Eq. 6, Giannis 2023); the adhesive branch -kc δ^{3/2} softens and adds
+  // nothing. The term β ν π R* δ 3p̄ (Eq. 6, P_ij the mean trace 3p̄) has stiffness 3 β ν π R* p̄ at
+  // the step's p̄; with the Love–Weber pressure p̄ = Σ rc Fn / (4π r³) of a sphere holding 12
+  // contacts (a dense bed's most) on the loading branch at δ ≤ r/2 with R* ≤ r, p̄ ≤ 4 s1 E* √R*
+  // δ^{3/2} / (π r²) and the term's stiffness is at most 3 β ν s1 times Hertz's (the factor holds 3
+  // β ν π).
   static double stiffness_ratio(const ElasticPair& p, const Constants& k, double effective_radius) {
     const double loading =
         k.loading_stiffness > 0.0
             ? k.loading_stiffness / (4.0 / 3.0 * p.effective_modulus * std::sqrt(effective_radius))
-            : 1.0;
+            : k.loading_factor;
     return loading * k.unloading_factor + loading * k.multicontact_factor / std::numbers::pi;
   }
 
@@ -94,14 +102,15 @@ struct MulticontactLaw {
       const ElasticPair& p, const Constants& k, double overlap, double effective_radius,
       double effective_mass, double sqrt_r_overlap, double damping_root, double vn,
       double pair_pressure, double& plastic_force) {
-    // k1 given (the paper's calibrated Avicel case) or Hertz's 4/3 E* √R*: then the loading force
-    // and its damping stiffness are written like the Hertz branch, and λp = 1, kc = F0 = β = 0
-    // gives Hertz's bits.
+    // k1 given, or 4/3 E*_L √R* (Hertz's with the loading modulus): then the loading force and its
+    // damping stiffness are written like the Hertz branch, and without a loading modulus
+    // λp = 1, kc = F0 = β = 0 gives Hertz's bits (the coefficient is 4/3, the factor 1).
     const bool given = k.loading_stiffness > 0.0;
     const double sqrt_overlap = given || k.adhesion_stiffness > 0.0 ? std::sqrt(overlap) : 0.0;
     const double x = overlap * sqrt_overlap;  // δ^{3/2} (only where used)
-    const double loading = given ? k.loading_stiffness * x
-                                 : 4.0 / 3.0 * p.effective_modulus * sqrt_r_overlap * overlap;
+    const double loading =
+        given ? k.loading_stiffness * x
+              : k.loading_coefficient * p.effective_modulus * sqrt_r_overlap * overlap;
     const double candidate = k.plastic_fraction * loading;
     if (candidate > plastic_force) plastic_force = candidate;  // virgin loading
     const double unloading = k.unloading_factor * (loading - plastic_force);
@@ -115,7 +124,7 @@ struct MulticontactLaw {
     // With Hertz's k1 this is contact_law.hpp's γn = damping_factor √(2 E* √(R*δ) m*).
     const double gamma_n = given ? p.damping_factor * std::sqrt(1.5 * k.loading_stiffness *
                                                                 sqrt_overlap * effective_mass)
-                                 : p.normal_damping_scale * damping_root;
+                                 : k.loading_damping_factor * p.normal_damping_scale * damping_root;
     return {k.pull_off_force + hysteretic + confinement - gamma_n * vn,
             k.pull_off_force + adhesive};
   }
@@ -136,9 +145,9 @@ struct MulticontactLaw {
   // with λp = 1 it is Hertz's 8/15 E* √R* δ^{5/2}.
   static double elastic_energy(const ElasticPair& p, const Constants& k, double effective_radius,
                                double overlap, const double* history) {
-    const double k1 = k.loading_stiffness > 0.0
-                          ? k.loading_stiffness
-                          : 4.0 / 3.0 * p.effective_modulus * std::sqrt(effective_radius);
+    const double k1 = k.loading_stiffness > 0.0 ? k.loading_stiffness
+                                                : k.loading_coefficient * p.effective_modulus *
+                                                      std::sqrt(effective_radius);
     const double plastic_32 = history[0] / k1;                  // δp^{3/2}
     const double plastic = std::cbrt(plastic_32 * plastic_32);  // δp
     if (!(overlap > plastic)) return 0.0;

@@ -42,7 +42,8 @@ std::filesystem::path bonded_bed(const std::filesystem::path& dir, packing::Body
                                        "[run]\nrecord_every = 500\nsnapshot_every = 20000\n" +
                                        extra +
                                        "\n[punch]\nmode = \"displacement\"\nspeed = \"0.1 m/s\"\n"
-                                       "target_strain = 0.3\nunload_speed = \"0.1 m/s\"\n");
+                                       "target_strain = 0.3\nunload_speed = \"0.1 m/s\"\n"
+                                       "release_time = \"0.2 ms\"\n");
   return dir / "compact.toml";
 }
 
@@ -58,18 +59,25 @@ TEST(BodyBedCli, PressesAndUnloadsABondedBed) {
   const double peak = *std::max_element(stress.begin(), stress.end());
   EXPECT_GT(peak, 1e3);
   EXPECT_NEAR(t.column("strain").front(), 0.0, 1e-12);
-  EXPECT_EQ(t.column("phase").back(), 3.0);  // done: unloaded
+  EXPECT_EQ(t.column("phase").back(), 3.0);  // done: unloaded, then released
+  const std::vector<double>& phase = t.column("phase");
+  EXPECT_NE(std::find(phase.begin(), phase.end(), 4.0), phase.end());
+  // The punch followed the bed's spring-back at 1 % of the peak stress.
   EXPECT_LT(stress.back(), 0.05 * peak);
   // 27 × 36 bonds, unbreakable: all intact from the first row to the last.
   EXPECT_EQ(t.column("intact_bonds").front(), 972.0);
   EXPECT_EQ(t.column("intact_bonds").back(), 972.0);
-  // By shape volume (the circumscribed spheres) and by the 13 sub-spheres: 13/27 of it.
-  for (std::size_t i = 0; i < stress.size(); i += 7)
-    EXPECT_NEAR(t.column("solid_fraction_spheres")[i] / t.column("solid_fraction")[i], 13.0 / 27.0,
-                1e-9);
+  // By shape volume (the circumscribed spheres) and by the 13 sub-spheres: 13/27 of it; by body
+  // volume (their union closed by a ball of their radius), between the two.
+  for (std::size_t i = 0; i < stress.size(); i += 7) {
+    const double shape = t.column("solid_fraction_shape")[i];
+    EXPECT_NEAR(t.column("solid_fraction_spheres")[i] / shape, 13.0 / 27.0, 1e-9);
+    EXPECT_GT(t.column("solid_fraction")[i], t.column("solid_fraction_spheres")[i]);
+    EXPECT_LT(t.column("solid_fraction")[i], shape);
+  }
   EXPECT_GT(t.column("punch_work_J").back(), 0.0);
   const std::string csv = read_text(dir / "run" / "punch.csv");
-  EXPECT_THAT(csv, HasSubstr("solid_fraction is by the bodies' shape volume"));
+  EXPECT_THAT(csv, HasSubstr("solid_fraction is by the bodies' volume in the bed"));
   const std::string meta = read_text(dir / "run" / "run.json");
   EXPECT_THAT(meta, HasSubstr("\"quasi_static\""));
   EXPECT_THAT(meta, HasSubstr("\"max_kinetic_to_work\""));
@@ -118,11 +126,12 @@ packing::BodyPacking sphere_stack(double diameter, int per_side, int layers) {
 }
 
 // Mass scaling (run.density_scale) on a small bed pressed by 2 %, before its contacts slide:
-// 30 times the mass lengthens the step √30 times and takes 1/√30 of the steps, and the loading
+// 10 times the mass lengthens the step √10 times and takes 1/√10 of the steps, and the loading
 // curve moves by less than 2 % of its peak (RMS over the loading records from a tenth of the
-// peak; measured 1.3 %, and 0.7 % at 10, 2.2 % at 100: the bed's inertia, growing with s); both
-// runs are quasi-static by compact's own figures. Scaled 10⁴ times (the unscaled bed at 0.5 m/s),
-// the same punch is far from quasi-static, and compact says so.
+// peak; measured 0.7 %, and 1.3 % at 30, 2.2 % at 100: the bed's inertia, growing with s, and
+// its inertial number with it, 0.7e-3 at 10 and 1.25e-3 at 30); both runs are quasi-static by
+// compact's own figures, the inertial number's limit of 1e-3 included. Scaled 10⁴ times (the
+// unscaled bed at 0.5 m/s), the same punch is far from quasi-static, and compact says so.
 TEST(BodyBedCli, MassScalingMovesTheCurveByLessThanTwoPercent) {
   struct Curve {
     std::vector<double> strain, stress;
@@ -157,13 +166,13 @@ TEST(BodyBedCli, MassScalingMovesTheCurveByLessThanTwoPercent) {
     return c;
   };
   const Curve unscaled = press("mass_scaling_1", 1.0);
-  const Curve scaled = press("mass_scaling_30", 30.0);
+  const Curve scaled = press("mass_scaling_10", 10.0);
   EXPECT_THAT(unscaled.meta, HasSubstr("\"quasi_static\": true"));
   EXPECT_THAT(scaled.meta, HasSubstr("\"quasi_static\": true"));
-  EXPECT_THAT(scaled.meta, HasSubstr("\"density_scale\": 30.0"));
+  EXPECT_THAT(scaled.meta, HasSubstr("\"density_scale\": 10.0"));
   ASSERT_GT(unscaled.strain.size(), 10u);
   ASSERT_GT(scaled.strain.size(), 3u);
-  EXPECT_NEAR(unscaled.steps / scaled.steps, std::sqrt(30.0), 0.5);
+  EXPECT_NEAR(unscaled.steps / scaled.steps, std::sqrt(10.0), 0.3);
   const double peak = *std::max_element(unscaled.stress.begin(), unscaled.stress.end());
   double sum = 0.0;
   int n = 0;

@@ -183,6 +183,37 @@ TEST(CompactResume, StoppedWhileSettlingResumesInTheSettle) {
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "checkpoints"));
 }
 
+// The punch's relaxation before loading is not recorded: a run stopped while it relaxes has a
+// checkpoint without records, which resumes in the relaxation and ends with the uninterrupted
+// run's punch.csv.
+TEST(CompactResume, StoppedWhileThePunchRelaxesResumesInTheRelaxation) {
+  const auto dir = fresh_directory("compact_relax_resume");
+  std::string config = resumable_config();
+  config.insert(config.find("hold_time = "), "relax_time = \"10 ms\"\n");
+  write_text(dir / "compact.toml", config);
+  const auto whole =
+      run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                     shell_quoted(dir / "whole"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  // The first checkpoint of the compaction (100 steps after the settle, of some 6000 relaxing).
+  const auto stopped =
+      terminate_when("compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                         shell_quoted(dir / "run"),
+                     shell_quoted(dir / "run" / "checkpoints") + "/step_*.history", "0.005");
+  ASSERT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
+  int relaxing = 0;
+  for (const auto& file : files_under(dir / "run" / "checkpoints"))
+    if (std::filesystem::path(file).extension() == ".history")
+      relaxing +=
+          read_text(dir / "run" / "checkpoints" / file).find("\nrecords 0\n") != std::string::npos;
+  EXPECT_GT(relaxing, 0);
+  const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(read_text(dir / "run" / "punch.csv"), read_text(dir / "whole" / "punch.csv"));
+  const auto facts = nlohmann::json::parse(read_text(dir / "run" / "run.json"))["facts"];
+  EXPECT_EQ(facts["relax_time_s"].get<double>(), 0.01);
+}
+
 TEST(CompactResume, NothingToResumeIsExitTwoNamingTheFolder) {
   const auto dir = fresh_directory("compact_resume_nothing");
   const auto result = run_shapepress("compact --resume " + shell_quoted(dir / "nowhere"));

@@ -65,6 +65,30 @@ TEST(CompactionParameters, KOneFromEStartsAtHertzForTheMeanSize) {
               1e-9 * 1.6e6);
 }
 
+// One material (docs/models.md): a k1 fitted for the bed's mean size is stated as the loading
+// modulus it implies there, and back; a fitted loading modulus moves the k1 of every contact and
+// the bonds stated as a fraction of it.
+TEST(CompactionParameters, ALoadingModulusCarriesTheFitToEveryContactAndTheBonds) {
+  const double d = 250e-6, nu = 0.3;
+  const double k1 = 1.0307e7;
+  const double modulus = implied_loading_modulus(k1, d, nu);
+  EXPECT_NEAR(implied_loading_stiffness(modulus, d, nu), k1, 1e-9 * k1);
+  EXPECT_NEAR(k1, 4.0 / 3.0 * modulus / (2.0 * (1.0 - nu * nu)) * std::sqrt(d / 4.0), 1e-9 * k1);
+  // The spheres' k1 at 250 µm is a solid of about 1.8 GPa: 6.9 times Table 3's 258 MPa.
+  EXPECT_NEAR(modulus / 2.58e8, 6.9, 0.1);
+  std::string text = std::regex_replace(shipped, std::regex("loading_stiffness = 2e6\n"), "");
+  text = std::regex_replace(text, std::regex("(density = [^\n]*\n)"),
+                            "$1loading_modulus = \"1 GPa\"\n",
+                            std::regex_constants::format_first_only);
+  CompactConfig c = bed(text + "\n[bond]\nmodulus_fraction = 0.25\n");
+  EXPECT_DOUBLE_EQ(get_parameter(c, "loading_modulus"), 1e9);
+  ASSERT_TRUE(c.bond);
+  EXPECT_DOUBLE_EQ(c.bond->modulus, 2.5e8);
+  set_parameter(c, "loading_modulus", 2e9);
+  EXPECT_DOUBLE_EQ(c.bond->modulus, 5e8);
+  EXPECT_DOUBLE_EQ(get_parameter(bed(compact_config_toml(c)), "loading_modulus"), 2e9);
+}
+
 TEST(CompactionParameters, UnknownOrAbsentParametersAreInputErrors) {
   CompactConfig c = bed(shipped);
   EXPECT_THROW(get_parameter(c, "stiffness"), InputError);

@@ -265,7 +265,7 @@ TEST(CompactConfig, EveryKeyRoundTripsThroughTheEffectiveConfig) {
   const CompactConfig a = read_compact(compact_text);
   EXPECT_EQ(a.setup.max_steps, 5000);
   EXPECT_EQ(a.run.engine.gravity[2], -9.81);
-  EXPECT_TRUE(a.setup.strain_from_fill);
+  EXPECT_EQ(a.setup.strain_reference, CompactionSetup::StrainReference::fill);
   EXPECT_DOUBLE_EQ(a.generate->z_high, 16e-3);
   const std::string written = compact_config_toml(a);
   const CompactConfig b = read_compact(written);

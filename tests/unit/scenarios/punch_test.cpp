@@ -29,6 +29,43 @@ TEST(Punch, DisplacementProgramLoadsHoldsAndUnloadsUntilTheForceVanishes) {
   EXPECT_EQ(state.phase, PunchPhase::done);
 }
 
+// relax_time: the punch stays put first; release_time: after the force has gone, the punch
+// follows the bed's spring-back at 1 % of the peak stress (up when the bed pushes more, down at
+// most at the unloading speed when it pushes less), and only then is the run done.
+TEST(Punch, RelaxesBeforeLoadingAndFollowsTheSpringBackAfterUnloading) {
+  PunchProgram p;
+  p.speed = 1.0;
+  p.target_gap = 0.01;
+  p.unload_speed = 2.0;
+  p.relax_time = 0.3;
+  p.release_time = 0.5;
+  p.release_stress_fraction = 0.01;
+  PunchState state;
+  state.phase = PunchPhase::relax;
+  EXPECT_EQ(punch_velocity(p, state, 0.0, 0.02, 1e3), 0.0);
+  EXPECT_EQ(punch_velocity(p, state, 0.29, 0.02, 1e3), 0.0);
+  EXPECT_EQ(state.phase, PunchPhase::relax);
+  EXPECT_EQ(punch_velocity(p, state, 0.31, 0.02, 1e3), -1.0);  // relaxed: loading
+  EXPECT_EQ(state.phase, PunchPhase::load);
+  EXPECT_EQ(punch_velocity(p, state, 0.9, 0.015, 4e6), -1.0);
+  EXPECT_EQ(punch_velocity(p, state, 1.0, 0.0099, 5e6), 2.0);  // the target; no hold: unload
+  EXPECT_EQ(state.peak_stress, 5e6);
+  EXPECT_EQ(state.phase, PunchPhase::unload);
+  EXPECT_EQ(punch_velocity(p, state, 1.1, 0.0101, 1e3), 2.0);
+  // The force gone: release, at 1 % of the 5 MPa peak.
+  EXPECT_EQ(punch_velocity(p, state, 1.2, 0.0102, 0.0), -2.0);  // no push: follow down at most
+  EXPECT_EQ(state.phase, PunchPhase::release);
+  EXPECT_EQ(punch_velocity(p, state, 1.3, 0.0102, 5e4), 0.0);  // at the held stress: still
+  EXPECT_NEAR(punch_velocity(p, state, 1.4, 0.0102, 7.5e4), 1.0, 1e-12);  // half over: up
+  EXPECT_EQ(punch_velocity(p, state, 1.5, 0.0102, 1e8), 200.0);  // at most 100 × the speed
+  EXPECT_EQ(punch_velocity(p, state, 1.71, 0.0102, 5e4), 0.0);   // the release is over
+  EXPECT_EQ(state.phase, PunchPhase::done);
+  // The peak and the phase survive a checkpoint.
+  const PunchState back = punch_state_from(punch_scenario_state(state));
+  EXPECT_EQ(back.phase, PunchPhase::done);
+  EXPECT_EQ(back.peak_stress, 5e6);
+}
+
 TEST(Punch, ServoSpeedIsBoundedAndProportionalNearTheTarget) {
   PunchProgram p;
   p.mode = PunchProgram::Mode::servo;

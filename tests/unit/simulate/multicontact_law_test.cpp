@@ -184,6 +184,59 @@ TEST(MulticontactLaw, FrictionLimitIsMeasuredFromTheAdhesiveFloor) {
   EXPECT_LE(relative(tangential, 0.4 * (f.normal_force - floor)), 1e-12);
 }
 
+// A loading modulus E_L gives every contact k1 = 4/3 E*_L √R* (docs/models.md, "One material"):
+// the loading force scales as √R* like Hertz's, so a contact 2.5 times smaller is not stiffer per
+// unit of its size, and E*_L comes from the two materials' loading moduli as E* from their Young's
+// moduli (a wall without one keeps its E). The damping keeps the input restitution.
+TEST(MulticontactLaw, LoadingModulusGivesEachContactItsOwnKOne) {
+  const double loading = 7.0 * young;
+  Material particle{"p", young, poisson, 1541.0}, tool{"t", 200.0 * young, 0.31, 7800.0};
+  particle.loading_modulus = loading;
+  const std::vector<Material> materials = {particle, tool};
+  const MaterialTable table(materials, {{"p", "p", 1.0, 0.5, 0.1, MulticontactLaw{}},
+                                        {"p", "t", 1.0, 0.5, 0.1, MulticontactLaw{}}});
+  const auto force = [](const PairConstants& p, double r, double d) {
+    double plastic = 0.0;
+    const double root = std::sqrt(std::sqrt(r * d) * 1e-7);
+    return multicontact_normal(p, d, r, 1e-7, std::sqrt(r * d), root, 0.0, 0.0, plastic).force;
+  };
+  const double star_pp = loading / (2.0 * (1.0 - poisson * poisson));
+  const double star_pt =
+      1.0 / ((1.0 - poisson * poisson) / loading + (1.0 - 0.31 * 0.31) / (200.0 * young));
+  for (const double r : {2.5e-4, 1e-4}) {
+    const double d = 1e-3 * r;
+    EXPECT_LE(relative(force(table.pair(0, 0), r, d),
+                       4.0 / 3.0 * star_pp * std::sqrt(r) * d * std::sqrt(d)),
+              1e-12)
+        << r;
+    EXPECT_LE(relative(force(table.pair(0, 1), r, d),
+                       4.0 / 3.0 * star_pt * std::sqrt(r) * d * std::sqrt(d)),
+              1e-12)
+        << r;
+  }
+  // The time step's bound follows the loading branch: E*_L/E* times Hertz's.
+  const MaterialTable elastic({{"p", young, poisson, 1541.0}},
+                              {{"p", "p", 1.0, 0.5, 0.1, MulticontactLaw{}}});
+  EXPECT_NEAR(normal_stiffness_ratio(table.pair(0, 0), 2.5e-4) /
+                  normal_stiffness_ratio(elastic.pair(0, 0), 2.5e-4),
+              7.0, 1e-12);
+}
+
+TEST(MulticontactLaw, ALoadingModulusIsReadOnceAndOnlyByTheLaw) {
+  Material particle{"p", young, poisson, 1541.0};
+  particle.loading_modulus = 5.0 * young;
+  MulticontactParameters k1;
+  k1.loading_stiffness = 1e7;
+  // k1 stated and a loading modulus: two statements of one stiffness.
+  EXPECT_THROW(MaterialTable({particle}, {{"p", "p", 0.5, 0.5, 0.1, MulticontactLaw{k1}}}),
+               InputError);
+  // A loading modulus that no multi-contact interaction reads would be ignored.
+  EXPECT_THROW(MaterialTable({particle}, {{"p", "p", 0.5, 0.5}}), InputError);
+  particle.loading_modulus = -1.0;
+  EXPECT_THROW(MaterialTable({particle}, {{"p", "p", 0.5, 0.5, 0.1, MulticontactLaw{}}}),
+               InputError);
+}
+
 TEST(MulticontactLaw, ParametersAreCheckedAndNeedTheLaw) {
   MulticontactParameters bad;
   bad.plasticity_ratio = 0.0;

@@ -57,7 +57,7 @@ TEST(BodyBedDeterminism, RestartFromSnapshotContinuesWithTheSameBits) {
   EXPECT_TRUE(runs.continuous.engine->bonds().history == runs.resumed->bonds().history);
 }
 
-TEST(BodyBedDeterminism, ARestartKeepsTheBedsShapeVolume) {
+TEST(BodyBedDeterminism, ARestartKeepsTheBedsBodyShapeAndSphereVolumes) {
   testing::CompactionScene first = scene();
   first.setup.max_steps = 10;
   run_compaction(*first.engine, first.setup, first.punch, {});
@@ -73,8 +73,13 @@ TEST(BodyBedDeterminism, ARestartKeepsTheBedsShapeVolume) {
       resume_compaction(read_compact_config(root), read_snapshot(file));
   std::filesystem::remove(file);
   EXPECT_EQ(resumed.setup.solid_volume, first.setup.solid_volume);
+  EXPECT_EQ(resumed.setup.shape_volume, first.setup.shape_volume);
   EXPECT_EQ(resumed.setup.sphere_volume, first.setup.sphere_volume);
-  EXPECT_NEAR(first.setup.sphere_volume / first.setup.solid_volume, 13.0 / 27.0, 1e-12);
+  EXPECT_EQ(resumed.setup.inertial.diameter, first.setup.inertial.diameter);
+  EXPECT_NEAR(first.setup.sphere_volume / first.setup.shape_volume, 13.0 / 27.0, 1e-12);
+  // The body volume (the closed union of 13 touching spheres) lies between the two.
+  EXPECT_GT(first.setup.solid_volume, first.setup.sphere_volume);
+  EXPECT_LT(first.setup.solid_volume, first.setup.shape_volume);
 }
 
 }  // namespace
