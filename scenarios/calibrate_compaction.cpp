@@ -291,10 +291,18 @@ CompactionCalibrationResult calibrate_compaction(
         to_run.push_back(i);
       }
     }
+    // The search's start must meet the reference; a later point whose curve misses it (a bed too
+    // soft to reach the reference's stress) is a bad point, as a diverged one is.
+    const bool first_batch = result.evaluations.empty();
     const auto run_one = [&](std::size_t i) {
       try {
         trials[i] = run_compaction_trial(configured(base, evaluations[i].values), bed);
         evaluations[i].wall_seconds = trials[i]->wall_seconds;
+        if (!(first_batch && i == 0) &&
+            trial_mismatch(*trials[i], options.reference, options.from, options.to).points == 0) {
+          evaluations[i].rms_relative = std::numeric_limits<double>::infinity();
+          return;
+        }
         evaluations[i].rms_relative = window_error(*trials[i]).rms_relative;
       } catch (const ComputationError&) {
         // A diverged trial is a bad point, not the end of the search.
