@@ -225,11 +225,20 @@ int run(const CompactCli& given, const RunContext& context) {
     }
     return SignalCheckpoints::received() == 0;
   };
-  const double total =
-      config.setup.max_steps > 0 ? static_cast<double>(config.setup.max_steps) : 0.0;
+  // Steps to the run's limit, or the punch program's estimate (a displacement run), from here:
+  // a resumed run's rate and ETA are this process's.
+  const std::int64_t first_step = engine.step_index();
+  const double gap =
+      engine.walls()[setup.punch_wall].position - engine.walls()[setup.bottom_wall].position;
+  const double total = config.setup.max_steps > 0
+                           ? static_cast<double>(config.setup.max_steps - first_step)
+                           : remaining_steps_estimate(setup.program, prepared.punch, engine.time(),
+                                                      gap, engine.settings().time_step);
   ProgressReporter progress("compact", total, {.quiet = context.quiet});
   if (total > 0)
-    hooks.progress = [&](std::int64_t step) { progress.update(static_cast<double>(step)); };
+    hooks.progress = [&](std::int64_t step) {
+      progress.update(static_cast<double>(step - first_step), phase_name(prepared.punch.phase));
+    };
   const double h0 = prepared.punch.reference_gap;
   const CompactionSummary summary =
       run_compaction(engine, prepared.setup, prepared.punch, hooks, std::move(history.compaction));

@@ -79,6 +79,39 @@ double release_velocity(const PunchProgram& p, const PunchState& state, double s
 
 }  // namespace
 
+double remaining_steps_estimate(const PunchProgram& p, const PunchState& state, double time,
+                                double gap, double time_step) {
+  if (p.mode != PunchProgram::Mode::displacement || !p.target_gap || !(time_step > 0.0) ||
+      !(p.speed > 0.0))
+    return 0.0;
+  const double end = std::max(*p.target_gap, p.min_gap.value_or(0.0));
+  const double elapsed = time - state.phase_start;
+  const double travel = std::max(0.0, gap - end);
+  const double spring_back = p.unload_speed > 0.0 ? 0.25 * travel / p.unload_speed : 0.0;
+  double seconds = 0.0;
+  switch (state.phase) {
+    case PunchPhase::relax:
+      seconds = std::max(0.0, p.relax_time - elapsed) + travel / p.speed + p.hold_time +
+                spring_back + p.release_time;
+      break;
+    case PunchPhase::load:
+      seconds = travel / p.speed + p.hold_time + spring_back + p.release_time;
+      break;
+    case PunchPhase::hold:
+      seconds = std::max(0.0, p.hold_time - elapsed) + p.release_time;
+      break;
+    case PunchPhase::unload:
+      seconds = p.release_time;
+      break;
+    case PunchPhase::release:
+      seconds = std::max(0.0, p.release_time - elapsed);
+      break;
+    case PunchPhase::done:
+      break;
+  }
+  return seconds / time_step;
+}
+
 double punch_velocity(const PunchProgram& p, PunchState& state, double time, double gap,
                       double stress) {
   const bool servo = p.mode == PunchProgram::Mode::servo;

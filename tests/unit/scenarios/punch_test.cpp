@@ -66,6 +66,32 @@ TEST(Punch, RelaxesBeforeLoadingAndFollowsTheSpringBackAfterUnloading) {
   EXPECT_EQ(back.peak_stress, 5e6);
 }
 
+// compact's progress line for a displacement run: the relaxation left, the travel at the
+// punch's speed, the hold, a quarter of the travel back at the unloading speed, the release.
+TEST(Punch, RemainingStepsFollowThePhases) {
+  PunchProgram p;
+  p.speed = 0.1;
+  p.target_gap = 1e-3;
+  p.min_gap = 1.2e-3;  // the ceiling stops loading first
+  p.hold_time = 1e-3;
+  p.unload_speed = 0.2;
+  p.relax_time = 2e-3;
+  p.release_time = 3e-3;
+  PunchState state;
+  state.phase = PunchPhase::relax;
+  const double dt = 1e-6;
+  const double travel = 2e-3 - 1.2e-3;  // from a gap of 2 mm to the ceiling's
+  EXPECT_NEAR(remaining_steps_estimate(p, state, 0.5e-3, 2e-3, dt),
+              (1.5e-3 + travel / 0.1 + 1e-3 + 0.25 * travel / 0.2 + 3e-3) / dt, 1e-6);
+  state.phase = PunchPhase::unload;
+  EXPECT_NEAR(remaining_steps_estimate(p, state, 0.0, 1.3e-3, dt), 3e-3 / dt, 1e-6);
+  state.phase = PunchPhase::done;
+  EXPECT_EQ(remaining_steps_estimate(p, state, 0.0, 1.3e-3, dt), 0.0);
+  p.mode = PunchProgram::Mode::servo;  // no target gap to travel to
+  state.phase = PunchPhase::load;
+  EXPECT_EQ(remaining_steps_estimate(p, state, 0.0, 2e-3, dt), 0.0);
+}
+
 TEST(Punch, ServoSpeedIsBoundedAndProportionalNearTheTarget) {
   PunchProgram p;
   p.mode = PunchProgram::Mode::servo;
