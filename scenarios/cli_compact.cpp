@@ -242,8 +242,8 @@ int run(const CompactCli& given, const RunContext& context) {
   const double h0 = prepared.punch.reference_gap;
   const CompactionSummary summary =
       run_compaction(engine, prepared.setup, prepared.punch, hooks, std::move(history.compaction));
+  if (summary.interrupted) return stopped(engine.step_index());  // not "100 % done"
   progress.finish();
-  if (summary.interrupted) return stopped(engine.step_index());
   const QuasiStaticCheck& qs = summary.quasi_static;
   const auto warn_phase = [](const char* phase, const PhaseQuasiStatic& p) {
     if (p.records == 0 || p.quasi_static()) return;

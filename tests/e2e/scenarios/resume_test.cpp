@@ -160,22 +160,29 @@ TEST(CompactResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   EXPECT_FALSE(facts("older").contains("loop_s"));
 }
 
-// The settle of a generated bed checkpoints too: stopped while settling, the run resumes in the
-// settle and ends with the uninterrupted run's punch.csv.
-TEST(CompactResume, StoppedWhileSettlingResumesInTheSettle) {
-  const auto dir = fresh_directory("compact_settle_resume");
-  write_text(dir / "compact.toml", resumable_config());
+// `config` run whole into dir/whole, and again into dir/run stopped by SIGTERM once a checkpoint
+// of run/checkpoints matching `checkpoint` (a glob) is out.
+void run_whole_and_stopped(const std::filesystem::path& dir, const std::string& config,
+                           const std::string& checkpoint) {
+  write_text(dir / "compact.toml", config);
   const auto whole =
       run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
                      shell_quoted(dir / "whole"));
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
-  // Any settle checkpoint: the newest two are kept, and on an idle machine the first is gone
-  // within milliseconds.
   const auto stopped =
       terminate_when("compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
                          shell_quoted(dir / "run"),
-                     shell_quoted(dir / "run" / "checkpoints") + "/settle_*.history", "0.005");
+                     shell_quoted(dir / "run" / "checkpoints") + "/" + checkpoint, "0.005");
   ASSERT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
+}
+
+// The settle of a generated bed checkpoints too: stopped while settling, the run resumes in the
+// settle and ends with the uninterrupted run's punch.csv.
+TEST(CompactResume, StoppedWhileSettlingResumesInTheSettle) {
+  const auto dir = fresh_directory("compact_settle_resume");
+  // Any settle checkpoint: the newest two are kept, and on an idle machine the first is gone
+  // within milliseconds.
+  ASSERT_NO_FATAL_FAILURE(run_whole_and_stopped(dir, resumable_config(), "settle_*.history"));
   const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_THAT(resumed.output, HasSubstr("settle's checkpoint at step"));
@@ -190,17 +197,8 @@ TEST(CompactResume, StoppedWhileThePunchRelaxesResumesInTheRelaxation) {
   const auto dir = fresh_directory("compact_relax_resume");
   std::string config = resumable_config();
   config.insert(config.find("hold_time = "), "relax_time = \"10 ms\"\n");
-  write_text(dir / "compact.toml", config);
-  const auto whole =
-      run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
-                     shell_quoted(dir / "whole"));
-  ASSERT_EQ(whole.exit_code, 0) << whole.output;
   // The first checkpoint of the compaction (100 steps after the settle, of some 6000 relaxing).
-  const auto stopped =
-      terminate_when("compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
-                         shell_quoted(dir / "run"),
-                     shell_quoted(dir / "run" / "checkpoints") + "/step_*.history", "0.005");
-  ASSERT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
+  ASSERT_NO_FATAL_FAILURE(run_whole_and_stopped(dir, config, "step_*.history"));
   int relaxing = 0;
   for (const auto& file : files_under(dir / "run" / "checkpoints"))
     if (std::filesystem::path(file).extension() == ".history")
