@@ -533,8 +533,8 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
       out / "calibrated.toml",
       fmt::format("# shapepress calibrate --config {} --reference {} --fit {} (N = {}):\n"
                   "# RMS relative error {:.5f} over deformation [{}, {}]\n",
-                  cli.config, cli.reference, fmt::join(options.parameters, ","), config.bms->count,
-                  result.rms_relative, from, to) +
+                  cli.config, cli.reference, fmt::join(options.parameters, ","),
+                  result.best.spheres, result.rms_relative, from, to) +
           plate_config_toml(result.config));
   write_force_csv(out / "force.csv", result.best, result.config, true);
   // Fitted values beside the start and the paper's (per unit area k̄n, k̄s at this fill).
