@@ -45,9 +45,11 @@ void place_body(const BodyTemplate& shape, const PackedBody& body, std::vector<V
   }
 }
 
-void place_bodies(BodyPacking& packing) {
-  // A template or body made without its body volume (by hand, or read from an older file) gets it
-  // from its sub-spheres.
+namespace {
+
+// A template or body without its body volume (made by hand, or read from a packing written before
+// body volumes were kept) gets it from its sub-spheres.
+void complete_body_volumes(BodyPacking& packing) {
   for (BodyTemplate& shape : packing.templates)
     if (!(shape.body_volume > 0.0)) set_body_volume(shape);
   for (PackedBody& body : packing.bodies)
@@ -57,6 +59,12 @@ void place_bodies(BodyPacking& packing) {
           packing.templates.at(static_cast<std::size_t>(body.template_index)).body_volume * s * s *
           s;
     }
+}
+
+}  // namespace
+
+void place_bodies(BodyPacking& packing) {
+  complete_body_volumes(packing);
   packing.particles = SphereList{};
   packing.particle_body.clear();
   packing.first_particle.assign(1, 0);
@@ -318,8 +326,6 @@ BodyPacking read_packing(const std::filesystem::path& path) {
       const std::vector<double> body = read.sized(group + "/body_inertia", 3);
       std::copy(body.begin(), body.end(), shape.body_inertia.begin());
       if (!(shape.body_volume > 0.0)) read.fail(group + ": body_volume must be > 0");
-    } else {  // a packing from before body volumes: computed from its sub-spheres
-      set_body_volume(shape);
     }
     p.templates.push_back(std::move(shape));
   }
@@ -348,11 +354,7 @@ BodyPacking read_packing(const std::filesystem::path& path) {
     body.centre = {centre[3 * b], centre[3 * b + 1], centre[3 * b + 2]};
     body.shape_volume = shape_volume[b];
     body.sphere_volume = sphere_volume[b];
-    const double s = body.scale;
-    body.body_volume =
-        has_body_volume
-            ? body_volume[b]
-            : p.templates[static_cast<std::size_t>(body.template_index)].body_volume * s * s * s;
+    if (has_body_volume) body.body_volume = body_volume[b];
     p.bodies.push_back(body);
   }
 
@@ -400,6 +402,7 @@ BodyPacking read_packing(const std::filesystem::path& path) {
       const std::string dataset = fmt::format("/measures/{}", name);
       if (file.has(dataset)) value = read.sized(dataset, 1)[0];
     });
+  complete_body_volumes(p);  // a packing from before body volumes
   return p;
 }
 

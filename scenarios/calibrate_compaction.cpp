@@ -72,9 +72,8 @@ double hertz_loading_stiffness(CompactConfig& c) {
         "has no [generate] to take a particle size from: give a start with --start "
         "loading_stiffness=VALUE (N/m^1.5)");
   const Material& m = particle_material(c);
-  const double e_star = m.youngs_modulus / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio));
   const double d = 0.5 * (c.generate->diameter_min + c.generate->diameter_max);
-  return 4.0 / 3.0 * e_star * std::sqrt(0.25 * d);
+  return implied_loading_stiffness(m.youngs_modulus, d, m.poisson_ratio);
 }
 
 // Log-space bounds: six decades either side of the start, and λp ≤ 1 (Eq. 6: k2 ≥ k1).

@@ -345,9 +345,8 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   // A fitted k1 is a statement about the material at the bed's size: the loading modulus it
   // implies carries it to another size of contact (sub-spheres, walls), and the other way round.
   const double diameter = best.setup.inertial.diameter;
-  double poisson_ratio = 0.0;
-  for (const Material& m : result.config.materials.materials)
-    if (m.name == result.config.particle_material) poisson_ratio = m.poisson_ratio;
+  const Material* particle = result.config.materials.find(result.config.particle_material);
+  const double poisson_ratio = particle ? particle->poisson_ratio : 0.0;
   nlohmann::json implied = nlohmann::json::object();
   std::vector<std::vector<std::string>> implied_rows;
   for (std::size_t k = 0; k < options.parameters.size() && diameter > 0.0; ++k) {
@@ -377,8 +376,8 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   // The folder is also a compaction run (punch.csv of the best fit), so `report` reads it.
   CompactConfig scene = result.config;
   if (options.density_scale) scene.density_scale = *options.density_scale;
-  add_compaction_facts(meta, scene, best.setup, best.punch.reference_gap, best.time_step,
-                       *best.engine, result.best.summary);
+  add_compaction_facts(meta, scene, best.setup, best.punch.reference_gap, *best.engine,
+                       result.best.summary);
   add_fitted_values(meta, options.parameters, result.start, result.values)
       .fact("reference_axes", analysis::axes_name(options.reference.axes))
       .fact("points_compared", error.points)

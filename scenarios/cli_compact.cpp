@@ -167,9 +167,9 @@ int run(const CompactCli& given, const RunContext& context) {
   spdlog::info(
       "compact: {} spheres ({} rigid clumps), time step {:.3g} s ({:.3g} of the Rayleigh time, "
       "{:.0f} steps per Hertz collision)",
-      engine.state().size(), engine.clumps().size(), prepared.time_step.time_step,
-      prepared.time_step.time_step / prepared.time_step.rayleigh_time,
-      prepared.time_step.collision_time / prepared.time_step.time_step);
+      engine.state().size(), engine.clumps().size(), prepared.setup.time_step.time_step,
+      prepared.setup.time_step.time_step / prepared.setup.time_step.rayleigh_time,
+      prepared.setup.time_step.collision_time / prepared.setup.time_step.time_step);
 
   // What the run used, every key with its value (defaults and --steps included); a resumed run
   // has it from its start (where the punch started is no longer in the engine).
@@ -260,8 +260,7 @@ int run(const CompactCli& given, const RunContext& context) {
   csv.commit();
   meta.output("punch.csv");
   if (!index.empty()) meta.output("snapshots.xdmf");
-  add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, prepared.time_step,
-                       engine, summary);
+  add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, engine, summary);
   meta.write(out / run_metadata_name);
   // The run is whole: its checkpoints have done their work.
   std::error_code ignored;

@@ -86,8 +86,9 @@ double mean_diameter(const SphereState& s, const ClumpSet& clumps) {
 }
 
 CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
-                                 const BedVolumes& volumes) {
+                                 const BedVolumes& volumes, const TimeStepChoice& time_step) {
   CompactionSetup setup = c.setup;
+  setup.time_step = time_step;
   if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
   if (c.target_solid_fraction)
     setup.program.target_gap = volumes.body / (c.box_x * c.box_y * *c.target_solid_fraction);
@@ -95,8 +96,8 @@ CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
   setup.shape_volume = volumes.shape;
   setup.sphere_volume = volumes.spheres;
   setup.inertial.diameter = volumes.mean_diameter;
-  for (const Material& m : c.materials.materials)
-    if (m.name == c.particle_material) setup.inertial.density = m.density * c.density_scale;
+  if (const Material* m = c.materials.find(c.particle_material))
+    setup.inertial.density = m->density * c.density_scale;
   // Solid-fraction ceiling: D = V / (A H) reaches it at H = V / (A D_max).
   const double min_gap = setup.solid_volume / (c.box_x * c.box_y * setup.max_solid_fraction);
   setup.program.min_gap = min_gap;
@@ -115,6 +116,13 @@ CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
       setup.program.mode == PunchProgram::Mode::displacement)
     throw InputError("punch: give target_gap or target_strain, or run.steps to stop the run");
   return setup;
+}
+
+// A program with a relaxation starts in it, from the engine's time now.
+void start_program(PreparedCompaction& out) {
+  if (!(out.setup.program.relax_time > 0.0)) return;
+  out.punch.phase = PunchPhase::relax;
+  out.punch.phase_start = out.engine->time();
 }
 
 // H0 of the strain: the gap when loading starts, or where the bed would be at the reference
@@ -177,9 +185,10 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
   std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
                                   PlaneWall{c.punch, -1, 0.0, wall}};
   PreparedCompaction out;
-  out.time_step = select_time_step(state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
-                                   expected_speed(c, state), BondSet{}, clumps);
-  const double dt = out.time_step.time_step;
+  const TimeStepChoice step =
+      select_time_step(state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
+                       expected_speed(c, state), BondSet{}, clumps);
+  const double dt = step.time_step;
   if (generated && c.settle_time > 0.0) {
     SettleRequest request{box, walls, settings_for(c, state, dt), c.settle_time, c.settle_friction};
     std::optional<SphereState> settled =
@@ -206,12 +215,8 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
           : reference_gap(c, walls[1].position - walls[0].position, volume);
   out.setup = compaction_setup(
       c, out.punch.reference_gap,
-      {volume, volume, volume, mean_diameter(out.engine->state(), out.engine->clumps())});
-  out.setup.time_step = out.time_step;
-  if (out.setup.program.relax_time > 0.0) {
-    out.punch.phase = PunchPhase::relax;
-    out.punch.phase_start = out.engine->time();
-  }
+      {volume, volume, volume, mean_diameter(out.engine->state(), out.engine->clumps())}, step);
+  start_program(out);
   return out;
 }
 
@@ -247,10 +252,10 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
                                   PlaneWall{punch, -1, 0.0, wall}};
   PreparedCompaction out;
-  out.time_step =
+  const TimeStepChoice step =
       select_time_step(bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
                        expected_speed(c, bed.state), bed.bonds, bed.clumps);
-  const EngineSettings settings = compaction_settings(c, bed.state, out.time_step.time_step);
+  const EngineSettings settings = compaction_settings(c, bed.state, step.time_step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
   out.punch.reference_gap = reference_gap(c, punch - c.bottom, bed.body_volume);
@@ -260,12 +265,9 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   out.setup = compaction_setup(
       c, out.punch.reference_gap,
       {bed.body_volume, bed.shape_volume, bed.sphere_volume,
-       packing.bodies.empty() ? 0.0 : diameters / static_cast<double>(packing.bodies.size())});
-  out.setup.time_step = out.time_step;
-  if (out.setup.program.relax_time > 0.0) {
-    out.punch.phase = PunchPhase::relax;
-    out.punch.phase_start = out.engine->time();
-  }
+       packing.bodies.empty() ? 0.0 : diameters / static_cast<double>(packing.bodies.size())},
+      step);
+  start_program(out);
   return out;
 }
 
@@ -275,23 +277,20 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   std::vector<int> wall_materials;
   for (const PlaneWall& w : snapshot.checkpoint.walls)
     wall_materials.push_back(w.material);
-  out.time_step = select_time_step(snapshot.state, table, wall_materials, c.run.time_step,
-                                   c.run.time_step_fraction, expected_speed(c, snapshot.state),
-                                   snapshot.checkpoint.bonds, snapshot.checkpoint.clumps);
+  TimeStepChoice step = select_time_step(
+      snapshot.state, table, wall_materials, c.run.time_step, c.run.time_step_fraction,
+      expected_speed(c, snapshot.state), snapshot.checkpoint.bonds, snapshot.checkpoint.clumps);
   // The uninterrupted run's step, where the snapshot keeps it (compaction_scenario_state): the
   // bound just computed reads the bonds' lengths now, not at the start.
-  std::optional<double> kept_step;
   for (const auto& [name, value] : snapshot.scenario) {
-    TimeStepChoice& t = out.time_step;
-    if (name == "time_step_s") kept_step = value;
-    if (name == "rayleigh_time_s") t.rayleigh_time = value;
-    if (name == "collision_time_s") t.collision_time = value;
-    if (name == "collision_speed_m_per_s") t.collision_speed = value;
-    if (name == "bond_period_s") t.bond_period = value;
-    if (name == "clump_period_s") t.clump_period = value;
+    if (name == "time_step_s") step.time_step = value;
+    if (name == "rayleigh_time_s") step.rayleigh_time = value;
+    if (name == "collision_time_s") step.collision_time = value;
+    if (name == "collision_speed_m_per_s") step.collision_speed = value;
+    if (name == "bond_period_s") step.bond_period = value;
+    if (name == "clump_period_s") step.clump_period = value;
   }
-  if (kept_step) out.time_step.time_step = *kept_step;
-  const EngineSettings settings = compaction_settings(c, snapshot.state, out.time_step.time_step);
+  const EngineSettings settings = compaction_settings(c, snapshot.state, step.time_step);
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = punch_state_from(snapshot.scenario);
@@ -308,8 +307,7 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
     if (name == "bed_mean_diameter") volumes.mean_diameter = value;
   }
   if (!body_volume) volumes.body = volumes.shape;
-  out.setup = compaction_setup(c, out.punch.reference_gap, volumes);
-  out.setup.time_step = out.time_step;
+  out.setup = compaction_setup(c, out.punch.reference_gap, volumes, step);
   return out;
 }
 

@@ -17,8 +17,7 @@ namespace shapepress::scenarios {
 struct PreparedCompaction {
   std::unique_ptr<Engine> engine;  // none: the settle was stopped (SettleCheckpoints)
   CompactionSetup setup;
-  PunchState punch;
-  TimeStepChoice time_step;
+  PunchState punch;  // the run's step and its bounds are setup.time_step
 };
 
 // `spheres` empty: generate from config.generate (InputError if absent) and settle, with

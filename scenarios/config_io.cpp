@@ -1,6 +1,5 @@
 #include "scenarios/config_io.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include "scenarios/bms_particle.hpp"
@@ -372,9 +371,8 @@ BondParameters read_bond(const ConfigTable& root, const MaterialConfig& material
     bond_modulus_table().read(k, p);
   } else if (k.has("modulus_fraction")) {
     bond_fraction_table().read(k, p);
-    const auto m = std::find_if(materials.materials.begin(), materials.materials.end(),
-                                [&](const Material& x) { return x.name == body_material; });
-    if (m == materials.materials.end())
+    const Material* m = materials.find(body_material);
+    if (!m)
       throw InputError(root.source_name() + ": bond.modulus_fraction: no [[material]] '" +
                        body_material + "' for the bodies");
     p.modulus = p.modulus_fraction * m->loading_modulus.value_or(m->youngs_modulus);

@@ -28,6 +28,12 @@ struct MaterialConfig {
   std::vector<Material> materials;
   std::vector<Interaction> interactions;
   MaterialTable table() const { return MaterialTable(materials, interactions); }
+  // The [[material]] of that name; none: nullptr.
+  const Material* find(const std::string& name) const {
+    for (const Material& m : materials)
+      if (m.name == name) return &m;
+    return nullptr;
+  }
 };
 // `normal_law` (plate --model), when given, replaces the normal law of every interaction.
 MaterialConfig read_materials(const ConfigTable& root,

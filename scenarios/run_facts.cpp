@@ -10,7 +10,7 @@
 
 namespace shapepress::scenarios {
 // Which bound set a run's step: the Rayleigh time of its smallest sphere at its stiffest
-// contact, the bonded network's period, or the rigid clumps' rocking (a fixed step: "fixed").
+// contact, the bonded network's period, or the rigid clumps' rocking.
 std::string time_step_bound(const TimeStepChoice& t) {
   const double bound = std::min({t.rayleigh_time, t.bond_period, t.clump_period});
   if (t.rayleigh_time == bound) return "rayleigh";
@@ -32,9 +32,9 @@ nlohmann::json interaction_laws(const MaterialConfig& materials) {
 }
 
 void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
-                          const CompactionSetup& setup, double reference_gap,
-                          const TimeStepChoice& time_step, const Engine& engine,
+                          const CompactionSetup& setup, double reference_gap, const Engine& engine,
                           const CompactionSummary& summary) {
+  const TimeStepChoice& time_step = setup.time_step;
   const std::size_t clumps = engine.clumps().size(), bonds = engine.bonds().size();
   meta.fact("reference_gap_m", reference_gap)
       .fact("die_area_m2", setup.die_area)

@@ -17,10 +17,9 @@ namespace shapepress::scenarios {
 nlohmann::json interaction_laws(const MaterialConfig& materials);
 
 // compact: reference_gap_m (H0), die_area_m2, solid_volume_m3, strain_reference, the particle
-// counts and kind, the laws, time_step_s and steps.
+// counts and kind, the laws, time_step_s (setup.time_step) and steps.
 void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
-                          const CompactionSetup& setup, double reference_gap,
-                          const TimeStepChoice& time_step, const Engine& engine,
+                          const CompactionSetup& setup, double reference_gap, const Engine& engine,
                           const CompactionSummary& summary);
 
 // plate and calibrate: particle_kind (sphere, bms, cms), sub_spheres, fills, radius_m, the laws,

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "simulate/materials.hpp"
 
 namespace shapepress::simulate {
 
@@ -79,14 +80,12 @@ MulticontactLaw::Constants MulticontactLaw::constants(const Material& a, const M
   // loading modulus of the particles reaches every contact through the same pair rule, a wall's
   // included, so one calibrated modulus sets the k1 of every size of contact.
   if (a.loading_modulus || b.loading_modulus) {
-    const auto compliance = [](const Material& m, double e) {
-      return (1.0 - m.poisson_ratio * m.poisson_ratio) / e;
+    const auto loading_solid = [](Material m) {
+      m.youngs_modulus = m.loading_modulus.value_or(m.youngs_modulus);
+      return m;
     };
-    const double elastic =
-        1.0 / (compliance(a, a.youngs_modulus) + compliance(b, b.youngs_modulus));
-    const double loading = 1.0 / (compliance(a, a.loading_modulus.value_or(a.youngs_modulus)) +
-                                  compliance(b, b.loading_modulus.value_or(b.youngs_modulus)));
-    k.loading_factor = loading / elastic;
+    k.loading_factor = materials_effective_modulus(loading_solid(a), loading_solid(b)) /
+                       materials_effective_modulus(a, b);
     k.loading_coefficient = 4.0 / 3.0 * k.loading_factor;
     k.loading_damping_factor = std::sqrt(k.loading_factor);
   }
