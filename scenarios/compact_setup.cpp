@@ -32,14 +32,18 @@ double expected_speed(const CompactConfig& c, const SphereState& s) {
 // The skin defaults to 0.1 of the smallest diameter.
 EngineSettings settings_for(const CompactConfig& c, const SphereState& s, double dt) {
   const double d_min = 2.0 * *std::min_element(s.radius.begin(), s.radius.end());
-  return c.run.engine_settings(dt, 0.1 * d_min);
+  EngineSettings settings = c.run.engine_settings(dt, 0.1 * d_min);
+  settings.bond_substeps = 1;  // the step chosen says how many (compaction_settings)
+  return settings;
 }
 
 // The compaction's: with mass scaling s the bed's weight stays the true one (gravity / s), so a run
 // at s is the unscaled run at v√s in a time stretched by √s, weight included (models.md, "Quasi-
 // static compaction and mass scaling"); at s × g a soft bed sinks under s times its weight.
-EngineSettings compaction_settings(const CompactConfig& c, const SphereState& s, double dt) {
-  EngineSettings settings = settings_for(c, s, dt);
+EngineSettings compaction_settings(const CompactConfig& c, const SphereState& s,
+                                   const TimeStepChoice& step) {
+  EngineSettings settings = settings_for(c, s, step.time_step);
+  settings.bond_substeps = step.bond_substeps;
   for (double& g : settings.gravity)
     g /= c.density_scale;
   return settings;
@@ -203,7 +207,7 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
         state.position.z[i] + state.radius[i] > walls[1].position + 0.5 * state.radius[i])
       throw InputError("packing: sphere " + std::to_string(i) +
                        " lies outside the space between box.bottom and box.punch");
-  const EngineSettings settings = compaction_settings(c, state, dt);
+  const EngineSettings settings = compaction_settings(c, state, step);
   out.engine =
       std::make_unique<Engine>(std::move(state), box, table, walls, settings, BondSet{}, clumps);
   // H0: the gap when loading starts, or the loose fill height (the insertion region's top, the
@@ -252,10 +256,10 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
                                   PlaneWall{punch, -1, 0.0, wall}};
   PreparedCompaction out;
-  const TimeStepChoice step =
-      select_time_step(bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
-                       expected_speed(c, bed.state), bed.bonds, bed.clumps);
-  const EngineSettings settings = compaction_settings(c, bed.state, step.time_step);
+  const TimeStepChoice step = select_time_step(
+      bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
+      expected_speed(c, bed.state), bed.bonds, bed.clumps, c.run.engine.bond_substeps);
+  const EngineSettings settings = compaction_settings(c, bed.state, step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
   out.punch.reference_gap = reference_gap(c, punch - c.bottom, bed.body_volume);
@@ -279,7 +283,8 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
     wall_materials.push_back(w.material);
   TimeStepChoice step = select_time_step(
       snapshot.state, table, wall_materials, c.run.time_step, c.run.time_step_fraction,
-      expected_speed(c, snapshot.state), snapshot.checkpoint.bonds, snapshot.checkpoint.clumps);
+      expected_speed(c, snapshot.state), snapshot.checkpoint.bonds, snapshot.checkpoint.clumps,
+      c.run.engine.bond_substeps);
   // The uninterrupted run's step, where the snapshot keeps it (compaction_scenario_state): the
   // bound just computed reads the bonds' lengths now, not at the start.
   for (const auto& [name, value] : snapshot.scenario) {
@@ -289,8 +294,9 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
     if (name == "collision_speed_m_per_s") step.collision_speed = value;
     if (name == "bond_period_s") step.bond_period = value;
     if (name == "clump_period_s") step.clump_period = value;
+    if (name == "bond_substeps") step.bond_substeps = static_cast<int>(value);
   }
-  const EngineSettings settings = compaction_settings(c, snapshot.state, step.time_step);
+  const EngineSettings settings = compaction_settings(c, snapshot.state, step);
   out.engine = std::make_unique<Engine>(std::move(snapshot.state), snapshot.box, table, settings,
                                         std::move(snapshot.checkpoint));
   out.punch = punch_state_from(snapshot.scenario);

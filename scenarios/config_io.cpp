@@ -492,8 +492,13 @@ const OptionTable<CompactConfig>& compact_run_table() {
       return c.setup;
     };
     r.integer(
-         "steps", [setup](auto& c) -> auto& { return setup(c).max_steps; }, Range::non_negative(),
-         "total step count to stop at (0: when the punch program ends)")
+         "bond_substeps", [](auto& c) -> auto& { return c.run.engine.bond_substeps; },
+         Range::closed(0, 1000),
+         "bond sub-steps per step (multiple time stepping: the bonds on fraction x their period "
+         "bound, the contacts on fraction x theirs; 0: as many as that needs; 1: single-rate)")
+        .integer(
+            "steps", [setup](auto& c) -> auto& { return setup(c).max_steps; },
+            Range::non_negative(), "total step count to stop at (0: when the punch program ends)")
         .integer(
             "record_every", [setup](auto& c) -> auto& { return setup(c).record_every; },
             Range::at_least(1), "steps between rows of punch.csv")

@@ -11,10 +11,12 @@
 namespace shapepress::scenarios {
 // Which bound set a run's step: the Rayleigh time of its smallest sphere at its stiffest
 // contact, the bonded network's period, or the rigid clumps' rocking.
+// With bond sub-steps the bonds bound each sub-step, and the step only through all of them.
 std::string time_step_bound(const TimeStepChoice& t) {
-  const double bound = std::min({t.rayleigh_time, t.bond_period, t.clump_period});
+  const double bonds = t.bond_substeps * t.bond_period;
+  const double bound = std::min({t.rayleigh_time, bonds, t.clump_period});
   if (t.rayleigh_time == bound) return "rayleigh";
-  return t.bond_period == bound ? "bonds" : "clumps";
+  return bonds == bound ? "bonds" : "clumps";
 }
 
 nlohmann::json interaction_laws(const MaterialConfig& materials) {
@@ -75,6 +77,7 @@ void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
       .fact("time_step_s", time_step.time_step)
       .fact("rayleigh_time_s", time_step.rayleigh_time)
       .fact("time_step_bound", time_step_bound(time_step))
+      .fact("bond_substeps", time_step.bond_substeps)
       .fact("steps", summary.steps)
       .fact("final_step", engine.step_index())
       .fact("record_every", setup.record_every);

@@ -259,6 +259,8 @@ EngineCheckpoint Engine::checkpoint() const {
   c.particle_pressure = pressure_;
   c.energy_reference = energy_reference_;
   c.work_in = work_in_;
+  c.bond_force = bond_force_;
+  c.slow_force = slow_force_;
   c.bonds = bonds_;
   c.clumps = clumps_;
   return c;

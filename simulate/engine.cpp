@@ -64,6 +64,7 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, std::vector<
   wall_history_.assign(walls_.size(), std::vector<ContactHistory>(state_.size()));
   force_chunks_ = force_chunk_count(state_.size());
   if (!bonds_.empty()) bonds_.index(state_);
+  require_bond_substeps();
   const double half = 0.5 * settings_.time_step;
   if (!clumps_.empty()) {
     index_clumps();
@@ -105,6 +106,17 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
     pressure_ = std::move(checkpoint.particle_pressure);
   }
   if (!bonds_.empty()) bonds_.index(state_);
+  require_bond_substeps();
+  if (substeps_bonds()) {
+    // The two shares of the force are not recoverable from their sum to the bit.
+    if (checkpoint.bond_force.size() != bond_force_.size() ||
+        checkpoint.slow_force.size() != slow_force_.size())
+      throw InputError(
+          "checkpoint: taken without bond sub-steps (run.bond_substeps); resume it with "
+          "bond_substeps = 1");
+    bond_force_ = std::move(checkpoint.bond_force);
+    slow_force_ = std::move(checkpoint.slow_force);
+  }
   if (checkpoint.wall_history.size() != walls_.size())
     throw InputError("checkpoint: wall history does not match the walls");
   wall_history_ = std::move(checkpoint.wall_history);
@@ -144,6 +156,18 @@ Engine::Engine(SphereState state, Box box, MaterialTable materials, EngineSettin
   energy_reference_ = checkpoint.energy_reference;
   work_in_ = checkpoint.work_in;
   pack_spheres();  // radius, mass and 1/I; step() rewrites the rest
+}
+
+void Engine::require_bond_substeps() {
+  if (settings_.bond_substeps < 1)
+    throw InputError(fmt::format("bond sub-steps must be >= 1, got {}", settings_.bond_substeps));
+  if (!substeps_bonds()) return;
+  if (settings_.local_damping > 0.0)
+    throw InputError("bond sub-steps (run.bond_substeps > 1) do not take local damping");
+  if (!clumps_.empty())
+    throw InputError("bond sub-steps (run.bond_substeps > 1) do not take rigid clumps");
+  bond_force_.assign(6 * state_.size(), 0.0);
+  slow_force_.assign(6 * state_.size(), 0.0);
 }
 
 void Engine::require_material_pairs() const {
@@ -251,7 +275,7 @@ void Engine::build_list(bool wrap) {
 }
 
 template <bool damped>
-double Engine::kick_drift(const AffineDrift& drift) {
+double Engine::kick_drift(const AffineDrift& drift, double dt, const double* const force[6]) {
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
   // Half kick and drift, fused with the largest displacement since the last list build and with
@@ -268,12 +292,12 @@ double Engine::kick_drift(const AffineDrift& drift) {
                             s.position.x.data(),
                             s.position.y.data(),
                             s.position.z.data(),
-                            s.force.x.data(),
-                            s.force.y.data(),
-                            s.force.z.data(),
-                            s.torque.x.data(),
-                            s.torque.y.data(),
-                            s.torque.z.data(),
+                            force[0],
+                            force[1],
+                            force[2],
+                            force[3],
+                            force[4],
+                            force[5],
                             s.inverse_mass.data(),
                             build_reference_.x.data(),
                             build_reference_.y.data(),
@@ -287,13 +311,16 @@ double Engine::kick_drift(const AffineDrift& drift) {
 #pragma omp parallel num_threads(threads) reduction(max : largest)
   {
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
-    largest = kick_drift_range(arrays, n * rank / team, n * (rank + 1) / team, settings_.time_step,
-                               alpha, field);
+    largest = kick_drift_range(arrays, n * rank / team, n * (rank + 1) / team, dt, alpha, field);
   }
   return largest;
 }
 
 void Engine::step() {
+  if (substeps_bonds()) {
+    step_with_bond_substeps();
+    return;
+  }
   const double dt = settings_.time_step;
   const double half = 0.5 * dt;
   SphereState& s = state_;
@@ -303,16 +330,14 @@ void Engine::step() {
   // Displacements since the last build are measured against the displacement the walls impose
   // on a uniformly strained bed (list_affine_drift()), so a moving punch alone forces no build.
   const AffineDrift drift = list_affine_drift();
-  const double drift_offset = drift.offset, drift_strain = drift.strain;
-  const double drift_origin = drift.origin;
   // Local damping is a template argument: its signs and compares, computed with α = 0, cost the
   // bench scene's step a third more instructions (callgrind).
-  double largest =
-      settings_.local_damping > 0.0 ? kick_drift<true>(drift) : kick_drift<false>(drift);
+  const double* const force[6] = {s.force.x.data(),  s.force.y.data(),  s.force.z.data(),
+                                  s.torque.x.data(), s.torque.y.data(), s.torque.z.data()};
+  double largest = settings_.local_damping > 0.0 ? kick_drift<true>(drift, dt, force)
+                                                 : kick_drift<false>(drift, dt, force);
   double* geometry = geometry_.data();
   double* motion = motion_.data();
-  const double* px = s.position.x.data();
-  const double* py = s.position.y.data();
   if (!clumps_.empty()) {
     // Clumps move as bodies; their sub-spheres (no own mass, left alone above) follow.
     advance_clumps(clumps_, dt);
@@ -333,28 +358,132 @@ void Engine::step() {
   }
   time_ += dt;
   ++step_;
-  // The walls' own test (list_affine_drift()): a sphere outside its wall's candidates cannot
-  // reach it while e + σ + |strain| (r_max + skin) < skin, σ the wall's offset from the field.
-  double wall_slack = 0.0;
-  for (std::size_t k = 0; k < walls_.size() && k < build_wall_position_.size(); ++k) {
-    const double field = drift_offset + drift_strain * (build_wall_position_[k] - drift_origin);
-    wall_slack =
-        std::max(wall_slack, std::fabs(walls_[k].position - build_wall_position_[k] - field));
-  }
-  const double deviation = std::sqrt(largest);
-  const double strain_reach = std::fabs(drift_strain) * list_reach_;
-  const double wall_reach = std::fabs(drift_strain) * (0.5 * (list_reach_ + settings_.skin));
-  if (2.0 * deviation + strain_reach > settings_.skin ||
-      (!walls_.empty() && deviation + wall_slack + wall_reach > settings_.skin)) {
-    build_list(true);
-    for (std::int64_t i = 0; i < n; ++i)  // the build wrapped positions into the box
-      geometry[4 * i] = px[i], geometry[4 * i + 1] = py[i];
-  }
+  rebuild_list_if_needed(largest, drift);
   compute_forces(half);  // and the second half kick, fused into the gather
   // Work of the walls on the spheres: the spheres' force on a wall is -(the wall's on them).
   for (std::size_t k = 0; k < walls_.size(); ++k)
     work_in_ += -wall_force_[k] * walls_[k].velocity * dt;
   if (settings_.check_every > 0 && step_ % settings_.check_every == 0) check_divergence();
+}
+
+void Engine::rebuild_list_if_needed(double largest, const AffineDrift& drift) {
+  // The walls' own test (list_affine_drift()): a sphere outside its wall's candidates cannot
+  // reach it while e + σ + |strain| (r_max + skin) < skin, σ the wall's offset from the field.
+  double wall_slack = 0.0;
+  for (std::size_t k = 0; k < walls_.size() && k < build_wall_position_.size(); ++k) {
+    const double field = drift.offset + drift.strain * (build_wall_position_[k] - drift.origin);
+    wall_slack =
+        std::max(wall_slack, std::fabs(walls_[k].position - build_wall_position_[k] - field));
+  }
+  const double deviation = std::sqrt(largest);
+  const double strain_reach = std::fabs(drift.strain) * list_reach_;
+  const double wall_reach = std::fabs(drift.strain) * (0.5 * (list_reach_ + settings_.skin));
+  if (2.0 * deviation + strain_reach > settings_.skin ||
+      (!walls_.empty() && deviation + wall_slack + wall_reach > settings_.skin)) {
+    build_list(true);
+    const std::int64_t n = static_cast<std::int64_t>(state_.size());
+    double* geometry = geometry_.data();
+    for (std::int64_t i = 0; i < n; ++i)  // the build wrapped positions into the box
+      geometry[4 * i] = state_.position.x[i], geometry[4 * i + 1] = state_.position.y[i];
+  }
+}
+
+// r-RESPA (Tuckerman, Berne & Martyna 1992) with the bonds as the fast forces: a half kick of
+// the slow forces (contacts, walls, gravity) of the step's start, the bonds' velocity Verlet
+// over n sub-steps, the slow forces at the step's end and their second half kick. Contacts and
+// walls see the positions once per step, so the list and its rebuild test are per step too.
+void Engine::step_with_bond_substeps() {
+  const double dt = settings_.time_step;
+  const int substeps = settings_.bond_substeps;
+  const double h = dt / substeps;
+  SphereState& s = state_;
+  const std::int64_t n = static_cast<std::int64_t>(s.size());
+  for (PlaneWall& w : walls_)
+    w.position += w.velocity * dt;
+  const AffineDrift drift = list_affine_drift();
+  const double half = 0.5 * dt;
+  const double* slow = slow_force_.data();
+  const auto& g = settings_.gravity;
+  double gravity_power = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : gravity_power) if (n >= parallel_min_spheres)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const double im = half * s.inverse_mass[i], ii = half * s.inverse_inertia[i];
+    s.velocity.x[i] += slow[i] * im, s.velocity.y[i] += slow[n + i] * im;
+    s.velocity.z[i] += slow[2 * n + i] * im;
+    s.angular_velocity.x[i] += slow[3 * n + i] * ii;
+    s.angular_velocity.y[i] += slow[4 * n + i] * ii;
+    s.angular_velocity.z[i] += slow[5 * n + i] * ii;
+    gravity_power +=
+        s.mass[i] * (g[0] * s.velocity.x[i] + g[1] * s.velocity.y[i] + g[2] * s.velocity.z[i]);
+  }
+  work_in_ += gravity_power * dt;
+  const double* fast = bond_force_.data();
+  const double* const fast_force[6] = {fast,         fast + n,     fast + 2 * n,
+                                       fast + 3 * n, fast + 4 * n, fast + 5 * n};
+  double largest = 0.0;
+  for (int k = 0; k < substeps; ++k) {
+    largest = kick_drift<false>(drift, h, fast_force);
+    bond_substep_forces(h, 0.5 * h);
+  }
+  // The contacts' dampers read the predicted end-of-step motion: the slow half kick to come as
+  // well as the bonds' (kick_drift packed that one).
+  double* motion = motion_.data();
+#pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const double im = half * s.inverse_mass[i], ii = half * s.inverse_inertia[i];
+    double* mi = motion + 8 * i;
+    for (int c = 0; c < 3; ++c) {
+      mi[c] += slow[c * n + i] * im;
+      mi[3 + c] += slow[(3 + c) * n + i] * ii;
+    }
+  }
+  time_ += dt;
+  ++step_;
+  rebuild_list_if_needed(largest, drift);
+  pair_forces();
+  slow_forces(half);
+  for (std::size_t k = 0; k < walls_.size(); ++k)
+    work_in_ += -wall_force_[k] * walls_[k].velocity * dt;
+  if (settings_.check_every > 0 && step_ % settings_.check_every == 0) check_divergence();
+}
+
+void Engine::bond_substep_forces(double dt, double kick) {
+  compute_bond_forces(bonds_, state_, motion_.data(), box_, dt, !bond_increments_);
+  SphereState& s = state_;
+  const std::int64_t n = static_cast<std::int64_t>(s.size());
+  double* fast = bond_force_.data();
+  // Each sphere sums its own bonds in fixed order: the same bits on any number of threads.
+#pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
+  for (std::int64_t i = 0; i < n; ++i) {
+    double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
+    gather_bond_forces(bonds_, i, f, t);
+    for (int c = 0; c < 3; ++c)
+      fast[c * n + i] = f[c], fast[(3 + c) * n + i] = t[c];
+    if (kick > 0.0) {
+      const double im = kick * s.inverse_mass[i], ii = kick * s.inverse_inertia[i];
+      s.velocity.x[i] += f[0] * im, s.velocity.y[i] += f[1] * im, s.velocity.z[i] += f[2] * im;
+      s.angular_velocity.x[i] += t[0] * ii, s.angular_velocity.y[i] += t[1] * ii;
+      s.angular_velocity.z[i] += t[2] * ii;
+    }
+  }
+}
+
+void Engine::slow_forces(double kick) {
+  bond_forces_in_gather_ = false;
+  gather_forces(kick);
+  bond_forces_in_gather_ = true;
+  SphereState& s = state_;
+  const std::int64_t n = static_cast<std::int64_t>(s.size());
+  double* slow = slow_force_.data();
+  const double* fast = bond_force_.data();
+  double* const total[6] = {s.force.x.data(),  s.force.y.data(),  s.force.z.data(),
+                            s.torque.x.data(), s.torque.y.data(), s.torque.z.data()};
+  // The state's force is the whole force, as in a single-rate run (snapshots, imbalance).
+  for (int c = 0; c < 6; ++c)
+    for (std::int64_t i = 0; i < n; ++i) {
+      slow[c * n + i] = total[c][i];
+      total[c][i] += fast[c * n + i];
+    }
 }
 
 // The rebuild test. A pair (i, j) missing from the list was at least ri + rj + skin apart at
@@ -385,6 +514,12 @@ Engine::AffineDrift Engine::list_affine_drift() const {
 }
 
 void Engine::compute_forces(double kick) {
+  if (substeps_bonds()) {
+    pair_forces();
+    bond_substep_forces(settings_.time_step / settings_.bond_substeps, kick);
+    slow_forces(kick);
+    return;
+  }
   if (!clumps_.empty()) share_clump_damping_mass();
   pair_forces();
   if (!bonds_.empty())

@@ -58,6 +58,13 @@ struct EngineSettings {
   // rigid-body motion too, so it is not for flows or impacts. 0: off (the same bits as an engine
   // without it). Rigid clumps are not damped.
   double local_damping = 0.0;
+  // Multiple time stepping (r-RESPA, Tuckerman, Berne & Martyna 1992): with bonds and n > 1,
+  // each step of `time_step` integrates the bonds over n sub-steps of time_step / n between two
+  // half kicks of the contacts, walls and gravity, which are evaluated once per step. The bonds
+  // are the stiffest forces of a bonded bed (timestep.hpp) and the contacts the costly ones, so
+  // the contacts take the step their own bound allows. 1: single-rate velocity Verlet (the
+  // same bits as an engine without it). Not with local damping or rigid clumps.
+  int bond_substeps = 1;
 };
 
 // Potyondy & Cundall 2004 §2.1.4: the force component f on a degree of freedom moving
@@ -87,6 +94,9 @@ struct EngineCheckpoint {
   std::vector<double> particle_pressure;  // per sphere, the last gather's; empty: not computed
   double energy_reference = 0.0;
   double work_in = 0.0;
+  // With bond sub-steps (EngineSettings::bond_substeps): the bonds' and the slow forces' share of
+  // the state's force and torque, fx fy fz tx ty tz per sphere each (empty for single-rate runs).
+  std::vector<double> bond_force, slow_force;
   BondSet bonds;    // with their accumulated forces and moments (empty without BMS particles)
   ClumpSet clumps;  // bodies with their motion and last force and torque (empty without CMS)
 };
@@ -110,7 +120,8 @@ class Engine {
   Engine(SphereState state, Box box, MaterialTable materials, EngineSettings settings,
          EngineCheckpoint checkpoint);
 
-  // One velocity Verlet step. Throws ComputationError naming sphere and step on divergence.
+  // One velocity Verlet step (of bond sub-steps within it, EngineSettings::bond_substeps).
+  // Throws ComputationError naming sphere and step on divergence.
   void step();
   // Runs the divergence checks now (step() runs them every settings.check_every steps).
   void check_divergence() const;
@@ -168,11 +179,24 @@ class Engine {
   AffineDrift list_affine_drift() const;
   // step()'s half kick and drift (with Cundall damping when `damped`); returns the largest
   // squared deviation from the drift field since the last list build.
+  // `force` and `torque`: the forces of the kick (the state's, or the bonds' alone when
+  // substepping), over a step of `dt`.
   template <bool damped>
-  double kick_drift(const AffineDrift& drift);
+  double kick_drift(const AffineDrift& drift, double dt, const double* const force[6]);
+  // Rebuilds the list when a sphere may have moved into reach of a pair or wall it lacks.
+  void rebuild_list_if_needed(double largest, const AffineDrift& drift);
   // Forces and torques of the current positions; `kick` > 0 also adds kick × F/m to the
   // velocities (the second half kick of velocity Verlet, fused into the gather).
   void compute_forces(double kick);
+  // Multiple time stepping (EngineSettings::bond_substeps).
+  bool substeps_bonds() const { return settings_.bond_substeps > 1 && !bonds_.empty(); }
+  void step_with_bond_substeps();
+  // The bonds' forces over one sub-step of `dt` into bond_force_, with `kick` × them added to
+  // the velocities.
+  void bond_substep_forces(double dt, double kick);
+  // The slow forces (contacts, walls, gravity) with `kick` × them on the velocities, then the
+  // state's force = slow + bonds.
+  void slow_forces(double kick);
   void pack_spheres();  // geometry_ and motion_ from the state (step() fuses this into its drift)
   void pair_forces();
   void index_bonded_pairs();        // pair_bond_ for the current list
@@ -184,7 +208,9 @@ class Engine {
   void pair_forces_with();
   template <bool stress_on, bool damped, class Law>
   void gather_forces_with(double kick);
+  bool bond_forces_in_gather_ = true;  // false while substepping: the bonds have their own kicks
   void require_material_pairs() const;
+  void require_bond_substeps();  // and sizes the force shares
   void enable_particle_stress();
   void index_clumps();  // clumps_.index and the checks against bonds
   // The packed mass of every clump sub-sphere (motion_[8 i + 6]) for this evaluation's contact
@@ -270,6 +296,8 @@ class Engine {
   // law, BondSet::contact_when_bonded false).
   std::vector<std::int32_t> pair_bond_;
   bool bond_increments_ = false;  // false for the forces at t = 0: no step has moved anything
+  // With bond sub-steps: fx fy fz tx ty tz per sphere of the bonds and of the rest.
+  std::vector<double> bond_force_, slow_force_;
   double work_in_ = 0.0;
   ClumpSet clumps_;
   std::vector<std::array<std::int64_t, 3>> clump_contacts_;  // share_clump_damping_mass scratch

@@ -357,6 +357,7 @@ void Engine::gather_forces_with(double kick) {
   double* __restrict chunk_force = wall_chunk_force_.data();
   std::int64_t* __restrict chunk_contacts = wall_chunk_contacts_.data();
   const bool has_bonds = !bonds_.empty();
+  const bool bonds_in_force = bond_forces_in_gather_;
   const int threads = n >= parallel_min_spheres ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads)
   {
@@ -410,7 +411,7 @@ void Engine::gather_forces_with(double kick) {
           }
         }
         if (has_bonds) {
-          gather_bond_forces(bonds_, i, f, t);
+          if (bonds_in_force) gather_bond_forces(bonds_, i, f, t);
           // A bonded sub-sphere's stress includes its bonds (models.md, "Stress of a bonded
           // sub-sphere"): summed over a body's sub-spheres the bond terms leave the body's stress
           // from its external contacts.

@@ -327,6 +327,10 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   write_normal_history(file, "/engine/wall_", wall_history);
   write_bonds(file, c.bonds);
   write_clumps(file, c.clumps);
+  if (!c.bond_force.empty()) {  // bond sub-steps: the two shares of /particles/force and torque
+    file.write("/engine/bond_force", c.bond_force, {6, n});
+    file.write("/engine/slow_force", c.slow_force, {6, n});
+  }
 
   // Walls: the state, and each wall as a quad over the box for ParaView.
   const auto& walls = c.walls;
@@ -408,6 +412,13 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
   const auto facing = file.int32s("/walls/facing");
   const auto material = file.int32s("/walls/material");
   c.wall_force = file.doubles("/walls/force");
+  if (file.has("/engine/bond_force")) {
+    c.bond_force = file.doubles("/engine/bond_force");
+    c.slow_force = file.doubles("/engine/slow_force");
+    if (c.bond_force.size() != 6 * n || c.slow_force.size() != 6 * n)
+      throw InputError("'" + path.string() +
+                       "': /engine/bond_force and slow_force must have 6 N values");
+  }
   auto wall_history = history_from(file.doubles("/engine/wall_tangential"));
   read_normal_history(file, "/engine/wall_", wall_history, path);
   if (wall_history.size() != position.size() * n || c.history.size() != c.first.size())

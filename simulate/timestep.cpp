@@ -128,9 +128,29 @@ namespace {
 // fraction × the bonded network's period bound when that is shorter; a fixed step above the
 // stability limit T_b/π is an InputError.
 TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fixed, double fraction,
-                                const BondSet& bonds, const SphereState& state) {
+                                const BondSet& bonds, const SphereState& state, int bond_substeps) {
+  if (bond_substeps < 0)
+    throw InputError(fmt::format("bond_substeps must be >= 0, got {}", bond_substeps));
   choice.bond_period = bond_oscillation_period(bonds, state);
   if (!std::isfinite(choice.bond_period)) return choice;
+  if (bond_substeps != 1) {
+    const double bond_step = fraction * choice.bond_period;
+    const double contacts = fixed ? *fixed : choice.time_step;
+    const int n =
+        bond_substeps > 0
+            ? bond_substeps
+            : std::max(1, static_cast<int>(std::ceil(contacts / bond_step * (1.0 - 1e-12))));
+    choice.bond_substeps = n;
+    if (!fixed) choice.time_step = std::min(contacts, n * bond_step);
+    if (choice.time_step / n > choice.bond_period / std::numbers::pi)
+      throw InputError(fmt::format(
+          "a bond sub-step of {:.3g} s ({} per step of {:.3g} s) is above the stability limit "
+          "{:.3g} s of the stiffest bonds (period bound {:.3g} s): raise bond_substeps or lower "
+          "time_step",
+          choice.time_step / n, n, choice.time_step, choice.bond_period / std::numbers::pi,
+          choice.bond_period));
+    return choice;
+  }
   if (fixed) {
     if (*fixed > choice.bond_period / std::numbers::pi)
       throw InputError(fmt::format(
@@ -159,13 +179,13 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 double fraction, double speed, const BondSet& bonds) {
   return checked(with_bond_period(
       select_with_masses(state, materials, wall_materials, fixed, fraction, speed, state.mass),
-      fixed, fraction, bonds, state));
+      fixed, fraction, bonds, state, 1));
 }
 
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds,
-                                const ClumpSet& clumps) {
+                                const ClumpSet& clumps, int bond_substeps) {
   std::vector<double> mass(state.mass.begin(), state.mass.end());
   std::vector<double> overlap(state.size(), 0.0);
   std::vector<int> partners = wall_materials;
@@ -180,8 +200,10 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
   partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
   TimeStepChoice choice = with_bond_period(
       select_with_masses(state, materials, wall_materials, fixed, fraction, speed, mass), fixed,
-      fraction, bonds, state);
+      fraction, bonds, state, bond_substeps);
   choice.clump_period = clump_contact_period(clumps, state, materials, partners, overlap);
+  if (choice.bond_substeps > 1 && !clumps.empty())
+    throw InputError("bond_substeps > 1 does not take rigid clumps");
   if (!fixed && std::isfinite(choice.clump_period))
     choice.time_step = std::min(choice.time_step, fraction * choice.clump_period);
   return checked(choice);

@@ -41,6 +41,9 @@ struct TimeStepChoice {
   double collision_speed = 0.0;  // m/s, the speed it was taken at
   double bond_period = std::numeric_limits<double>::infinity();   // bond_oscillation_period
   double clump_period = std::numeric_limits<double>::infinity();  // clump_contact_period
+  // Bond sub-steps per step (EngineSettings::bond_substeps): time_step / bond_substeps is the
+  // bonds' step.
+  int bond_substeps = 1;
 };
 
 // Bound on the shortest period of a rigid clump rocking on its contacts: a clump's mass and
@@ -76,6 +79,10 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds);
 
+// With bond sub-steps (`bond_substeps` n > 1, EngineSettings::bond_substeps): the bonds take
+// fraction × T_b per sub-step and the step is fraction × the contacts' bound (Rayleigh time,
+// clumps), at most n sub-steps long; n = 0 takes as many sub-steps as that bound needs
+// (TimeStepChoice::bond_substeps says how many). A fixed step is split into n.
 // With rigid clumps too: a clump's sub-sphere has no own mass (clumps.hpp), so its Hertz
 // collision time is that of a sphere of its radius carrying the clump's mass (the mass its
 // contacts decelerate; the contact damping uses the same). The step is fraction ×
@@ -84,6 +91,6 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds,
-                                const ClumpSet& clumps);
+                                const ClumpSet& clumps, int bond_substeps = 1);
 
 }  // namespace shapepress::simulate

@@ -8,6 +8,8 @@
 #                                                  BMS_CONFIG=avicel-ph200-bms.toml (Table 4's
 #                                                  bonds; -calibrated.toml: the FEM-calibrated
 #                                                  bonds and k1), SPHERES_CONFIG likewise
+#                                                  BOND_SUBSTEPS=1 (run.bond_substeps of the
+#                                                  bonded bed; 0: as many as the bonds need)
 # A reduced run for a noisy machine: COUNT=50 SUB=120 STEPS=20000.
 # Both compactions run with the mass scaling DENSITY_SCALE, the largest the spherical Avicel bed
 # stays quasi-static at (docs/measurements.md, "Mass scaling"); 1 is the unscaled run.
@@ -38,10 +40,13 @@ sed "s/^count = .*/count = $count/" "$repo/pipelines/configs/pack-avicel-bms.tom
   --config pack.toml --out packed.h5
 bms_config=${BMS_CONFIG:-avicel-ph200-bms.toml}
 spheres_config=${SPHERES_CONFIG:-avicel-ph200-spheres.toml}
+substeps=${BOND_SUBSTEPS:-1}
 for kind in bms spheres; do
   config=$bms_config
+  run_keys="density_scale = $scale"
+  [[ $kind == bms ]] && run_keys="$run_keys\nbond_substeps = $substeps"
   [[ $kind == spheres ]] && config=$spheres_config
-  sed -E "s/^\[run\]$/[run]\ndensity_scale = $scale/" \
+  sed -E "s/^\[run\]$/[run]\n$run_keys/" \
     "$repo/pipelines/configs/$config" > "compact-$kind.toml"
 done
 step_args=()
@@ -64,7 +69,8 @@ def facts(name):
 b, s = summary("bms"), summary("spheres")
 fb = facts("bms")
 bond_rate = fb["bonds"] * b["steps"] / b["loop_s"]
-print(f"bms: {fb['spheres']} sub-spheres, {fb['bonds']} bonds, time step {fb['time_step_s']:.3g} s, "
+print(f"bms: {fb['spheres']} sub-spheres, {fb['bonds']} bonds, time step {fb['time_step_s']:.3g} s "
+      f"({fb.get('bond_substeps', 1)} bond sub-steps, bound by {fb.get('time_step_bound', '?')}), "
       f"{b['steps']:.0f} steps in {b['loop_s']:.1f} s: {b['particle_steps_per_s']:.3g} "
       f"sub-sphere-steps/s, {bond_rate:.3g} bond-steps/s, contacts/particle "
       f"{b['contacts_per_particle']:.3g}, quasi-static {fb['quasi_static']} "

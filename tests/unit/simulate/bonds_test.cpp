@@ -482,3 +482,66 @@ TEST(BondRotation, ASmallBondedBodyTurningAboutAnyAxisKeepsItsBondForces) {
 
 }  // namespace
 }  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+namespace {
+
+TEST(BondSubsteps, WithoutSlowForcesTheyAreTheBondsOwnVerletOnTheSubstep) {
+  // A free pair with every bond mode excited and no contact, wall or gravity: n sub-steps of a
+  // step Δ are the single-rate run on Δ/n, to rounding.
+  const auto excited = [] {
+    SphereState s = pair_state(2.01 * r);
+    s.velocity.y[1] = 1e-3;
+    s.velocity.z[0] = -0.5e-3;
+    s.angular_velocity.x[1] = 0.7;
+    s.angular_velocity.z[1] = 0.9;
+    return s;
+  };
+  const BondSet bonds = create_bonds(excited(), 1.15, stiff());
+  MaterialTable table({{"m", 1e7, 0.3, rho}}, {{"m", "m", 0.7, 0.5}});
+  const double h = 0.1 * bond_oscillation_period(bonds, excited());
+  const int n = 5;
+  EngineSettings single{h, {0, 0, 0}, 0.2 * r};
+  EngineSettings substepped{n * h, {0, 0, 0}, 0.2 * r};
+  substepped.bond_substeps = n;
+  Engine a(excited(), Box{}, table, {}, single, bonds);
+  Engine b(excited(), Box{}, table, {}, substepped, bonds);
+  for (int k = 0; k < 200; ++k) {
+    for (int j = 0; j < n; ++j)
+      a.step();
+    b.step();
+  }
+  const SphereState &sa = a.state(), &sb = b.state();
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(sb.position.x[i], sa.position.x[i], 1e-12 * r);
+    EXPECT_NEAR(sb.position.y[i], sa.position.y[i], 1e-12 * r);
+    EXPECT_NEAR(sb.angular_velocity.x[i], sa.angular_velocity.x[i], 1e-9);
+    EXPECT_NEAR(sb.angular_velocity.z[i], sa.angular_velocity.z[i], 1e-9);
+    EXPECT_NEAR(sb.force.y[i], sa.force.y[i], 1e-9 * std::fabs(sa.force.y[i]) + 1e-15);
+  }
+  EXPECT_NEAR(b.time(), a.time(), 1e-12 * a.time());
+}
+
+TEST(BondSubsteps, ASubstepAboveTheBondsStabilityLimitIsRefused) {
+  SphereState s = pair_state();
+  const BondSet bonds = create_bonds(s, 1.15, stiff());
+  MaterialTable table({{"m", 1e7, 0.3, rho}}, {{"m", "m", 0.7, 0.5}});
+  const double bound = bond_oscillation_period(bonds, s);
+  // A fixed step of 2 × the limit needs 3 sub-steps; 2 put each on the limit's edge or above.
+  EXPECT_NO_THROW(
+      select_time_step(s, table, {}, 2 * bound / std::numbers::pi, 0.2, 0.1, bonds, ClumpSet{}, 3));
+  try {
+    select_time_step(s, table, {}, 2.2 * bound / std::numbers::pi, 0.2, 0.1, bonds, ClumpSet{}, 2);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("raise bond_substeps"));
+  }
+  // 0: as many as the bonds need under the contacts' step.
+  const TimeStepChoice automatic =
+      select_time_step(s, table, {}, std::nullopt, 0.2, 0.1, bonds, ClumpSet{}, 0);
+  EXPECT_GE(automatic.bond_substeps, 1);
+  EXPECT_LE(automatic.time_step / automatic.bond_substeps, 0.2 * bound * (1 + 1e-12));
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
