@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/hdf5_file.hpp"
 #include "common/run_lock.hpp"
 #include "common/sha256.hpp"
 #include "tests/support/command.hpp"
@@ -46,6 +47,22 @@ std::string scrambled(const fs::path& file, std::size_t at, std::size_t count) {
   std::string text = read_text(file);
   for (std::size_t k = at; k < std::min(at + count, text.size()); ++k)
     text[k] = static_cast<char>(text[k] ^ 0x5a);
+  return text;
+}
+
+// A copy of the HDF5 file `file` with one bit flipped in the stored values of its dataset
+// `dataset` (found by their bytes): a number off in its last digit, which only the dataset's
+// checksum can tell from a true one.
+std::string values_damaged(const fs::path& file, const std::string& dataset) {
+  const std::vector<double> values = H5Reader(file).doubles(dataset);
+  const std::string bytes(reinterpret_cast<const char*>(values.data()),
+                          sizeof(double) * std::min<std::size_t>(values.size(), 4));
+  std::string text = read_text(file);
+  const auto at = text.find(bytes);
+  if (at == std::string::npos)
+    ADD_FAILURE() << dataset << "'s values are not stored as they are in " << file;
+  else
+    text[at] = static_cast<char>(text[at] ^ 0x01);
   return text;
 }
 
@@ -290,6 +307,23 @@ std::vector<Row> catalogue(const fs::path& v) {
   add("compact: truncated snapshot",
       [v](const fs::path& d) { write_text(d / "s.h5", head_of(v / "snapshot.h5", -2000)); },
       compact_v + " --restart {d}/s.h5", 2, {"{d}/s.h5"});
+  // Damage only a checksum sees (HDF5's Fletcher-32 on every dataset of ours).
+  add("compact: a packed.h5 with a damaged value",
+      [v](const fs::path& d) {
+        write_text(d / "p.h5", values_damaged(v / "packed.h5", "/bodies/scale"));
+      },
+      compact_v + " --packing {d}/p.h5", 2, {"{d}/p.h5", "/bodies/scale"});
+  add("compact: a snapshot with a damaged value",
+      [v](const fs::path& d) {
+        write_text(d / "s.h5", values_damaged(v / "snapshot.h5", "/particles/radius"));
+      },
+      compact_v + " --restart {d}/s.h5", 2, {"{d}/s.h5", "/particles/radius"});
+  add("pack: a templates file with a damaged value",
+      [v](const fs::path& d) {
+        write_text(d / "t.h5", values_damaged(v / "t.h5", "/cms/ellipsoid/radii"));
+      },
+      "--quiet pack {d}/t.h5 --config {v}/pack.toml --out {d}/packed.h5", 2,
+      {"{d}/t.h5", "/cms/ellipsoid/radii"});
   add("compact: a packing as the restart (no engine state)", nullptr,
       compact_v + " --restart {v}/packed.h5", 2, {"{v}/packed.h5"});
   // Outputs.
