@@ -127,12 +127,11 @@ const std::string tetra_stl =
 // Made once for the whole table: a templates file, a packing, a snapshot, a compaction run.
 class BadInputCatalogue : public ::testing::Test {
  protected:
-  static fs::path valid() { return fs::temp_directory_path() / "shapepress_e2e_catalogue_valid"; }
+  static fs::path valid() { return valid_; }
 
   static void SetUpTestSuite() {
+    valid_ = fresh_directory("catalogue_valid");
     const fs::path v = valid();
-    fs::remove_all(v);
-    fs::create_directories(v);
     write_text(v / "compact.toml", compact_base);
     write_text(v / "plate.toml", plate_base);
     write_text(v / "pack.toml", pack_base);
@@ -152,6 +151,9 @@ class BadInputCatalogue : public ::testing::Test {
           shell_quoted(v / "run"));
     fs::copy_file(v / "run" / "snapshots" / "step_0000000200.h5", v / "snapshot.h5");
   }
+
+ private:
+  inline static fs::path valid_;
 };
 
 // One row of the catalogue.

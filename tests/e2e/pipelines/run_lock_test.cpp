@@ -11,7 +11,6 @@
 
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
-#include "tests/support/scratch.hpp"
 
 namespace shapepress {
 namespace {
@@ -19,7 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using shapepress::testing::read_text;
 using shapepress::testing::run_command;
-using shapepress::testing::ScratchFolder;
 using shapepress::testing::shell_quoted;
 using shapepress::testing::test_data_text;
 using shapepress::testing::write_text;
@@ -73,7 +71,7 @@ int printed(const std::string& output, const std::string& name) {
 }
 
 TEST(RunLock, ASecondRunIntoARunningOneIsRefusedNamingTheFirst) {
-  const ScratchFolder scratch("e2e_run_lock");
+  const fs::path scratch = testing::fresh_directory("run_lock");
   write_text(scratch / "c.toml", endless_compaction());
   const std::string binary = SHAPEPRESS_BINARY;
   const std::string run = shell_quoted(scratch / "run");
@@ -111,7 +109,7 @@ TEST(RunLock, ASecondRunIntoARunningOneIsRefusedNamingTheFirst) {
   // Each refusal names the output and the first run: its pid, its command.
   const std::regex refusal(
       "compact: error: .*/run: in use by another run \\(pid \\d+ on .*" +
-      std::regex_replace(scratch.path().string(), std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
+      std::regex_replace(scratch.string(), std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
       "/c.toml --out .*/run\\)");
   const std::string& out = result.output;
   EXPECT_EQ(
@@ -127,7 +125,7 @@ TEST(RunLock, ASecondRunIntoARunningOneIsRefusedNamingTheFirst) {
 }
 
 TEST(RunLock, AKilledRunLeavesItsFolderFree) {
-  const ScratchFolder scratch("e2e_run_lock");
+  const fs::path scratch = testing::fresh_directory("run_lock");
   write_text(scratch / "c.toml", endless_compaction());
   const std::string start =
       std::string(SHAPEPRESS_BINARY) + " --quiet --threads 1 compact --config " +

@@ -13,7 +13,6 @@
 
 #include "tests/support/errors.hpp"
 #include "tests/support/files.hpp"
-#include "tests/support/scratch.hpp"
 
 namespace shapepress {
 namespace {
@@ -21,10 +20,9 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using testing::input_error_of;
-using testing::ScratchFolder;
 
 TEST(RunFolderLock, ASecondLockOnAFolderNamesTheFirstHolder) {
-  const ScratchFolder scratch("run_lock");
+  const fs::path scratch = testing::fresh_directory("run_lock");
   const fs::path run = scratch / "run";
   {
     const RunFolderLock first(run, RunOutput::folder, "shapepress compact --out run (the first)");
@@ -45,20 +43,20 @@ TEST(RunFolderLock, ASecondLockOnAFolderNamesTheFirstHolder) {
 }
 
 TEST(RunFolderLock, AFolderWithOutputsStaysAndOnlyTheLockFileGoes) {
-  const ScratchFolder scratch("run_lock");
+  const fs::path scratch = testing::fresh_directory("run_lock");
   const fs::path run = scratch / "a" / "b";
   {
     const RunFolderLock lock(run, RunOutput::folder, "run");
     testing::write_text(run / "punch.csv", "gap_m\n");
   }
-  EXPECT_EQ(testing::files_under(scratch.path()), std::vector<fs::path>{"a/b/punch.csv"});
+  EXPECT_EQ(testing::files_under(scratch), std::vector<fs::path>{"a/b/punch.csv"});
   { const RunFolderLock lock(scratch / "c" / "d", RunOutput::folder, "run"); }
   EXPECT_FALSE(fs::exists(scratch / "c"));  // made by the lock, left empty: removed to the top
-  EXPECT_TRUE(fs::exists(scratch.path()));
+  EXPECT_TRUE(fs::exists(scratch));
 }
 
 TEST(RunFolderLock, AFileOutputIsLockedBesideItNotItsWholeFolder) {
-  const ScratchFolder scratch("run_lock");
+  const fs::path scratch = testing::fresh_directory("run_lock");
   EXPECT_EQ(run_lock_path(scratch / "packed.h5", RunOutput::file), scratch / ".packed.h5.lock");
   const RunFolderLock packed(scratch / "packed.h5", RunOutput::file, "pack --out packed.h5");
   EXPECT_TRUE(fs::exists(scratch / ".packed.h5.lock"));
@@ -71,7 +69,7 @@ TEST(RunFolderLock, AFileOutputIsLockedBesideItNotItsWholeFolder) {
 }
 
 TEST(RunFolderLock, AHolderThatDiesReleasesItsLock) {
-  const ScratchFolder scratch("run_lock");
+  const fs::path scratch = testing::fresh_directory("run_lock");
   const fs::path run = scratch / "run";
   int ready[2], release[2];
   ASSERT_EQ(::pipe(ready), 0);
