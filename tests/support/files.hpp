@@ -54,12 +54,12 @@ inline ScratchFolders& scratch_folders() {
   return folders;
 }
 
-// An empty folder shapepress_e2e_<name>_XXXXXX of its own in the system's temporary folder: a
+// An empty folder shapepress_test_<name>_XXXXXX of its own in the system's temporary folder: a
 // unique name (mkdtemp), so two runs of the suite, or tests under `ctest -j`, never share one;
 // removed when the test process ends with every test passed (ScratchFolders).
 inline std::filesystem::path fresh_directory(const std::string& name) {
   std::string pattern =
-      (std::filesystem::temp_directory_path() / ("shapepress_e2e_" + name + "_XXXXXX")).string();
+      (std::filesystem::temp_directory_path() / ("shapepress_test_" + name + "_XXXXXX")).string();
   if (::mkdtemp(pattern.data()) == nullptr) {
     ADD_FAILURE() << "cannot make a scratch folder " << pattern;
     return {};
