@@ -52,12 +52,14 @@ hid_t variable_string_type() {
 }
 
 // A fixed-length string of `size` bytes (at least 1: HDF5 has no empty fixed string), padded
-// with NULs: what every string this writer stores is.
-hid_t fixed_string_type(std::size_t size) {
+// with NULs: what every string this writer stores is. Read in the file's character set
+// (`cset`): HDF5 converts no fixed-length string from one set to another, and another
+// program's file may hold ASCII ones.
+hid_t fixed_string_type(std::size_t size, H5T_cset_t cset = H5T_CSET_UTF8) {
   hid_t type = H5Tcopy(H5T_C_S1);
   H5Tset_size(type, std::max<std::size_t>(size, 1));
   H5Tset_strpad(type, H5T_STR_NULLPAD);
-  H5Tset_cset(type, H5T_CSET_UTF8);
+  H5Tset_cset(type, cset == H5T_CSET_ASCII ? H5T_CSET_ASCII : H5T_CSET_UTF8);
   return type;
 }
 
@@ -450,7 +452,7 @@ std::vector<std::string> H5Reader::strings(std::string_view dataset) const {
   if (width > 0) {
     check_count(dataset, count, width);
     std::string bytes(count * width, '\0');
-    Handle type{fixed_string_type(width), H5Tclose};
+    Handle type{fixed_string_type(width, H5Tget_cset(file_type.id)), H5Tclose};
     if (count > 0) read_raw(dataset, bytes.data(), type.id);
     for (std::size_t k = 0; k < count; ++k)
       out.push_back(fixed_string_text(bytes.data() + k * width, width));
@@ -531,7 +533,7 @@ std::string H5Reader::attribute_string(std::string_view object, std::string_view
   if (width > 0) {
     check_count(name, 1, width);
     std::string bytes(width, '\0');
-    Handle type{fixed_string_type(width), H5Tclose};
+    Handle type{fixed_string_type(width, H5Tget_cset(file_type.id)), H5Tclose};
     if (H5Aread(attr.id, type.id, bytes.data()) < 0)
       throw InputError(
           fmt::format("{}: cannot read attribute '{}' of {}", path_.string(), name, target));
