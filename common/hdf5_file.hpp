@@ -1,7 +1,10 @@
 #pragma once
 // HDF5 helpers: datasets of numbers and strings, attributes, groups created on demand.
 // H5Writer writes to a temporary name and renames on commit(), adding the provenance root
-// attributes every shapepress file carries. hdf5.h stays in the .cpp.
+// attributes every shapepress file carries. Its files cannot crash their reader: strings are
+// fixed-length (HDF5 1.10.8 crashes on damaged variable-length ones), every dataset carries a
+// Fletcher-32 checksum and the metadata HDF5 1.8's checksums, so damage is an InputError naming
+// the file (docs/architecture.md, "Files"). hdf5.h stays in the .cpp.
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -85,14 +88,18 @@ class H5Reader {
 
  private:
   void read_raw(std::string_view dataset, void* out, std::int64_t type) const;
+  void check_chunks(std::int64_t dataset_id, std::string_view dataset) const;
   // InputError when `count` values of `size` bytes cannot come from a file this size.
   void check_count(std::string_view dataset, std::size_t count, std::size_t size) const;
   template <typename T>
   std::vector<T> read_numbers(std::string_view dataset, std::int64_t type,
                               std::vector<std::size_t>* shape) const;
   std::vector<std::size_t> shape_of(std::string_view dataset) const;
+  std::size_t string_width(std::int64_t type, std::string_view object, std::string_view name) const;
   std::filesystem::path path_;
   std::int64_t file_ = -1;
+  // Written with fixed-length strings only (layout 2): a variable-length one is damage.
+  bool fixed_strings_only_ = false;
 };
 
 }  // namespace shapepress

@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <charconv>
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <regex>
 
 #include <nlohmann/json.hpp>
@@ -117,6 +119,34 @@ double parse_exact(const std::string& token, const std::filesystem::path& file) 
     throw InputError(
         fmt::format("{}: '{}' is not a number (a damaged checkpoint)", file.string(), token));
   return value;
+}
+
+namespace {
+
+template <typename Whole>
+Whole parse_whole_number(const std::string& token, std::string_view name,
+                         const std::filesystem::path& record, Whole least, Whole most) {
+  Whole value{};
+  const char* end = token.data() + token.size();
+  const auto [stop, error] = std::from_chars(token.data(), end, value);
+  if (token.empty() || error != std::errc() || stop != end || value < least || value > most)
+    throw InputError(fmt::format("{}: argument '{}' is '{}' (a damaged resume record)",
+                                 record.string(), name, token));
+  return value;
+}
+
+}  // namespace
+
+std::int64_t parse_whole(const std::string& token, std::string_view name,
+                         const std::filesystem::path& record, std::int64_t least,
+                         std::int64_t most) {
+  return parse_whole_number(token, name, record, least, most);
+}
+
+std::uint64_t parse_unsigned(const std::string& token, std::string_view name,
+                             const std::filesystem::path& record) {
+  return parse_whole_number(token, name, record, std::uint64_t{0},
+                            std::numeric_limits<std::uint64_t>::max());
 }
 
 void remove_stale_temporaries(const std::filesystem::path& folder, const std::string& prefix) {

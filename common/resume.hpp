@@ -95,6 +95,16 @@ std::string exact_text(double value);
 // InputError naming `file` when `token` is not a number (a damaged checkpoint).
 double parse_exact(const std::string& token, const std::filesystem::path& file);
 
+// A whole number in [least, most] of a resume record's argument `name` (std::stoi's exceptions
+// would end the run as a failed computation): InputError naming `record`, the argument and the
+// text when it is not one (a damaged record).
+std::int64_t parse_whole(const std::string& token, std::string_view name,
+                         const std::filesystem::path& record, std::int64_t least,
+                         std::int64_t most);
+// The same for an unsigned 64-bit value (a seed).
+std::uint64_t parse_unsigned(const std::string& token, std::string_view name,
+                             const std::filesystem::path& record);
+
 // Removes the ".name.tmp.PID" files a killed run left in `folder` (common/atomic_file.hpp), only
 // those whose name starts with `prefix` when given (a folder other runs write to as well).
 void remove_stale_temporaries(const std::filesystem::path& folder, const std::string& prefix = {});

@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/run_lock.hpp"
+
 namespace CLI {
 class App;
 }
@@ -32,6 +34,8 @@ struct Stage {
   // The keys of the stage's config file, for `--help-config` and docs/config-reference.md; null
   // for a stage without one.
   StageOptions (*config_options)() = nullptr;
+  // What the stage's --out (or --resume) names; main() locks it for the run (common/run_lock.hpp).
+  RunOutput output = RunOutput::folder;
 };
 
 }  // namespace shapepress

@@ -134,12 +134,18 @@ CcxOutcome run_ccx(const std::string& program, const std::filesystem::path& fold
   }
   close(output[1]);
   close(report[1]);
+  // A signal (SIGINT noted for a checkpoint, say) may interrupt any wait on the child: each is
+  // retried, or the child's output would be lost and the child left a zombie.
   int exec_error = 0;
-  const bool exec_failed = read(report[0], &exec_error, sizeof exec_error) == sizeof exec_error;
+  ssize_t got;
+  while ((got = read(report[0], &exec_error, sizeof exec_error)) < 0 && errno == EINTR) {
+  }
+  const bool exec_failed = got == sizeof exec_error;
   close(report[0]);
   if (exec_failed) {
     close(output[0]);
-    waitpid(pid, nullptr, 0);
+    while (waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {
+    }
     throw InputError(fmt::format(
         "cannot run the finite element solver '{}': {}{}", program, std::strerror(exec_error),
         exec_error == ENOENT ? " (install Debian's calculix-ccx: scripts/install-deps.sh, or "
@@ -152,7 +158,12 @@ CcxOutcome run_ccx(const std::string& program, const std::filesystem::path& fold
   std::ofstream log(folder / (job + ".log"));
   FILE* stream = fdopen(output[0], "r");
   std::string line;
-  for (int c = std::fgetc(stream); c != EOF; c = std::fgetc(stream)) {
+  for (int c = std::fgetc(stream);; c = std::fgetc(stream)) {
+    if (c == EOF) {
+      if (!std::ferror(stream) || errno != EINTR) break;
+      std::clearerr(stream);
+      continue;
+    }
     if (c != '\n') {
       line.push_back(static_cast<char>(c));
       continue;
@@ -166,7 +177,9 @@ CcxOutcome run_ccx(const std::string& program, const std::filesystem::path& fold
   std::fclose(stream);
   int status = 0;
   rusage usage{};
-  wait4(pid, &status, 0, &usage);
+  while (wait4(pid, &status, 0, &usage) < 0)
+    if (errno != EINTR)
+      throw ComputationError(fmt::format("lost the run of {}: {}", program, std::strerror(errno)));
   outcome.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   outcome.cpu_seconds = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +

@@ -94,7 +94,9 @@ int run_gmsh(const std::string& program, const std::filesystem::path& geo,
                           "with --gmsh)"
                         : ""));
   int status = 0;
-  waitpid(pid, &status, 0);
+  while (waitpid(pid, &status, 0) < 0)  // a signal (SIGINT noted, say) interrupts the wait
+    if (errno != EINTR)
+      throw ComputationError(fmt::format("lost the run of {}: {}", program, std::strerror(errno)));
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 

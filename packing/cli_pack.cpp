@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -80,7 +81,8 @@ PackPhaseState read_phase(const std::filesystem::path& path) {
 // --resume OUT: the arguments the run was started with, from its working directory.
 PackCli resumed_arguments(const std::string& given, std::string& command_line) {
   const std::filesystem::path out = std::filesystem::absolute(given);
-  const RunInvocation invocation = resume_invocation(checkpoint_folder(out) / "resume.json", given);
+  const std::filesystem::path record = checkpoint_folder(out) / "resume.json";
+  const RunInvocation invocation = resume_invocation(record, given);
   command_line = invocation.command_line;
   PackCli cli;
   cli.config = invocation.config;
@@ -89,13 +91,14 @@ PackCli resumed_arguments(const std::string& given, std::string& command_line) {
     cli.templates = it->second;
   if (const auto it = invocation.arguments.find("seed");
       it != invocation.arguments.end() && !it->second.empty())
-    cli.seed = std::stoull(it->second.front());
+    cli.seed = parse_unsigned(it->second.front(), "seed", record);
   if (const auto it = invocation.arguments.find("summary");
       it != invocation.arguments.end() && !it->second.empty())
     cli.summary = it->second.front();
   if (const auto it = invocation.arguments.find("count");
       it != invocation.arguments.end() && !it->second.empty())
-    cli.count = std::stoll(it->second.front());
+    cli.count = parse_whole(it->second.front(), "count", record, 1,
+                            std::numeric_limits<std::int64_t>::max());
   if (const auto it = invocation.arguments.find("template"); it != invocation.arguments.end())
     cli.template_names = it->second;
   return cli;

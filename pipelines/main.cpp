@@ -18,6 +18,7 @@
 #include "common/logging.hpp"
 #include "common/options.hpp"
 #include "common/provenance.hpp"
+#include "common/run_lock.hpp"
 #include "common/suggest.hpp"
 #include "pipelines/stages.hpp"
 
@@ -88,6 +89,18 @@ int unknown_argument_error(const CLI::App& sub, const std::string& extra) {
             : fmt::format("shapepress {} --help lists its options", sub.get_name()));
 }
 
+// What a stage's run writes into: its --out, else the run its --resume continues (advise's
+// --resume is a flag beside its --out).
+std::optional<std::string> run_output(const CLI::App& sub) {
+  for (const char* name : {"--out", "--resume"}) {
+    const CLI::Option* option = sub.get_option_no_throw(name);
+    if (option != nullptr && option->get_expected_min() > 0 && option->count() > 0 &&
+        !option->results().front().empty())
+      return option->results().front();
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -112,11 +125,16 @@ int main(int argc, char** argv) {
 
   std::span<const Stage> stages = registered_stages();
   std::vector<std::string> stage_names;
-  std::vector<std::pair<CLI::App*, StageRunner>> runners;
+  struct Runner {
+    CLI::App* sub;
+    StageRunner run;
+    RunOutput output;
+  };
+  std::vector<Runner> runners;
   for (const Stage& stage : stages) {
     CLI::App* sub = app.add_subcommand(std::string(stage.name), std::string(stage.summary));
     sub->allow_extras();  // reported below with a suggestion instead of CLI11's bare message
-    runners.emplace_back(sub, stage.setup(*sub));
+    runners.push_back({sub, stage.setup(*sub), stage.output});
     if (stage.config_options) {
       // Runs as soon as it is parsed, before the stage's required options are checked.
       sub->add_flag_callback(
@@ -175,12 +193,17 @@ int main(int argc, char** argv) {
     return usage_error(e.what(), "Run 'shapepress STAGE --help' for the stage's options.");
   }
 
-  for (auto& [sub, runner] : runners) {
+  for (auto& [sub, runner, output] : runners) {
     if (!sub->parsed()) continue;
     if (!sub->remaining().empty()) return unknown_argument_error(*sub, sub->remaining().front());
     try {
       configure_logging(log_level, context.quiet);
       if (context.threads > 0) omp_set_num_threads(context.threads);
+      // Held until the stage returns: every stage's outputs, checkpoints and --resume go
+      // through here, so two runs never write one output (issue 42).
+      std::optional<RunFolderLock> lock;
+      if (const std::optional<std::string> out = run_output(*sub))
+        lock.emplace(*out, output, context.command_line);
       return runner(context);
     } catch (const InputError& e) {
       std::fprintf(stderr, "shapepress %s: error: %s\n", sub->get_name().c_str(), e.what());

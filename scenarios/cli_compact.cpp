@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 #include "common/atomic_file.hpp"
@@ -36,8 +37,8 @@ struct CompactCli {
 // started in (relative paths in them and in the config mean what they meant then).
 CompactCli resumed_arguments(const std::string& folder, std::string& command_line) {
   const std::filesystem::path out = std::filesystem::absolute(folder);
-  const RunInvocation invocation =
-      resume_invocation(out / std::string(checkpoint_folder) / "resume.json", folder);
+  const std::filesystem::path record = out / std::string(checkpoint_folder) / "resume.json";
+  const RunInvocation invocation = resume_invocation(record, folder);
   command_line = invocation.command_line;
   const auto argument = [&](const char* name) {
     const auto it = invocation.arguments.find(name);
@@ -48,7 +49,8 @@ CompactCli resumed_arguments(const std::string& folder, std::string& command_lin
   cli.config = invocation.config;
   cli.packing = argument("packing");
   cli.restart = argument("restart");
-  if (const std::string steps = argument("steps"); !steps.empty()) cli.steps = std::stoll(steps);
+  if (const std::string steps = argument("steps"); !steps.empty())
+    cli.steps = parse_whole(steps, "steps", record, 0, std::numeric_limits<std::int64_t>::max());
   cli.out = out.string();
   return cli;
 }

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string_view>
@@ -58,26 +59,33 @@ std::map<std::string, std::vector<std::string>> arguments_of(const PlateCli& cli
 // in (relative paths in them and in the config mean what they meant then).
 PlateCli resumed_arguments(const std::string& folder, std::string& command_line) {
   const std::filesystem::path out = std::filesystem::absolute(folder);
-  const RunInvocation invocation =
-      resume_invocation(out / std::string(checkpoint_folder) / "resume.json", folder);
+  const std::filesystem::path record = out / std::string(checkpoint_folder) / "resume.json";
+  const RunInvocation invocation = resume_invocation(record, folder);
   command_line = invocation.command_line;
   const auto argument = [&](const char* name) {
     const auto it = invocation.arguments.find(name);
     if (it == invocation.arguments.end() || it->second.empty())
       throw InputError(
-          fmt::format("{}: resume.json has no '{}' (a damaged checkpoint)", folder, name));
+          fmt::format("{}: no argument '{}' (a damaged resume record)", record.string(), name));
     return it->second.front();
+  };
+  const auto whole = [&](const char* name, std::int64_t least) {
+    return parse_whole(argument(name), name, record, least, std::numeric_limits<int>::max());
   };
   PlateCli cli;
   cli.config = invocation.config;
   cli.out = out.string();
   cli.particle = argument("particle");
+  if (cli.particle != "sphere" && cli.particle != "bms" && cli.particle != "cms")
+    throw InputError(fmt::format("{}: argument 'particle' is '{}' (a damaged resume record)",
+                                 record.string(), cli.particle));
   if (invocation.arguments.contains("model")) cli.model = argument("model");
-  cli.count = std::stoi(argument("count"));
-  cli.spheres = std::stoi(argument("spheres"));
-  cli.fills = std::stoi(argument("fills"));
-  cli.seed = std::stoll(argument("seed"));
-  cli.time_step_fraction = parse_exact(argument("time_step_fraction"), "resume.json");
+  cli.count = static_cast<int>(whole("count", 0));
+  cli.spheres = static_cast<int>(whole("spheres", 0));
+  cli.fills = static_cast<int>(whole("fills", 0));
+  cli.seed =
+      parse_whole(argument("seed"), "seed", record, -1, std::numeric_limits<std::int64_t>::max());
+  cli.time_step_fraction = parse_exact(argument("time_step_fraction"), record);
   cli.snapshot = argument("snapshot") == "1";
   return cli;
 }

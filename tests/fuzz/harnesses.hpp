@@ -38,6 +38,7 @@ class InputFile {
   ~InputFile() {
     std::error_code ignored;
     std::filesystem::remove(path_, ignored);
+    std::filesystem::remove(path_.parent_path(), ignored);  // when no other input is in it
   }
   const std::filesystem::path& path() const { return path_; }
 

@@ -1,6 +1,11 @@
 #pragma once
 // Scratch folders and files for end-to-end tests.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,13 +21,51 @@ inline bool full_validation() {
   return value != nullptr && std::string(value) == "1";
 }
 
-// An empty folder shapepress_e2e_<name> in the system's temporary folder (emptied if it exists).
-// Names carry the test suite's prefix, so suites running in parallel never share one.
+// The folders fresh_directory made in this process, removed when it ends if no test in it
+// failed (ctest runs each test in a process of its own), kept for a look otherwise. Not by a
+// forked child's exit: only the process that made them removes them.
+class ScratchFolders {
+ public:
+  ScratchFolders() : owner_(::getpid()) {}
+  ScratchFolders(const ScratchFolders&) = delete;
+  ScratchFolders& operator=(const ScratchFolders&) = delete;
+  ~ScratchFolders() {
+    if (::getpid() != owner_) return;
+    const ::testing::UnitTest& unit = *::testing::UnitTest::GetInstance();
+    const bool failed = unit.failed_test_count() > 0 || unit.ad_hoc_test_result().Failed();
+    for (const std::filesystem::path& folder : folders_) {
+      if (failed) {
+        std::printf("kept for a look: %s\n", folder.c_str());
+        continue;
+      }
+      std::error_code ignored;
+      std::filesystem::remove_all(folder, ignored);
+    }
+  }
+  void add(std::filesystem::path folder) { folders_.push_back(std::move(folder)); }
+
+ private:
+  pid_t owner_;
+  std::vector<std::filesystem::path> folders_;
+};
+
+inline ScratchFolders& scratch_folders() {
+  static ScratchFolders folders;
+  return folders;
+}
+
+// An empty folder shapepress_test_<name>_XXXXXX of its own in the system's temporary folder: a
+// unique name (mkdtemp), so two runs of the suite, or tests under `ctest -j`, never share one;
+// removed when the test process ends with every test passed (ScratchFolders).
 inline std::filesystem::path fresh_directory(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("shapepress_e2e_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  std::string pattern =
+      (std::filesystem::temp_directory_path() / ("shapepress_test_" + name + "_XXXXXX")).string();
+  if (::mkdtemp(pattern.data()) == nullptr) {
+    ADD_FAILURE() << "cannot make a scratch folder " << pattern;
+    return {};
+  }
+  scratch_folders().add(pattern);
+  return pattern;
 }
 
 // The repository's root (SHAPEPRESS_TEST_DATA is its tests/data), for shipped configs and

@@ -1,4 +1,4 @@
-// `generate --resume`: a generate killed with SIGKILL at three seeded points and resumed each
+// `generate --resume`: a generate killed with SIGKILL at three chosen checkpoints and resumed each
 // time ends with the uninterrupted run's meshes, shapes.csv, effective.toml and run.json, byte for
 // byte (generate's run.json holds no time); SIGTERM writes a checkpoint and exits 143; a folder
 // with nothing to resume is exit 2 naming it, a finished one says so.
@@ -19,20 +19,20 @@ namespace {
 using shapepress::testing::CommandResult;
 using shapepress::testing::files_under;
 using shapepress::testing::fresh_directory;
-using shapepress::testing::kill_three_times_and_resume;
+using shapepress::testing::kill_at_checkpoints;
 using shapepress::testing::KilledRuns;
 using shapepress::testing::read_text;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::spread_steps;
 using shapepress::testing::terminate_when;
-using shapepress::testing::timed_run;
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
 const fs::path data = fs::path(SHAPEPRESS_TEST_DATA) / "geometry";
 
 // Eight coarse particles (642 vertices) with 16 views each: 2–4 s on 2 cores, a checkpoint every
-// two particle steps, so kills land in the draws, the fit's silhouettes and the descriptors.
+// two particle steps.
 std::string small_generate(const fs::path& targets, const fs::path& out) {
   return "generate --targets " + shell_quoted(targets) +
          " --count 8 --subdivisions 3 --directions 16 --checkpoint-every 2 --out " +
@@ -44,18 +44,16 @@ TEST(GenerateResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
   // Started on two threads and resumed on one: the particles do not depend on the threads.
   const std::string start =
       "--threads 2 " + small_generate(data / "avicel_ph200_projected.toml", dir / "run");
-  CommandResult whole;
-  const double seconds = timed_run(start, whole);
+  const CommandResult whole = run_shapepress(start);
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
   EXPECT_FALSE(fs::exists(dir / "run" / "checkpoints"));  // gone once whole
   fs::rename(dir / "run", dir / "uninterrupted");
 
-  // Kills count from the first checkpoint: the first attempt's within 0.24 to 0.54 of the run, a
-  // resumed one's (whose checkpoints exist from its start) within 0.1 to 0.23 of it.
+  // Killed at particle steps 6, 12 and 18 of the 24 (8 particles drawn, shaped, described):
+  // in the draws, the fit's silhouettes and the descriptors.
   const std::string resume = "--threads 1 generate --resume " + shell_quoted(dir / "run");
-  const KilledRuns runs =
-      kill_three_times_and_resume(start, resume, seconds, 0.6, 0.25, 23,
-                                  shell_quoted(dir / "run" / "checkpoints") + "/*.history");
+  const KilledRuns runs = kill_at_checkpoints(
+      start, resume, {dir / "run" / "checkpoints", "particles_", spread_steps(24, 2, 3)});
   EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
             static_cast<std::ptrdiff_t>(runs.resumed_from.size()));
   ASSERT_TRUE(runs.finished) << runs.output;

@@ -1,5 +1,5 @@
-// `pack --resume`: a pack (settle, press, relax) killed with SIGKILL at three seeded points and
-// resumed each time ends with the uninterrupted run's packed.h5 (every dataset, bit for bit),
+// `pack --resume`: a pack (settle, press, relax) killed with SIGKILL at three chosen checkpoints
+// and resumed each time ends with the uninterrupted run's packed.h5 (every dataset, bit for bit),
 // packed.xmf, and run.json (its wall times aside); SIGTERM writes a checkpoint and exits 143.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -20,20 +20,19 @@ namespace {
 using shapepress::testing::CommandResult;
 using shapepress::testing::files_under;
 using shapepress::testing::fresh_directory;
-using shapepress::testing::kill_three_times_and_resume;
+using shapepress::testing::kill_at_checkpoints;
 using shapepress::testing::KilledRuns;
 using shapepress::testing::read_text;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::spread_steps;
 using shapepress::testing::terminate_when;
-using shapepress::testing::timed_run;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
 // Spheres and rigid (CMS) ellipsoids settled, pressed to 0.5 and relaxed at 4 × density, then
-// released at the true density, checkpointing every 400 steps, so kills land in each phase (the
-// release's step and masses are not the others') and between checkpoints.
+// released at the true density, checkpointing every 400 steps.
 std::string resumable_config() {
   return "[pack]\ncount = 12\nseed = 5\nbox_x = 3.0e-3\nbox_y = 3.0e-3\n"
          "[[template]]\nname = \"cms/ellipsoid\"\nweight = 1\n"
@@ -90,21 +89,21 @@ TEST(PackResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
   const std::string start = "pack " + shell_quoted(templates) + " --config " +
                             shell_quoted(dir / "pack.toml") + " --out " +
                             shell_quoted(dir / "run" / "packed.h5");
-  CommandResult whole;
-  const double seconds = timed_run(start, whole);
+  const CommandResult whole = run_shapepress(start);
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const auto steps =
+      nlohmann::json::parse(read_text(dir / "run" / "packed.h5.run.json"))["facts"]["steps"]
+          .get<std::int64_t>();
   EXPECT_THAT(whole.output, HasSubstr("settled at solid fraction"));
   EXPECT_FALSE(fs::exists(dir / "run" / "packed.h5.checkpoints"));  // gone once whole
   fs::rename(dir / "run", dir / "uninterrupted");
   fs::create_directories(dir / "run");
 
-  // The first attempt is killed within 0.1 to 0.225 of the run's time after its first checkpoint
-  // is out (counted from its start, a kill can land before any checkpoint or after the end on a
-  // machine whose load varies), a resumed one (which starts near its checkpoint) within 0.1 to
-  // 0.23 of it, so that the three kills land before the end.
-  const KilledRuns runs = kill_three_times_and_resume(
-      start, "pack --resume " + shell_quoted(dir / "run" / "packed.h5"), seconds, 0.25, 0.25, 29,
-      shell_quoted(dir / "run" / "packed.h5.checkpoints") + "/*.history");
+  // Killed at a quarter, half and three quarters of its steps (the settle, press and relax
+  // share one step count), each at a checkpoint past the one its attempt resumed from.
+  const KilledRuns runs = kill_at_checkpoints(
+      start, "pack --resume " + shell_quoted(dir / "run" / "packed.h5"),
+      {dir / "run" / "packed.h5.checkpoints", "step_", spread_steps(steps, 400, 3)});
   // At least one attempt resumed from a checkpoint (a later one may find the run finished).
   EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
             static_cast<std::ptrdiff_t>(runs.resumed_from.size()));

@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/hdf5_file.hpp"
+#include "common/run_lock.hpp"
 #include "common/sha256.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
@@ -45,6 +47,22 @@ std::string scrambled(const fs::path& file, std::size_t at, std::size_t count) {
   std::string text = read_text(file);
   for (std::size_t k = at; k < std::min(at + count, text.size()); ++k)
     text[k] = static_cast<char>(text[k] ^ 0x5a);
+  return text;
+}
+
+// A copy of the HDF5 file `file` with one bit flipped in the stored values of its dataset
+// `dataset` (found by their bytes): a number off in its last digit, which only the dataset's
+// checksum can tell from a true one.
+std::string values_damaged(const fs::path& file, const std::string& dataset) {
+  const std::vector<double> values = H5Reader(file).doubles(dataset);
+  const std::string bytes(reinterpret_cast<const char*>(values.data()),
+                          sizeof(double) * std::min<std::size_t>(values.size(), 4));
+  std::string text = read_text(file);
+  const auto at = text.find(bytes);
+  if (at == std::string::npos)
+    ADD_FAILURE() << dataset << "'s values are not stored as they are in " << file;
+  else
+    text[at] = static_cast<char>(text[at] ^ 0x01);
   return text;
 }
 
@@ -109,12 +127,11 @@ const std::string tetra_stl =
 // Made once for the whole table: a templates file, a packing, a snapshot, a compaction run.
 class BadInputCatalogue : public ::testing::Test {
  protected:
-  static fs::path valid() { return fs::temp_directory_path() / "shapepress_e2e_catalogue_valid"; }
+  static fs::path valid() { return valid_; }
 
   static void SetUpTestSuite() {
+    valid_ = fresh_directory("catalogue_valid");
     const fs::path v = valid();
-    fs::remove_all(v);
-    fs::create_directories(v);
     write_text(v / "compact.toml", compact_base);
     write_text(v / "plate.toml", plate_base);
     write_text(v / "pack.toml", pack_base);
@@ -134,6 +151,9 @@ class BadInputCatalogue : public ::testing::Test {
           shell_quoted(v / "run"));
     fs::copy_file(v / "run" / "snapshots" / "step_0000000200.h5", v / "snapshot.h5");
   }
+
+ private:
+  inline static fs::path valid_;
 };
 
 // One row of the catalogue.
@@ -151,6 +171,8 @@ struct Row {
   // Files a failing run may leave, because it writes them as it goes (a diverged run's
   // snapshots) and they are whole; any other new file is a failure.
   std::vector<std::string> may_leave;
+  // An output ({d} replaced) another run holds while the command runs (common/run_lock.hpp).
+  std::optional<std::pair<std::string, RunOutput>> held;
 };
 
 std::string substituted(std::string text, const fs::path& dir, const fs::path& valid) {
@@ -215,6 +237,24 @@ std::function<void(const fs::path&)> generate_killed(std::string sha256,
   };
 }
 
+// A killed run's start record `record` ({d} replaced by the row's folder) for its config
+// `config` (written with the text `text`, its SHA-256 the record's) and the stage's `arguments`.
+std::function<void(const fs::path&)> killed_run(std::string record, std::string config,
+                                                std::string text, std::string command,
+                                                nlohmann::json arguments) {
+  return [=](const fs::path& d) {
+    const fs::path path = substituted(record, d, {});
+    fs::create_directories(path.parent_path());
+    write_text(d / config, text);
+    const nlohmann::json json{{"command", command},
+                              {"working_directory", d.string()},
+                              {"config", config},
+                              {"config_sha256", sha256_file(d / config)},
+                              {"arguments", arguments}};
+    write_text(path, json.dump(2));
+  };
+}
+
 const std::string compact_c = "--quiet compact --config {d}/c.toml --out {d}/out";
 const std::string compact_v = "--quiet compact --config {v}/compact.toml --out {d}/out";
 const std::string plate_p = "--quiet plate --config {d}/p.toml --out {d}/out";
@@ -226,7 +266,7 @@ std::vector<Row> catalogue(const fs::path& v) {
                        std::optional<int> file_size_limit = std::nullopt,
                        std::vector<std::string> may_leave = {}) {
     rows.push_back({std::move(name), std::move(make), std::move(command), exit_code,
-                    std::move(named), file_size_limit, std::move(may_leave)});
+                    std::move(named), file_size_limit, std::move(may_leave), std::nullopt});
   };
   // TOML configs: syntax, keys, units, values.
   add("compact: malformed TOML", compact_config("\n[run\nsteps = 3\n"), compact_c, 2,
@@ -269,6 +309,23 @@ std::vector<Row> catalogue(const fs::path& v) {
   add("compact: truncated snapshot",
       [v](const fs::path& d) { write_text(d / "s.h5", head_of(v / "snapshot.h5", -2000)); },
       compact_v + " --restart {d}/s.h5", 2, {"{d}/s.h5"});
+  // Damage only a checksum sees (HDF5's Fletcher-32 on every dataset of ours).
+  add("compact: a packed.h5 with a damaged value",
+      [v](const fs::path& d) {
+        write_text(d / "p.h5", values_damaged(v / "packed.h5", "/bodies/scale"));
+      },
+      compact_v + " --packing {d}/p.h5", 2, {"{d}/p.h5", "/bodies/scale"});
+  add("compact: a snapshot with a damaged value",
+      [v](const fs::path& d) {
+        write_text(d / "s.h5", values_damaged(v / "snapshot.h5", "/particles/radius"));
+      },
+      compact_v + " --restart {d}/s.h5", 2, {"{d}/s.h5", "/particles/radius"});
+  add("pack: a templates file with a damaged value",
+      [v](const fs::path& d) {
+        write_text(d / "t.h5", values_damaged(v / "t.h5", "/cms/ellipsoid/radii"));
+      },
+      "--quiet pack {d}/t.h5 --config {v}/pack.toml --out {d}/packed.h5", 2,
+      {"{d}/t.h5", "/cms/ellipsoid/radii"});
   add("compact: a packing as the restart (no engine state)", nullptr,
       compact_v + " --restart {v}/packed.h5", 2, {"{v}/packed.h5"});
   // Outputs.
@@ -384,6 +441,53 @@ std::vector<Row> catalogue(const fs::path& v) {
       "--quiet generate --resume {d}/shapes", 2,
       {"{d}/shapes/checkpoints/resume.json", "count", "-4"});
 
+  // resume.json damaged, and runs into an output another run holds: exit 2 naming the file, or
+  // the holder, before anything in the folder is touched.
+  add("compact: --resume with a truncated resume.json",
+      [](const fs::path& d) {
+        fs::create_directories(d / "out" / "checkpoints");
+        write_text(d / "out" / "checkpoints" / "resume.json", "{\"command\": \"shapepress co");
+      },
+      "--quiet compact --resume {d}/out", 2, {"{d}/out/checkpoints/resume.json"});
+  add("compact: --resume with a word for the steps in resume.json",
+      killed_run("{d}/out/checkpoints/resume.json", "c.toml", compact_base,
+                 "shapepress compact --config c.toml --steps 40 --out out", {{"steps", {"forty"}}}),
+      "--quiet compact --resume {d}/out", 2, {"{d}/out/checkpoints/resume.json", "steps", "forty"});
+  add("plate: --resume with a word for the count in resume.json",
+      killed_run("{d}/out/checkpoints/resume.json", "p.toml", plate_base,
+                 "shapepress plate --config p.toml --out out",
+                 {{"particle", {"sphere"}},
+                  {"count", {"x"}},
+                  {"spheres", {"0"}},
+                  {"fills", {"0"}},
+                  {"seed", {"-1"}},
+                  {"time_step_fraction", {"0x0p+0"}},
+                  {"snapshot", {"0"}}}),
+      "--quiet plate --resume {d}/out", 2, {"{d}/out/checkpoints/resume.json", "count", "'x'"});
+  add("plate: --resume with a resume.json without its arguments",
+      killed_run("{d}/out/checkpoints/resume.json", "p.toml", plate_base,
+                 "shapepress plate --config p.toml --out out", nlohmann::json::object()),
+      "--quiet plate --resume {d}/out", 2, {"{d}/out/checkpoints/resume.json", "particle"});
+  add("pack: --resume with a negative seed in resume.json",
+      killed_run("{d}/packed.h5.checkpoints/resume.json", "k.toml", pack_base,
+                 "shapepress pack t.h5 --config k.toml --seed 5 --out packed.h5",
+                 {{"templates", {(v / "t.h5").string()}}, {"seed", {"-5"}}}),
+      "--quiet pack --resume {d}/packed.h5", 2,
+      {"{d}/packed.h5.checkpoints/resume.json", "seed", "-5"});
+  add("compact: --out of a run still running", nullptr, compact_v, 2,
+      {"{d}/out: in use by another run", "the catalogue's first run"});
+  rows.back().held = {"{d}/out", RunOutput::folder};
+  add("compact: --resume of a run still running",
+      killed_run("{d}/out/checkpoints/resume.json", "c.toml", compact_base,
+                 "shapepress compact --config c.toml --out out", nlohmann::json::object()),
+      "--quiet compact --resume {d}/out", 2,
+      {"{d}/out: in use by another run", "the catalogue's first run"});
+  rows.back().held = {"{d}/out", RunOutput::folder};
+  add("pack: --out of a pack still running", nullptr,
+      "--quiet pack {v}/t.h5 --config {v}/pack.toml --out {d}/packed.h5", 2,
+      {"{d}/packed.h5: in use by another run", "the catalogue's first run"});
+  rows.back().held = {"{d}/packed.h5", RunOutput::file};
+
   // Images.
   add("shape-stats: empty PNG", file("i.png", ""), "--quiet shape-stats {d}/i.png --out {d}/out", 2,
       {"{d}/i.png"});
@@ -454,7 +558,12 @@ TEST_F(BadInputCatalogue, EveryRowIsRefusedNamingItsCauseAndLeavesNoFile) {
     if (row.file_size_limit)  // ignored, SIGXFSZ is inherited: the write fails with EFBIG
       command =
           "ulimit -f " + std::to_string(2 * *row.file_size_limit) + "; trap '' XFSZ; " + command;
+    std::optional<RunFolderLock> holder;
+    if (row.held)
+      holder.emplace(substituted(row.held->first, dir, v), row.held->second,
+                     "shapepress (the catalogue's first run)");
     const auto result = run_command(command);
+    holder.reset();
     EXPECT_EQ(result.exit_code, row.exit_code) << result.output;
     for (const std::string& name : row.named)
       EXPECT_THAT(result.output, ::testing::HasSubstr(substituted(name, dir, v)));

@@ -1,4 +1,4 @@
-// `plate --resume` of an ensemble of fills: killed with SIGKILL at three seeded points and
+// `plate --resume` of an ensemble of fills: killed with SIGKILL at three chosen checkpoints and
 // resumed each time (finished fills reused, the unfinished ones continued from their
 // checkpoints), it ends with the uninterrupted run's force.csv (its CPU and wall seconds aside),
 // run.json, effective.toml and final snapshot; SIGTERM writes a checkpoint and exits 128 + 15.
@@ -12,6 +12,9 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "common/csv.hpp"
 #include "simulate/snapshot.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
@@ -23,13 +26,13 @@ namespace {
 using shapepress::testing::CommandResult;
 using shapepress::testing::files_under;
 using shapepress::testing::fresh_directory;
-using shapepress::testing::kill_three_times_and_resume;
+using shapepress::testing::kill_at_checkpoints;
 using shapepress::testing::KilledRuns;
 using shapepress::testing::read_text;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::spread_steps;
 using shapepress::testing::terminate_when;
-using shapepress::testing::timed_run;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -101,19 +104,24 @@ void expect_same_snapshot(const fs::path& a, const fs::path& b) {
 TEST(PlateResume, EnsembleKilledThreeTimesEndsAsTheUninterruptedRun) {
   const fs::path dir = fresh_directory("plate_resume");
   const std::string start = start_command(dir);
-  CommandResult whole;
-  const double seconds = timed_run(start, whole);
+  const CommandResult whole = run_shapepress(start);
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  // A fill's steps: its last record's time over the time step.
+  const double dt =
+      nlohmann::json::parse(read_text(dir / "run" / "run.json"))["facts"]["time_step_s"]
+          .get<double>();
+  const std::vector<double> times = read_csv(dir / "run" / "force.csv").column("time_s");
+  ASSERT_FALSE(times.empty());
+  const auto steps = static_cast<std::int64_t>(times.back() / dt);
   EXPECT_FALSE(fs::exists(dir / "run" / "checkpoints"));  // gone once whole
   // The same --out, so run.json's command and effective.toml's header are the same too.
   fs::rename(dir / "run", dir / "uninterrupted");
 
-  // The first attempt is killed within 0.1 to 0.225 of the run's time after its first checkpoint
-  // is out (the making of the fills, slowed at times by the machine's load, took every kill
-  // before), a resumed one within 0.24 to 0.54 (it makes its fills again before it resumes).
-  const KilledRuns runs = kill_three_times_and_resume(
-      start, "plate --resume " + shell_quoted(dir / "run"), seconds, 0.25, 0.6, 31,
-      shell_quoted(dir / "run" / "checkpoints") + "/*.history");
+  // Killed once a fill's checkpoint reaches a quarter, half and three quarters of a fill's
+  // steps (the fills run side by side: the others are then near there too).
+  const KilledRuns runs = kill_at_checkpoints(
+      start, "plate --resume " + shell_quoted(dir / "run"),
+      {dir / "run" / "checkpoints", "fill[0-9]+_", spread_steps(steps, 1000, 3)});
   // At least one attempt resumed from a checkpoint (a later one may find the run finished).
   EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
             static_cast<std::ptrdiff_t>(runs.resumed_from.size()));

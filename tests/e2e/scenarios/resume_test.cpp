@@ -1,4 +1,4 @@
-// `compact --resume`: a compaction killed with SIGKILL at random points (seeded) and resumed
+// `compact --resume`: a compaction killed with SIGKILL at chosen checkpoints and resumed
 // each time ends with the outputs of the uninterrupted run, punch.csv byte for byte; SIGTERM
 // writes a checkpoint and exits 128 + 15; an output folder that cannot be made is exit 2.
 #include <gmock/gmock.h>
@@ -22,19 +22,18 @@ namespace {
 using shapepress::testing::CommandResult;
 using shapepress::testing::files_under;
 using shapepress::testing::fresh_directory;
-using shapepress::testing::kill_three_times_and_resume;
+using shapepress::testing::kill_at_checkpoints;
 using shapepress::testing::KilledRuns;
 using shapepress::testing::read_text;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::spread_steps;
 using shapepress::testing::terminate_when;
-using shapepress::testing::timed_run;
 using shapepress::testing::write_text;
 using ::testing::HasSubstr;
 
 // A small compaction (150 spheres poured and settled, a slow load, hold, unload) checkpointing
-// every 300 steps, so a kill can land before the first checkpoint, between two, or while one is
-// written.
+// every 100 steps.
 std::string resumable_config() {
   return shapepress::testing::test_data_text("scenarios/powder.toml") + R"(
 [run]
@@ -89,19 +88,20 @@ TEST(CompactResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
   write_text(dir / "compact.toml", resumable_config());
   const std::string start = "compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
                             shell_quoted(dir / "run");
-  CommandResult whole;
-  const double seconds = timed_run(start, whole);
+  const CommandResult whole = run_shapepress(start);
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "checkpoints"));  // gone once whole
+  const auto steps =
+      nlohmann::json::parse(read_text(dir / "run" / "run.json"))["facts"]["final_step"]
+          .get<std::int64_t>();
   // The same --out, so run.json's command and effective.toml's header are the same too.
   std::filesystem::rename(dir / "run", dir / "uninterrupted");
 
-  // The first attempt is killed within 0.1 to 0.225 of the run's time after its first checkpoint
-  // is out (counted from its start, a run faster than the timed one once outran its kill), a
-  // resumed one within 0.16 to 0.36 (it skips the pour and settle before its checkpoint).
-  const KilledRuns runs = kill_three_times_and_resume(
-      start, "compact --resume " + shell_quoted(dir / "run"), seconds, 0.25, 0.4, 23,
-      shell_quoted(dir / "run" / "checkpoints") + "/*.history");
+  // Killed at a quarter, half and three quarters of the compaction's steps (its checkpoints
+  // every 100 steps), each attempt at a checkpoint past the one it resumed from.
+  const KilledRuns runs =
+      kill_at_checkpoints(start, "compact --resume " + shell_quoted(dir / "run"),
+                          {dir / "run" / "checkpoints", "step_", spread_steps(steps, 100, 3)});
   // At least one attempt resumed from a checkpoint (a later one may find the run finished).
   EXPECT_NE(std::count(runs.resumed_from.begin(), runs.resumed_from.end(), "start"),
             static_cast<std::ptrdiff_t>(runs.resumed_from.size()));

@@ -8,12 +8,14 @@
 #include <fstream>
 
 #include "common/error.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::analysis {
 namespace {
 
 std::filesystem::path written(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("shapepress_measured_" + name);
+  static const std::filesystem::path dir = testing::fresh_directory("measured_curve");
+  const auto path = dir / name;
   std::ofstream(path) << text;
   return path;
 }

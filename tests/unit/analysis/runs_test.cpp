@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "common/run_metadata.hpp"
 #include "tests/support/errors.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::analysis {
 namespace {
@@ -54,8 +55,7 @@ TEST(Runs, ErrorsNameTheFolderFileAndColumn) {
 }
 
 TEST(Runs, APunchCsvWithoutTheH0CommentIsRejected) {
-  const auto folder = std::filesystem::temp_directory_path() / "shapepress_analysis_runs_test";
-  std::filesystem::create_directories(folder);
+  const auto folder = shapepress::testing::fresh_directory("analysis_runs");
   {
     std::ofstream out(folder / "punch.csv");
     out << "time_s,gap_m,top_force_N,stress_Pa,solid_fraction,phase\n"
@@ -69,12 +69,7 @@ TEST(Runs, APunchCsvWithoutTheH0CommentIsRejected) {
 // A copy of a synthetic run folder, its CSV's comment lines replaced and its run.json edited.
 std::filesystem::path edited_copy(const std::string& run, const std::string& csv,
                                   const std::function<void(nlohmann::json&)>& edit) {
-  // One folder per test: ctest runs the tests of this file side by side.
-  const auto folder = std::filesystem::temp_directory_path() /
-                      ("shapepress_runs_" + run + "_" +
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
+  const auto folder = shapepress::testing::fresh_directory("runs_" + run);
   std::ifstream in(data / run / csv);
   std::ofstream out(folder / csv);
   out << "# reworded for people: nothing here says H0, die area, sub_spheres or fills\n";

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <thread>
 
 #include "common/atomic_file.hpp"
@@ -168,6 +169,63 @@ TEST_F(FilesTest, Hdf5ReaderNamesMissingFileWrongFileAndMissingDataset) {
     EXPECT_THAT(e.what(), HasSubstr("/particles/radius"));
     EXPECT_THAT(e.what(), HasSubstr("ok.h5"));
   }
+}
+
+// The bytes of `file` with one bit flipped in the values `bytes` (found where the file holds
+// them): a change of the last digit of a number, which only a checksum can see.
+std::string with_a_bit_flipped(const fs::path& file, const std::string& bytes) {
+  std::ifstream in(file, std::ios::binary);
+  std::string image((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = image.find(bytes);
+  EXPECT_NE(at, std::string::npos) << "the values are not stored as they are in " << file;
+  if (at != std::string::npos) image[at] = static_cast<char>(image[at] ^ 0x01);
+  return image;
+}
+
+TEST_F(FilesTest, Hdf5DamagedValuesStringsAndAttributesAreAnInputErrorNamingTheFile) {
+  const fs::path target = folder_ / "data.h5";
+  const std::vector<double> x{1.0, 2.5, -3.0, 4.0, 5.0, 6.0};
+  {
+    H5Writer writer(target, Provenance{"shapepress test", "a = 1\n", 42});
+    writer.write("/particles/position", x, {2, 3});
+    writer.write_strings("/names", {"bottom", "punch"});
+    writer.attribute("/particles", "material", std::string_view("powder-material"));
+    writer.commit();
+  }
+  const auto refused = [&](const std::string& image, const auto& read) {
+    std::ofstream(folder_ / "damaged.h5", std::ios::binary) << image;
+    try {
+      const H5Reader reader(folder_ / "damaged.h5");
+      read(reader);
+      ADD_FAILURE() << "the damage was not seen";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("damaged.h5"));
+    }
+  };
+  // A dataset's values: Fletcher-32.
+  refused(with_a_bit_flipped(
+              target, std::string(reinterpret_cast<const char*>(x.data()), sizeof(double) * 2)),
+          [](const H5Reader& r) { r.doubles("/particles/position"); });
+  // Fixed-length strings in a dataset, and in an attribute (the object header's checksum).
+  refused(with_a_bit_flipped(target, "bottom"), [](const H5Reader& r) { r.strings("/names"); });
+  refused(with_a_bit_flipped(target, "powder-material"),
+          [](const H5Reader& r) { r.attribute_string("/particles", "material"); });
+}
+
+TEST_F(FilesTest, Hdf5StringsAreFixedLengthAndEmptyOnesRoundTrip) {
+  const fs::path target = folder_ / "strings.h5";
+  {
+    H5Writer writer(target, Provenance{});
+    writer.write_strings("/names", {"", "a much longer name", "b"});
+    writer.write_strings("/none", {});
+    writer.attribute("/", "empty", std::string_view());
+    writer.commit();
+  }
+  const H5Reader reader(target);
+  EXPECT_EQ(reader.strings("/names"), (std::vector<std::string>{"", "a much longer name", "b"}));
+  EXPECT_TRUE(reader.strings("/none").empty());
+  EXPECT_EQ(reader.attribute_string("/", "empty"), "");
+  EXPECT_EQ(reader.attribute_int64("/", "shapepress_hdf5_layout"), 2);
 }
 
 TEST_F(FilesTest, CsvRoundTripWithCommentsAndUnitsInNames) {

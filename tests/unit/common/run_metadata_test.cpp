@@ -13,6 +13,7 @@
 #include "common/provenance.hpp"
 #include "common/sha256.hpp"
 #include "tests/support/errors.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress {
 namespace {
@@ -20,10 +21,7 @@ namespace {
 using testing::input_error_of;
 
 std::filesystem::path fresh_folder(const std::string& name) {
-  const auto folder = std::filesystem::temp_directory_path() / ("shapepress_" + name);
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder;
+  return shapepress::testing::fresh_directory(name);
 }
 
 TEST(Sha256, KnownDigests) {

@@ -11,6 +11,7 @@
 #include "fem/calculix_deck.hpp"
 #include "fem/calculix_process.hpp"
 #include "fem/quarter_disc_mesh.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::fem {
 namespace {
@@ -110,7 +111,7 @@ TEST(PlateDeck, StatesTheMaterialLawAndTheGeometry) {
 }
 
 TEST(CalculixResults, ReadsTheTotalsOfANodeSet) {
-  const auto dat = std::filesystem::temp_directory_path() / "shapepress_unit_fem_totals.dat";
+  const auto dat = shapepress::testing::fresh_directory("fem_totals") / "totals.dat";
   std::ofstream(dat) << "\n                        S T E P       1\n\n\n"
                         " total force (fx,fy,fz) for set PLATE and time  0.2500000E-01\n\n"
                         "        5.522026E-30 -4.922492E-03  2.524355E-29\n"

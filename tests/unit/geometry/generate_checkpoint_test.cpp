@@ -14,6 +14,7 @@
 
 #include "common/error.hpp"
 #include "geometry/generate.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::geometry {
 namespace {
@@ -74,11 +75,7 @@ class GenerateCheckpoint : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(GenerateCheckpoint, StoppedInEveryPhaseAndResumedFromTheFilesIsTheWholeRun) {
   const ShapeTargets targets = read_shape_targets(data / GetParam());
-  // One folder per target file: ctest runs the two instances side by side.
-  const fs::path folder = fs::temp_directory_path() / ("shapepress_generate_checkpoint_" +
-                                                       fs::path(GetParam()).stem().string());
-  fs::remove_all(folder);
-  fs::create_directories(folder);
+  const fs::path folder = testing::fresh_directory("generate_checkpoint");
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   GenerateWork none;
@@ -101,9 +98,7 @@ INSTANTIATE_TEST_SUITE_P(Targets, GenerateCheckpoint,
 
 TEST(GenerateCheckpointFiles, ADamagedOneIsAnInputErrorNamingIt) {
   const ShapeTargets targets = read_shape_targets(data / "paper_box_targets.toml");
-  const fs::path folder = fs::temp_directory_path() / "shapepress_generate_checkpoint_damaged";
-  fs::remove_all(folder);
-  fs::create_directories(folder);
+  const fs::path folder = testing::fresh_directory("generate_checkpoint_damaged");
   EXPECT_FALSE(run_until(targets, folder, 4));
   const fs::path file = folder / "particles_0000000004.history";
   ASSERT_TRUE(fs::exists(file));

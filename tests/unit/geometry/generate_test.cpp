@@ -13,6 +13,7 @@
 #include "geometry/icosphere.hpp"
 #include "geometry/mesh_checks.hpp"
 #include "geometry/spherical_harmonics.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::geometry {
 namespace {
@@ -92,7 +93,7 @@ TEST(Generate, SameSeedGivesByteIdenticalMeshes) {
   options.seed = 5;
   const auto a = generate_population(targets, options);
   const auto b = generate_population(targets, options);
-  const auto dir = std::filesystem::temp_directory_path();
+  const auto dir = testing::fresh_directory("generate_meshes");
   for (std::size_t i = 0; i < a.size(); ++i) {
     write_mesh(a[i].mesh, dir / "shapepress_gen_a.stl");
     write_mesh(b[i].mesh, dir / "shapepress_gen_b.stl");
@@ -107,7 +108,7 @@ TEST(Generate, SameSeedGivesByteIdenticalMeshes) {
 }
 
 TEST(ShapeTargets, ReadsTheImagingSummaryJson) {
-  const auto path = std::filesystem::temp_directory_path() / "shapepress_summary.json";
+  const auto path = testing::fresh_directory("targets") / "shapepress_summary.json";
   std::ofstream(path) << R"({"format": "shapepress shape-stats summary 1",
     "size": {"x10_m": 5e-5, "x50_m": 1e-4, "x90_m": 2e-4},
     "asr": {"mean": 0.7, "quantile_levels": [0.1, 0.5, 0.9], "quantiles": [0.5, 0.7, 0.85]},
@@ -131,7 +132,7 @@ TEST(ShapeTargets, ReadsTheImagingSummaryJson) {
 }
 
 TEST(ShapeTargets, TomlUnknownKeysAreErrors) {
-  const auto path = std::filesystem::temp_directory_path() / "shapepress_targets.toml";
+  const auto path = testing::fresh_directory("targets") / "shapepress_targets.toml";
   std::ofstream(path) << "[fourier]\nD3 = 0.03\nD8 = 0.01\n[asr]\nmean = 0.8\nelongaton = 0.8\n"
                          "[size]\nx10_m = 5e-5\nx50_m = 1e-4\nx90_m = 2e-4\n";
   EXPECT_THROW(read_shape_targets(path), InputError);
@@ -139,7 +140,7 @@ TEST(ShapeTargets, TomlUnknownKeysAreErrors) {
 }
 
 TEST(ShapeTargets, EffectiveTomlReadsBackToTheSameTargets) {
-  const auto path = std::filesystem::temp_directory_path() / "shapepress_targets_effective.toml";
+  const auto path = testing::fresh_directory("targets") / "shapepress_targets_effective.toml";
   for (const std::string& text :
        {std::string("[fourier]\nD2 = 0.07\nD3 = 0.03\nD8 = 0.01\ndecay_exponent = 2.5\n[asr]\n"
                     "quantiles = [0.5, 0.7, 0.9]\nquantile_levels = [0.1, 0.5, 0.9]\n"

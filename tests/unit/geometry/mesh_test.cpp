@@ -9,12 +9,14 @@
 #include "common/error.hpp"
 #include "geometry/icosphere.hpp"
 #include "geometry/mesh_checks.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::geometry {
 namespace {
 
 std::filesystem::path temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("shapepress_geometry_" + name);
+  static const std::filesystem::path folder = shapepress::testing::fresh_directory("geometry_mesh");
+  return folder / name;
 }
 
 TriangleMesh unit_cube() {

@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "imaging/load.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::imaging {
 namespace {
@@ -31,9 +32,7 @@ void write_netpbm(const fs::path& path, int w, int h, int channels, int maxval,
 }
 
 fs::path temp_path(const std::string& name) {
-  fs::path dir =
-      fs::temp_directory_path() / ("shapepress_imaging_load_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  static const fs::path dir = testing::fresh_directory("imaging_load");
   return dir / name;
 }
 

@@ -10,6 +10,7 @@
 #include "common/error.hpp"
 #include "imaging/load.hpp"
 #include "imaging/sem_tiff.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::imaging {
 namespace {
@@ -17,9 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_path(const std::string& name) {
-  fs::path dir =
-      fs::temp_directory_path() / ("shapepress_imaging_unit_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  static const fs::path dir = testing::fresh_directory("imaging_sem_tiff");
   return dir / name;
 }
 

@@ -18,6 +18,7 @@
 #include "simulate/bonds.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::simulate {
 namespace {
@@ -161,7 +162,7 @@ TEST(BondBreakage, APartlyBrokenBodyRestartsBitIdenticallyAndShowsItsBrokenBonds
   ASSERT_GT(intact, 0);
   ASSERT_LT(intact, 5);
   const std::filesystem::path file =
-      std::filesystem::temp_directory_path() / "shapepress_bond_breakage_restart_test.h5";
+      shapepress::testing::fresh_directory("bond_breakage") / "restart.h5";
   write_snapshot(file, first, ScenarioState{}, Provenance{"test", "", std::nullopt});
   LoadedSnapshot loaded = read_snapshot(file);
   std::filesystem::remove(file);
@@ -181,7 +182,7 @@ TEST(BondBreakage, APartlyBrokenBodyRestartsBitIdenticallyAndShowsItsBrokenBonds
 
   // ParaView: the bonds are line cells with a per-cell "intact" flag to threshold on.
   const std::filesystem::path xdmf =
-      std::filesystem::temp_directory_path() / "shapepress_bond_breakage_test.xdmf";
+      shapepress::testing::fresh_directory("bond_breakage") / "bonds.xdmf";
   write_xdmf(xdmf, {SnapshotIndexEntry{"s.h5", 0.0, 6, 0, false, 5, 0}});
   std::stringstream text;
   text << std::ifstream(xdmf).rdbuf();

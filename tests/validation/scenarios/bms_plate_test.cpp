@@ -135,7 +135,7 @@ TEST(BmsDeterminism, RestartFromASnapshotContinuesBitIdentically) {
   for (int k = 0; k < 1200; ++k)
     first.step();
   const std::filesystem::path file =
-      std::filesystem::temp_directory_path() / "shapepress_bms_restart_test.h5";
+      shapepress::testing::fresh_directory("bms_restart") / "snapshot.h5";
   write_snapshot(file, first, ScenarioState{}, Provenance{"test", "", std::nullopt});
   LoadedSnapshot loaded = read_snapshot(file);
   std::filesystem::remove(file);

@@ -61,7 +61,7 @@ TEST(BodyBedDeterminism, ARestartKeepsTheBedsBodyShapeAndSphereVolumes) {
   testing::CompactionScene first = scene();
   first.setup.max_steps = 10;
   run_compaction(*first.engine, first.setup, first.punch, {});
-  const auto file = std::filesystem::temp_directory_path() / "shapepress_body_bed_volume.h5";
+  const auto file = shapepress::testing::fresh_directory("body_bed_volume") / "snapshot.h5";
   write_snapshot(file, *first.engine, compaction_scenario_state(first.punch, first.setup),
                  Provenance{"test", "", std::nullopt});
   const ConfigTable root =

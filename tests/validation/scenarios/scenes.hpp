@@ -16,6 +16,7 @@
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
+#include "tests/support/files.hpp"
 
 namespace shapepress::scenarios::testing {
 
@@ -113,8 +114,7 @@ inline void expect_same_bits(const Engine& a, const Engine& b) {
 inline std::unique_ptr<Engine> resume_through_snapshot(const Engine& first, const PunchState& punch,
                                                        CompactionSetup setup,
                                                        const std::string& name) {
-  const auto file =
-      std::filesystem::temp_directory_path() / ("shapepress_" + name + "_restart_test.h5");
+  const auto file = shapepress::testing::fresh_directory(name + "_restart") / "snapshot.h5";
   write_snapshot(file, first, compaction_scenario_state(punch, setup),
                  Provenance{"test", "", std::nullopt});
   LoadedSnapshot loaded = read_snapshot(file);
