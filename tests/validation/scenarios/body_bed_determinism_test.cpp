@@ -26,13 +26,7 @@ testing::CompactionScene scene() {
           "\n[box]\nx = \"720 um\"\ny = \"720 um\"\n\n[punch]\nmode = \"displacement\"\n"
           "speed = \"1 m/s\"\ntarget_strain = 0.3\n",
       "bonded-bed");
-  PreparedCompaction prepared = prepare_compaction(read_compact_config(root), bed);
-  testing::CompactionScene s;
-  s.engine = std::move(prepared.engine);
-  s.setup = prepared.setup;
-  s.setup.record_every = 0;
-  s.punch = prepared.punch;
-  return s;
+  return testing::scene_from(prepare_compaction(read_compact_config(root), bed));
 }
 
 constexpr int steps = 1500;

@@ -38,13 +38,7 @@ testing::CompactionScene scene(int bond_substeps, const std::string& punch, Bed 
           "\"\n\n[run]\nbond_substeps = " + std::to_string(bond_substeps) +
           "\ntime_step_fraction = " + fraction + "\n\n[punch]\n" + punch,
       "bonded-bed-one-material");
-  PreparedCompaction prepared = prepare_compaction(read_compact_config(root), bed);
-  testing::CompactionScene s;
-  s.engine = std::move(prepared.engine);
-  s.setup = prepared.setup;
-  s.setup.record_every = 0;
-  s.punch = prepared.punch;
-  return s;
+  return testing::scene_from(prepare_compaction(read_compact_config(root), bed));
 }
 
 const std::string pressed = "mode = \"displacement\"\nspeed = \"1 m/s\"\ntarget_strain = 0.3\n";

@@ -13,6 +13,7 @@
 
 #include "packing/packing.hpp"
 #include "scenarios/compact.hpp"
+#include "scenarios/compact_setup.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
@@ -62,6 +63,15 @@ struct CompactionScene {
   CompactionSetup setup;
   PunchState punch;
 };
+// A prepared compaction (prepare_compaction) as a scene, recording nothing.
+inline CompactionScene scene_from(PreparedCompaction prepared) {
+  CompactionScene scene;
+  scene.engine = std::move(prepared.engine);
+  scene.setup = prepared.setup;
+  scene.setup.record_every = 0;
+  scene.punch = prepared.punch;
+  return scene;
+}
 // `engine` in a length × length die whose punch starts at `height` and moves down at 2 m/s.
 inline CompactionScene punch_at_two_metres_per_second(std::unique_ptr<Engine> engine, double length,
                                                       double height) {
