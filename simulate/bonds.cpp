@@ -66,8 +66,10 @@ void BondSet::index(const SphereState& state) {
   result.assign(size(), Result{});
   constants.assign(size(), Constants{});
   breakable = false;
+  std::size_t with_dampers = 0;
   for (std::size_t b = 0; b < size(); ++b) {
     breakable = breakable || std::isfinite(tensile_strength[b]) || std::isfinite(shear_strength[b]);
+    with_dampers += damping_ratio[b] > 0.0;
     const auto i = static_cast<std::size_t>(first[b]), j = static_cast<std::size_t>(second[b]);
     const double ri = state.radius[i], rj = state.radius[j];
     Constants& k = constants[b];
@@ -84,6 +86,8 @@ void BondSet::index(const SphereState& state) {
     k.damping[2] = 2.0 * zeta * std::sqrt(twist_spring[b] * i_eff);
     k.damping[3] = 2.0 * zeta * std::sqrt(bend_spring[b] * i_eff);
   }
+  damped = with_dampers > 0 && with_dampers == size();
+  damping_mix = with_dampers > 0 && with_dampers < size();
 }
 
 namespace {
@@ -194,6 +198,21 @@ inline void turn_with_pair(double v[3], const double n[3], double tan_spin,
   // difference loses nothing.
   const double t2 = length2 - along * along;
   const double scale = t2 > 0.0 ? std::sqrt(length2 / (t2 * one_plus_tan_spin2)) : 0.0;
+  const double spun[3] = {n[1] * v[2] - n[2] * v[1], n[2] * v[0] - n[0] * v[2],
+                          n[0] * v[1] - n[1] * v[0]};
+  for (int k = 0; k < 3; ++k)
+    v[k] = (v[k] - along * n[k] + tan_spin * spun[k]) * scale;
+}
+
+// turn_with_pair without its early return, for the vectorized blocks: a zero v stays zero (its
+// along, t2 and scale are all zero).
+inline void turn_with_pair_lane(double v[3], const double n[3], double tan_spin,
+                                double one_plus_tan_spin2) {
+  const double length2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  const double along = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+  const double t2 = length2 - along * along;
+  const double ratio = t2 > 0.0 ? length2 / (t2 * one_plus_tan_spin2) : 0.0;
+  const double scale = std::sqrt(ratio);
   const double spun[3] = {n[1] * v[2] - n[2] * v[1], n[2] * v[0] - n[0] * v[2],
                           n[0] * v[1] - n[1] * v[0]};
   for (int k = 0; k < 3; ++k)
@@ -346,6 +365,184 @@ __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
   }
 }
 
+// Unbreakable bonds over blocks of `bond_block_capacity` laid out as arrays, so that the compiler
+// vectorizes bond_forces_range's arithmetic across bonds: copied in, computed lane by lane with
+// the scalar loop's IEEE operations in its order (no FMA, no reassociation: the same bits as
+// bond_forces_range, tests/unit/simulate/bonds_test.cpp), then copied out. `damped`: every bond
+// has dampers (BondSet::Constants::damping[0] > 0), or none has.
+constexpr int bond_block_capacity = 32;
+
+struct alignas(64) BondBlock {
+  static constexpr int capacity = bond_block_capacity;
+  double dx[capacity], dy[capacity], dz[capacity];
+  double vi[3][capacity], vj[3][capacity], wi[3][capacity], wj[3][capacity];
+  double mvi[3][capacity], mvj[3][capacity], mwi[3][capacity], mwj[3][capacity];
+  double arm_first[capacity], arm_second[capacity];
+  double kn[capacity], ks[capacity], kt[capacity], kb[capacity];
+  double cn[capacity], cs[capacity], ct[capacity], cb[capacity];
+  double length[capacity], fn[capacity], fs[3][capacity], mt[capacity], mb[3][capacity];
+  double force[3][capacity], torque_first[3][capacity], torque_second[3][capacity];
+  double separation_force[capacity];
+};
+
+template <bool damped>
+[[gnu::always_inline]] inline void bond_block_lanes(BondBlock& k, int lanes, double increment_dt) {
+  for (int l = 0; l < lanes; ++l) {
+    const double dx = k.dx[l], dy = k.dy[l], dz = k.dz[l];
+    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double inverse_d = 1.0 / d;
+    const double n[3] = {dx * inverse_d, dy * inverse_d, dz * inverse_d};
+    const double rci = d * k.arm_first[l], rcj = d * k.arm_second[l];
+    double v[3], w[3];
+    {
+      const double vi[3] = {k.vi[0][l], k.vi[1][l], k.vi[2][l]};
+      const double vj[3] = {k.vj[0][l], k.vj[1][l], k.vj[2][l]};
+      const double wi[3] = {k.wi[0][l], k.wi[1][l], k.wi[2][l]};
+      const double wj[3] = {k.wj[0][l], k.wj[1][l], k.wj[2][l]};
+      relative_motion(vi, wi, vj, wj, n, rci, rcj, v, w);
+    }
+    const double spin = 0.5 * increment_dt *
+                        ((k.wi[0][l] + k.wj[0][l]) * n[0] + (k.wi[1][l] + k.wj[1][l]) * n[1] +
+                         (k.wi[2][l] + k.wj[2][l]) * n[2]);
+    double fn = k.fn[l] - k.kn[l] * (d - k.length[l]);
+    k.length[l] = d;
+    double fs[3] = {k.fs[0][l], k.fs[1][l], k.fs[2][l]};
+    double mb[3] = {k.mb[0][l], k.mb[1][l], k.mb[2][l]};
+    const double tan_spin = spin * (1.0 + spin * spin * (1.0 / 3.0));
+    const double one_plus_tan_spin2 = 1.0 + tan_spin * tan_spin;
+    turn_with_pair_lane(fs, n, tan_spin, one_plus_tan_spin2);
+    turn_with_pair_lane(mb, n, tan_spin, one_plus_tan_spin2);
+    const double vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+    const double wt = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
+    const double ks_dt = k.ks[l] * increment_dt, kb_dt = k.kb[l] * increment_dt;
+    for (int c = 0; c < 3; ++c) {
+      fs[c] -= ks_dt * (v[c] - vn * n[c]);
+      mb[c] -= kb_dt * (w[c] - wt * n[c]);
+    }
+    const double mt = k.mt[l] - k.kt[l] * increment_dt * wt;
+    k.fn[l] = fn, k.mt[l] = mt;
+    for (int c = 0; c < 3; ++c)
+      k.fs[c][l] = fs[c], k.mb[c][l] = mb[c];
+    double force[3], moment[3];
+    for (int c = 0; c < 3; ++c) {
+      force[c] = fn * n[c] + fs[c];
+      moment[c] = mt * n[c] + mb[c];
+    }
+    if constexpr (damped) {
+      double dv[3], dw[3];
+      const double mvi[3] = {k.mvi[0][l], k.mvi[1][l], k.mvi[2][l]};
+      const double mvj[3] = {k.mvj[0][l], k.mvj[1][l], k.mvj[2][l]};
+      const double mwi[3] = {k.mwi[0][l], k.mwi[1][l], k.mwi[2][l]};
+      const double mwj[3] = {k.mwj[0][l], k.mwj[1][l], k.mwj[2][l]};
+      relative_motion(mvi, mwi, mvj, mwj, n, rci, rcj, dv, dw);
+      const double cn = k.cn[l], cs = k.cs[l], ct = k.ct[l], cb = k.cb[l];
+      const double dvn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+      const double dwt = dw[0] * n[0] + dw[1] * n[1] + dw[2] * n[2];
+      for (int c = 0; c < 3; ++c) {
+        force[c] -= cn * dvn * n[c] + cs * (dv[c] - dvn * n[c]);
+        moment[c] -= ct * dwt * n[c] + cb * (dw[c] - dwt * n[c]);
+      }
+    }
+    const double cx = n[1] * force[2] - n[2] * force[1];
+    const double cy = n[2] * force[0] - n[0] * force[2];
+    const double cz = n[0] * force[1] - n[1] * force[0];
+    for (int c = 0; c < 3; ++c)
+      k.force[c][l] = force[c];
+    k.separation_force[l] = dx * force[0] + dy * force[1] + dz * force[2];
+    k.torque_first[0][l] = -rci * cx - moment[0];
+    k.torque_first[1][l] = -rci * cy - moment[1];
+    k.torque_first[2][l] = -rci * cz - moment[2];
+    k.torque_second[0][l] = -rcj * cx + moment[0];
+    k.torque_second[1][l] = -rcj * cy + moment[1];
+    k.torque_second[2][l] = -rcj * cz + moment[2];
+  }
+}
+
+// The clones are plain functions: GCC does not vectorize a function template's clones.
+__attribute__((target_clones("avx2", "default"))) void bond_block_forces_damped(
+    BondBlock& k, int lanes, double increment_dt) {
+  bond_block_lanes<true>(k, lanes, increment_dt);
+}
+__attribute__((target_clones("avx2", "default"))) void bond_block_forces_undamped(
+    BondBlock& k, int lanes, double increment_dt) {
+  bond_block_lanes<false>(k, lanes, increment_dt);
+}
+
+// Bonds [begin, end) as bond_forces_range computes them, for unbreakable bonds all damped or all
+// undamped: blocks copied in, bond_block_forces, copied out.
+template <bool damped>
+void bond_blocks_range(BondSet& bonds, const SphereState& s, const double* __restrict motion,
+                       const Box& box, double increment_dt, std::int64_t begin, std::int64_t end) {
+  const BondSet::Constants* __restrict constants = bonds.constants.data();
+  BondSet::History* __restrict history = bonds.history.data();
+  BondSet::Result* __restrict result = bonds.result.data();
+  const bool periodic_x = box.periodic_x(), periodic_y = box.periodic_y();
+  BondBlock k;
+  for (std::int64_t b0 = begin; b0 < end; b0 += BondBlock::capacity) {
+    const int lanes = static_cast<int>(std::min<std::int64_t>(BondBlock::capacity, end - b0));
+    for (int l = 0; l < lanes; ++l) {
+      const BondSet::Constants& c = constants[b0 + l];
+      const std::size_t i = static_cast<std::size_t>(c.first);
+      const std::size_t j = static_cast<std::size_t>(c.second);
+      double dx = s.position.x[j] - s.position.x[i], dy = s.position.y[j] - s.position.y[i];
+      if (periodic_x) dx -= box.length_x * std::nearbyint(dx / box.length_x);
+      if (periodic_y) dy -= box.length_y * std::nearbyint(dy / box.length_y);
+      k.dx[l] = dx, k.dy[l] = dy, k.dz[l] = s.position.z[j] - s.position.z[i];
+      k.vi[0][l] = s.velocity.x[i], k.vi[1][l] = s.velocity.y[i], k.vi[2][l] = s.velocity.z[i];
+      k.vj[0][l] = s.velocity.x[j], k.vj[1][l] = s.velocity.y[j], k.vj[2][l] = s.velocity.z[j];
+      k.wi[0][l] = s.angular_velocity.x[i], k.wi[1][l] = s.angular_velocity.y[i];
+      k.wi[2][l] = s.angular_velocity.z[i];
+      k.wj[0][l] = s.angular_velocity.x[j], k.wj[1][l] = s.angular_velocity.y[j];
+      k.wj[2][l] = s.angular_velocity.z[j];
+      if constexpr (damped) {
+        const double* mi = motion + 8 * i;
+        const double* mj = motion + 8 * j;
+        for (int a = 0; a < 3; ++a) {
+          k.mvi[a][l] = mi[a], k.mwi[a][l] = mi[3 + a];
+          k.mvj[a][l] = mj[a], k.mwj[a][l] = mj[3 + a];
+        }
+        k.cn[l] = c.damping[0], k.cs[l] = c.damping[1];
+        k.ct[l] = c.damping[2], k.cb[l] = c.damping[3];
+      }
+      k.arm_first[l] = c.arm_first, k.arm_second[l] = c.arm_second;
+      k.kn[l] = c.normal_spring, k.ks[l] = c.shear_spring;
+      k.kt[l] = c.twist_spring, k.kb[l] = c.bend_spring;
+      const BondSet::History& h = history[b0 + l];
+      k.length[l] = h.length, k.fn[l] = h.normal_force, k.mt[l] = h.twist_moment;
+      for (int a = 0; a < 3; ++a)
+        k.fs[a][l] = h.shear_force[a], k.mb[a][l] = h.bend_moment[a];
+    }
+    if constexpr (damped)
+      bond_block_forces_damped(k, lanes, increment_dt);
+    else
+      bond_block_forces_undamped(k, lanes, increment_dt);
+    for (int l = 0; l < lanes; ++l) {
+      BondSet::History& h = history[b0 + l];
+      h.length = k.length[l], h.normal_force = k.fn[l], h.twist_moment = k.mt[l];
+      BondSet::Result& out = result[b0 + l];
+      for (int a = 0; a < 3; ++a) {
+        h.shear_force[a] = k.fs[a][l], h.bend_moment[a] = k.mb[a][l];
+        out.force[a] = k.force[a][l];
+        out.torque_first[a] = k.torque_first[a][l];
+        out.torque_second[a] = k.torque_second[a][l];
+      }
+      out.separation_force = k.separation_force[l];
+    }
+  }
+}
+
+// Bonds [begin, end) by blocks where every bond is intact and unbreakable and the dampers are
+// uniform; else the scalar loop.
+void bond_forces_of(BondSet& bonds, const SphereState& s, const double* motion, const Box& box,
+                    double increment_dt, std::int64_t begin, std::int64_t end) {
+  if (bonds.breakable || bonds.damping_mix)
+    bond_forces_range(bonds, s, motion, box, increment_dt, begin, end);
+  else if (bonds.damped)
+    bond_blocks_range<true>(bonds, s, motion, box, increment_dt, begin, end);
+  else
+    bond_blocks_range<false>(bonds, s, motion, box, increment_dt, begin, end);
+}
+
 }  // namespace
 
 void compute_bond_forces(BondSet& bonds, const SphereState& s, const double* motion, const Box& box,
@@ -353,14 +550,14 @@ void compute_bond_forces(BondSet& bonds, const SphereState& s, const double* mot
   const auto count = static_cast<std::int64_t>(bonds.size());
   const double increment_dt = first_evaluation ? 0.0 : dt;
   if (count < parallel_min_bonds || omp_get_max_threads() == 1) {  // no region: not free either
-    bond_forces_range(bonds, s, motion, box, increment_dt, 0, count);
+    bond_forces_of(bonds, s, motion, box, increment_dt, 0, count);
     return;
   }
 #pragma omp parallel
   {
     const std::int64_t team = omp_get_num_threads(), rank = omp_get_thread_num();
-    bond_forces_range(bonds, s, motion, box, increment_dt, count * rank / team,
-                      count * (rank + 1) / team);
+    bond_forces_of(bonds, s, motion, box, increment_dt, count * rank / team,
+                   count * (rank + 1) / team);
   }
 }
 

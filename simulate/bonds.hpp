@@ -104,6 +104,9 @@ struct BondSet {
   };
   std::vector<Constants> constants;
   bool breakable = false;  // whether any bond can break (skips the strength test)
+  // Whether every bond has dampers, and whether some have and some not (the bond loop's blocks
+  // take one kind at a time).
+  bool damped = false, damping_mix = false;
   // Per-sphere gather lists (CSR), as PairList: entries 2·bond + (0 first, 1 second) in
   // increasing bond index.
   std::vector<std::int32_t> gather_offset;

@@ -6,7 +6,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "common/error.hpp"
@@ -541,6 +543,61 @@ TEST(BondSubsteps, ASubstepAboveTheBondsStabilityLimitIsRefused) {
       select_time_step(s, table, {}, std::nullopt, 0.2, 0.1, bonds, ClumpSet{}, 0);
   EXPECT_GE(automatic.bond_substeps, 1);
   EXPECT_LE(automatic.time_step / automatic.bond_substeps, 0.2 * bound * (1 + 1e-12));
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+namespace {
+
+// Bonds that cannot break go through the vectorized blocks (bonds.cpp); bonds that can, through
+// the scalar loop. With strengths no force reaches the two must give the same bits.
+void expect_blocks_match_the_scalar_loop(double damping_ratio) {
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  SphereState s;
+  for (int i = 0; i < 70; ++i)  // a crooked chain with side bonds: 92 bonds, 3 blocks
+    s.add_sphere(1.6 * r * i + 0.2 * r * unit(random), 0.4 * r * unit(random),
+                 0.4 * r * unit(random), r * (1.0 + 0.1 * unit(random)), rho, 0);
+  s.body.assign(s.size(), 0);
+  BondParameters unbreakable = stiff();
+  unbreakable.damping_ratio = damping_ratio;
+  BondParameters breakable = unbreakable;
+  breakable.tensile_strength = breakable.shear_strength = 1e300;
+  BondSet blocks = create_bonds(s, 1.6, unbreakable);
+  BondSet scalar = create_bonds(s, 1.6, breakable);
+  ASSERT_FALSE(blocks.breakable);
+  ASSERT_TRUE(scalar.breakable);
+  ASSERT_GT(blocks.size(), 64u);
+  std::vector<double> motion = still_motion(s);
+  for (int step = 0; step < 5; ++step) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      s.position.x[i] += 1e-3 * r * unit(random), s.position.y[i] += 1e-3 * r * unit(random);
+      s.position.z[i] += 1e-3 * r * unit(random);
+      s.velocity.x[i] = 1e-3 * unit(random), s.velocity.y[i] = 1e-3 * unit(random);
+      s.velocity.z[i] = 1e-3 * unit(random);
+      s.angular_velocity.x[i] = unit(random), s.angular_velocity.y[i] = unit(random);
+      s.angular_velocity.z[i] = unit(random);
+      for (int c = 0; c < 6; ++c)
+        motion[8 * i + c] = 1e-3 * unit(random);
+    }
+    compute_bond_forces(blocks, s, motion.data(), Box{}, 1e-7, step == 0);
+    compute_bond_forces(scalar, s, motion.data(), Box{}, 1e-7, step == 0);
+    for (std::size_t b = 0; b < blocks.size(); ++b)
+      ASSERT_EQ(std::memcmp(&blocks.history[b], &scalar.history[b], sizeof(BondSet::History)), 0)
+          << "bond " << b << " step " << step;
+    for (std::size_t b = 0; b < blocks.size(); ++b)
+      ASSERT_EQ(std::memcmp(&blocks.result[b], &scalar.result[b], sizeof(BondSet::Result)), 0)
+          << "bond " << b << " step " << step;
+  }
+}
+
+TEST(BondBlocks, UndampedGiveTheScalarLoopsBits) {
+  expect_blocks_match_the_scalar_loop(0.0);
+}
+TEST(BondBlocks, DampedGiveTheScalarLoopsBits) {
+  expect_blocks_match_the_scalar_loop(0.315);
 }
 
 }  // namespace
