@@ -188,26 +188,10 @@ namespace {
 // mean spin θ = dt (ωi + ωj)·n / 2 about n (as Yade's ScGeom twists its shear force):
 //   v ← |v| (v⊥ + τ n × v) / |v⊥ + τ n × v|,   v⊥ = v - (v·n) n,   τ = tan θ,
 // a turn by θ within the plane whatever τ. n × v is normal to v⊥ and as long, so the norm is
-// √(1 + τ²) |v⊥|: the one division and square root of the projection serve the turn too.
+// √(1 + τ²) |v⊥|: the one division and square root of the projection serve the turn too. No
+// branch, so that the blocks vectorize: a zero v stays zero (its along, t2 and scale are zero).
 inline void turn_with_pair(double v[3], const double n[3], double tan_spin,
                            double one_plus_tan_spin2) {
-  const double length2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-  if (length2 == 0.0) return;
-  const double along = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-  // |v⊥|² = |v|² - (v·n)²: v was normal to last step's n, so (v·n)² is tiny next to |v|² and the
-  // difference loses nothing.
-  const double t2 = length2 - along * along;
-  const double scale = t2 > 0.0 ? std::sqrt(length2 / (t2 * one_plus_tan_spin2)) : 0.0;
-  const double spun[3] = {n[1] * v[2] - n[2] * v[1], n[2] * v[0] - n[0] * v[2],
-                          n[0] * v[1] - n[1] * v[0]};
-  for (int k = 0; k < 3; ++k)
-    v[k] = (v[k] - along * n[k] + tan_spin * spun[k]) * scale;
-}
-
-// turn_with_pair without its early return, for the vectorized blocks: a zero v stays zero (its
-// along, t2 and scale are all zero).
-inline void turn_with_pair_lane(double v[3], const double n[3], double tan_spin,
-                                double one_plus_tan_spin2) {
   const double length2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
   const double along = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
   const double t2 = length2 - along * along;
@@ -235,133 +219,159 @@ inline void relative_motion(const double vi[3], const double wi[3], const double
     w[k] = wj[k] - wi[k];
 }
 
-// Bonds [begin, end) of compute_bond_forces, one thread's share. The bond loop is most of a BMS
-// plate run, so it is one long loop body with every array behind a restrict pointer hoisted out
-// of the loop and the bond's history in locals: the compiler then keeps the loop in registers
-// and does not reload through the BondSet (docs/models.md, "Where the time goes").
+// One bond's step, shared by the scalar loop and the vectorized blocks so that both give the
+// same bits. `e`: the ends' half-step velocities and spins (those that moved the spheres) for
+// the increments of shear, twist and bending; the normal force follows the exact change of
+// length (so also at the first evaluation). The history turns with the pair, so a rigid turn
+// leaves Fs and Mb fixed in the bodies.
+struct BondEnds {
+  double vi[3], wi[3], vj[3], wj[3];
+};
+struct BondSprings {
+  double length, fn, fs[3], mt, mb[3];
+};
+[[gnu::always_inline]] inline void advance_springs(BondSprings& h, double d, const double n[3],
+                                                   double rci, double rcj, const BondEnds& e,
+                                                   double kn, double ks, double kt, double kb,
+                                                   double increment_dt) {
+  double v[3], w[3];
+  relative_motion(e.vi, e.wi, e.vj, e.wj, n, rci, rcj, v, w);
+  // θ, the pair's mean spin about the bond over the step (turn_with_pair).
+  const double spin =
+      0.5 * increment_dt *
+      ((e.wi[0] + e.wj[0]) * n[0] + (e.wi[1] + e.wj[1]) * n[1] + (e.wi[2] + e.wj[2]) * n[2]);
+  h.fn = h.fn - kn * (d - h.length);
+  h.length = d;
+  // tan θ ≈ θ (1 + θ²/3): the turn's angle is atan of it, θ - 2θ⁵/15, without a tangent here.
+  const double tan_spin = spin * (1.0 + spin * spin * (1.0 / 3.0));
+  const double one_plus_tan_spin2 = 1.0 + tan_spin * tan_spin;
+  turn_with_pair(h.fs, n, tan_spin, one_plus_tan_spin2);
+  turn_with_pair(h.mb, n, tan_spin, one_plus_tan_spin2);
+  const double vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+  const double wt = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
+  const double ks_dt = ks * increment_dt, kb_dt = kb * increment_dt;
+  for (int c = 0; c < 3; ++c) {
+    h.fs[c] -= ks_dt * (v[c] - vn * n[c]);
+    h.mb[c] -= kb_dt * (w[c] - wt * n[c]);
+  }
+  h.mt = h.mt - kt * increment_dt * wt;
+}
+
+// The bond's force on `second` and the torques on its ends from its springs, with the dampers
+// `damping` (normal, shear, twist, bending) on the predicted end-of-step motion `predicted`, as
+// the contact law's (forces.cpp). `separation`: x_second - x_first.
+template <bool damped>
+[[gnu::always_inline]] inline void bond_result(BondSet::Result& out, const BondSprings& h,
+                                               const double separation[3], const double n[3],
+                                               double rci, double rcj, const BondEnds& predicted,
+                                               const double damping[4]) {
+  double force[3], moment[3];
+  for (int c = 0; c < 3; ++c) {
+    force[c] = h.fn * n[c] + h.fs[c];
+    moment[c] = h.mt * n[c] + h.mb[c];
+  }
+  if constexpr (damped) {
+    double dv[3], dw[3];
+    relative_motion(predicted.vi, predicted.wi, predicted.vj, predicted.wj, n, rci, rcj, dv, dw);
+    const double cn = damping[0], cs = damping[1], ct = damping[2], cb = damping[3];
+    const double dvn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+    const double dwt = dw[0] * n[0] + dw[1] * n[1] + dw[2] * n[2];
+    for (int c = 0; c < 3; ++c) {
+      force[c] -= cn * dvn * n[c] + cs * (dv[c] - dvn * n[c]);
+      moment[c] -= ct * dwt * n[c] + cb * (dw[c] - dwt * n[c]);
+    }
+  }
+  const double cx = n[1] * force[2] - n[2] * force[1];
+  const double cy = n[2] * force[0] - n[0] * force[2];
+  const double cz = n[0] * force[1] - n[1] * force[0];
+  for (int c = 0; c < 3; ++c)
+    out.force[c] = force[c];
+  out.separation_force =
+      separation[0] * force[0] + separation[1] * force[1] + separation[2] * force[2];
+  out.torque_first[0] = -rci * cx - moment[0];
+  out.torque_first[1] = -rci * cy - moment[1];
+  out.torque_first[2] = -rci * cz - moment[2];
+  out.torque_second[0] = -rcj * cx + moment[0];
+  out.torque_second[1] = -rcj * cy + moment[1];
+  out.torque_second[2] = -rcj * cz + moment[2];
+}
+
+// Bonds [begin, end) of compute_bond_forces, one thread's share, one bond at a time: the loop for
+// breakable bonds and for mixed dampers (the others go through bond_blocks_range).
 // An AVX2 clone is picked at load time where the CPU has it: the same scalar IEEE operations (no
-// FMA, so the same bits as the baseline x86-64 code), but three-operand instructions, which
-// spare the register copies of a loop this long.
+// FMA), but three-operand instructions, which spare the register copies of a loop this long.
 __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
     BondSet& bonds, const SphereState& s, const double* __restrict motion, const Box& box,
     double increment_dt, std::int64_t begin, std::int64_t end) {
   const BondSet::Constants* __restrict constants = bonds.constants.data();
-  const double* __restrict px = s.position.x.data();
-  const double* __restrict py = s.position.y.data();
-  const double* __restrict pz = s.position.z.data();
-  const double* __restrict vx = s.velocity.x.data();
-  const double* __restrict vy = s.velocity.y.data();
-  const double* __restrict vz = s.velocity.z.data();
-  const double* __restrict wx = s.angular_velocity.x.data();
-  const double* __restrict wy = s.angular_velocity.y.data();
-  const double* __restrict wz = s.angular_velocity.z.data();
   BondSet::History* __restrict history = bonds.history.data();
   std::uint8_t* __restrict intact = bonds.intact.data();
   BondSet::Result* __restrict result = bonds.result.data();
   const bool periodic_x = box.periodic_x(), periodic_y = box.periodic_y();
-  const bool breakable = bonds.breakable;
   for (std::int64_t b = begin; b < end; ++b) {
     if (!intact[b]) continue;
     const BondSet::Constants& k = constants[b];
     const std::size_t i = static_cast<std::size_t>(k.first);
     const std::size_t j = static_cast<std::size_t>(k.second);
-    double dx = px[j] - px[i], dy = py[j] - py[i];
-    const double dz = pz[j] - pz[i];
+    double separation[3] = {s.position.x[j] - s.position.x[i], s.position.y[j] - s.position.y[i],
+                            s.position.z[j] - s.position.z[i]};
     // Bonds join sub-spheres of one particle, smaller than half the box: the nearest image.
-    if (periodic_x) dx -= box.length_x * std::nearbyint(dx / box.length_x);
-    if (periodic_y) dy -= box.length_y * std::nearbyint(dy / box.length_y);
-    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (periodic_x) separation[0] -= box.length_x * std::nearbyint(separation[0] / box.length_x);
+    if (periodic_y) separation[1] -= box.length_y * std::nearbyint(separation[1] / box.length_y);
+    const double* x = separation;
+    const double d = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
     const double inverse_d = 1.0 / d;
-    const double n[3] = {dx * inverse_d, dy * inverse_d, dz * inverse_d};
+    const double n[3] = {x[0] * inverse_d, x[1] * inverse_d, x[2] * inverse_d};
     // The bond's centre divides the centre distance in the ratio of the radii (the contact point
     // of touching spheres).
     const double rci = d * k.arm_first, rcj = d * k.arm_second;
-    // Increments over the step: the exact change of length for the normal force (so also at the
-    // first evaluation); the half-step velocities (those that moved the spheres) for shear,
-    // twist and bending.
-    double v[3], w[3], spin;
-    {
-      const double vi[3] = {vx[i], vy[i], vz[i]}, vj[3] = {vx[j], vy[j], vz[j]};
-      const double wi[3] = {wx[i], wy[i], wz[i]}, wj[3] = {wx[j], wy[j], wz[j]};
-      relative_motion(vi, wi, vj, wj, n, rci, rcj, v, w);
-      // θ, the pair's mean spin about the bond over the step (turn_with_pair).
-      spin = 0.5 * increment_dt *
-             ((wi[0] + wj[0]) * n[0] + (wi[1] + wj[1]) * n[1] + (wi[2] + wj[2]) * n[2]);
-    }
-    BondSet::History& h = history[b];
-    double fn = h.normal_force - k.normal_spring * (d - h.length);
-    h.length = d;
-    double fs[3] = {h.shear_force[0], h.shear_force[1], h.shear_force[2]};
-    double mb[3] = {h.bend_moment[0], h.bend_moment[1], h.bend_moment[2]};
-    // The history turns with the pair, so a rigid turn leaves Fs and Mb fixed in the bodies.
-    // tan θ ≈ θ (1 + θ²/3): the turn's angle is atan of it, θ - 2θ⁵/15, without a tangent here.
-    const double tan_spin = spin * (1.0 + spin * spin * (1.0 / 3.0));
-    const double one_plus_tan_spin2 = 1.0 + tan_spin * tan_spin;
-    turn_with_pair(fs, n, tan_spin, one_plus_tan_spin2);
-    turn_with_pair(mb, n, tan_spin, one_plus_tan_spin2);
-    const double vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-    const double wt = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
-    const double ks_dt = k.shear_spring * increment_dt, kb_dt = k.bend_spring * increment_dt;
-    for (int c = 0; c < 3; ++c) {
-      fs[c] -= ks_dt * (v[c] - vn * n[c]);
-      mb[c] -= kb_dt * (w[c] - wt * n[c]);
-    }
-    double mt = h.twist_moment - k.twist_spring * increment_dt * wt;
-    if (breakable) {
+    const BondEnds ends{
+        {s.velocity.x[i], s.velocity.y[i], s.velocity.z[i]},
+        {s.angular_velocity.x[i], s.angular_velocity.y[i], s.angular_velocity.z[i]},
+        {s.velocity.x[j], s.velocity.y[j], s.velocity.z[j]},
+        {s.angular_velocity.x[j], s.angular_velocity.y[j], s.angular_velocity.z[j]}};
+    BondSet::History& stored = history[b];
+    BondSprings h{stored.length, stored.normal_force, {}, stored.twist_moment, {}};
+    for (int c = 0; c < 3; ++c)
+      h.fs[c] = stored.shear_force[c], h.mb[c] = stored.bend_moment[c];
+    advance_springs(h, d, n, rci, rcj, ends, k.normal_spring, k.shear_spring, k.twist_spring,
+                    k.bend_spring, increment_dt);
+    if (bonds.breakable) {
       // Strength (P&C 2004 Eq. 11): the elastic forces only.
       const double r = bonds.radius[b];
       const double area = std::numbers::pi * r * r;
       const double bend_inertia = 0.25 * std::numbers::pi * r * r * r * r;
-      const double fs_norm = std::sqrt(fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2]);
-      const double mb_norm = std::sqrt(mb[0] * mb[0] + mb[1] * mb[1] + mb[2] * mb[2]);
-      const double sigma = -fn / area + mb_norm * r / bend_inertia;
-      const double tau = fs_norm / area + std::fabs(mt) * r / (2.0 * bend_inertia);
+      const double fs_norm = std::sqrt(h.fs[0] * h.fs[0] + h.fs[1] * h.fs[1] + h.fs[2] * h.fs[2]);
+      const double mb_norm = std::sqrt(h.mb[0] * h.mb[0] + h.mb[1] * h.mb[1] + h.mb[2] * h.mb[2]);
+      const double sigma = -h.fn / area + mb_norm * r / bend_inertia;
+      const double tau = fs_norm / area + std::fabs(h.mt) * r / (2.0 * bend_inertia);
       if (sigma >= bonds.tensile_strength[b] || tau >= bonds.shear_strength[b]) {
         // For good: the pair becomes a plain contact, and the zero result adds nothing to the
         // gather.
         intact[b] = 0;
-        fn = mt = 0.0;
-        fs[0] = fs[1] = fs[2] = mb[0] = mb[1] = mb[2] = 0.0;
+        h.fn = h.mt = 0.0;
+        for (int c = 0; c < 3; ++c)
+          h.fs[c] = h.mb[c] = 0.0;
       }
     }
-    h.normal_force = fn, h.twist_moment = mt;
+    stored.length = h.length, stored.normal_force = h.fn, stored.twist_moment = h.mt;
     for (int c = 0; c < 3; ++c)
-      h.shear_force[c] = fs[c], h.bend_moment[c] = mb[c];
-    BondSet::Result& out = result[b];
+      stored.shear_force[c] = h.fs[c], stored.bend_moment[c] = h.mb[c];
     if (!intact[b]) {
-      out = BondSet::Result{};
+      result[b] = BondSet::Result{};
       continue;
     }
-    double force[3], moment[3];
-    for (int c = 0; c < 3; ++c) {
-      force[c] = fn * n[c] + fs[c];
-      moment[c] = mt * n[c] + mb[c];
-    }
     if (k.damping[0] > 0.0) {
-      // Dampers on the predicted end-of-step motion, as the contact law's (forces.cpp).
       const double* mi = motion + 8 * i;
       const double* mj = motion + 8 * j;
-      double dv[3], dw[3];
-      relative_motion(mi, mi + 3, mj, mj + 3, n, rci, rcj, dv, dw);
-      const double cn = k.damping[0], cs = k.damping[1], ct = k.damping[2], cb = k.damping[3];
-      const double dvn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
-      const double dwt = dw[0] * n[0] + dw[1] * n[1] + dw[2] * n[2];
-      for (int c = 0; c < 3; ++c) {
-        force[c] -= cn * dvn * n[c] + cs * (dv[c] - dvn * n[c]);
-        moment[c] -= ct * dwt * n[c] + cb * (dw[c] - dwt * n[c]);
-      }
+      const BondEnds predicted{{mi[0], mi[1], mi[2]},
+                               {mi[3], mi[4], mi[5]},
+                               {mj[0], mj[1], mj[2]},
+                               {mj[3], mj[4], mj[5]}};
+      bond_result<true>(result[b], h, x, n, rci, rcj, predicted, k.damping);
+    } else {
+      bond_result<false>(result[b], h, x, n, rci, rcj, ends, k.damping);
     }
-    const double cx = n[1] * force[2] - n[2] * force[1];
-    const double cy = n[2] * force[0] - n[0] * force[2];
-    const double cz = n[0] * force[1] - n[1] * force[0];
-    out.force[0] = force[0], out.force[1] = force[1], out.force[2] = force[2];
-    out.separation_force = dx * force[0] + dy * force[1] + dz * force[2];
-    out.torque_first[0] = -rci * cx - moment[0];
-    out.torque_first[1] = -rci * cy - moment[1];
-    out.torque_first[2] = -rci * cz - moment[2];
-    out.torque_second[0] = -rcj * cx + moment[0];
-    out.torque_second[1] = -rcj * cy + moment[1];
-    out.torque_second[2] = -rcj * cz + moment[2];
   }
 }
 
@@ -388,73 +398,42 @@ struct alignas(64) BondBlock {
 template <bool damped>
 [[gnu::always_inline]] inline void bond_block_lanes(BondBlock& k, int lanes, double increment_dt) {
   for (int l = 0; l < lanes; ++l) {
-    const double dx = k.dx[l], dy = k.dy[l], dz = k.dz[l];
-    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double x[3] = {k.dx[l], k.dy[l], k.dz[l]};
+    const double d = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
     const double inverse_d = 1.0 / d;
-    const double n[3] = {dx * inverse_d, dy * inverse_d, dz * inverse_d};
+    const double n[3] = {x[0] * inverse_d, x[1] * inverse_d, x[2] * inverse_d};
     const double rci = d * k.arm_first[l], rcj = d * k.arm_second[l];
-    double v[3], w[3];
-    {
-      const double vi[3] = {k.vi[0][l], k.vi[1][l], k.vi[2][l]};
-      const double vj[3] = {k.vj[0][l], k.vj[1][l], k.vj[2][l]};
-      const double wi[3] = {k.wi[0][l], k.wi[1][l], k.wi[2][l]};
-      const double wj[3] = {k.wj[0][l], k.wj[1][l], k.wj[2][l]};
-      relative_motion(vi, wi, vj, wj, n, rci, rcj, v, w);
-    }
-    const double spin = 0.5 * increment_dt *
-                        ((k.wi[0][l] + k.wj[0][l]) * n[0] + (k.wi[1][l] + k.wj[1][l]) * n[1] +
-                         (k.wi[2][l] + k.wj[2][l]) * n[2]);
-    double fn = k.fn[l] - k.kn[l] * (d - k.length[l]);
-    k.length[l] = d;
-    double fs[3] = {k.fs[0][l], k.fs[1][l], k.fs[2][l]};
-    double mb[3] = {k.mb[0][l], k.mb[1][l], k.mb[2][l]};
-    const double tan_spin = spin * (1.0 + spin * spin * (1.0 / 3.0));
-    const double one_plus_tan_spin2 = 1.0 + tan_spin * tan_spin;
-    turn_with_pair_lane(fs, n, tan_spin, one_plus_tan_spin2);
-    turn_with_pair_lane(mb, n, tan_spin, one_plus_tan_spin2);
-    const double vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-    const double wt = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
-    const double ks_dt = k.ks[l] * increment_dt, kb_dt = k.kb[l] * increment_dt;
-    for (int c = 0; c < 3; ++c) {
-      fs[c] -= ks_dt * (v[c] - vn * n[c]);
-      mb[c] -= kb_dt * (w[c] - wt * n[c]);
-    }
-    const double mt = k.mt[l] - k.kt[l] * increment_dt * wt;
-    k.fn[l] = fn, k.mt[l] = mt;
+    const BondEnds ends{{k.vi[0][l], k.vi[1][l], k.vi[2][l]},
+                        {k.wi[0][l], k.wi[1][l], k.wi[2][l]},
+                        {k.vj[0][l], k.vj[1][l], k.vj[2][l]},
+                        {k.wj[0][l], k.wj[1][l], k.wj[2][l]}};
+    BondSprings h{k.length[l],
+                  k.fn[l],
+                  {k.fs[0][l], k.fs[1][l], k.fs[2][l]},
+                  k.mt[l],
+                  {k.mb[0][l], k.mb[1][l], k.mb[2][l]}};
+    advance_springs(h, d, n, rci, rcj, ends, k.kn[l], k.ks[l], k.kt[l], k.kb[l], increment_dt);
+    k.length[l] = h.length, k.fn[l] = h.fn, k.mt[l] = h.mt;
     for (int c = 0; c < 3; ++c)
-      k.fs[c][l] = fs[c], k.mb[c][l] = mb[c];
-    double force[3], moment[3];
-    for (int c = 0; c < 3; ++c) {
-      force[c] = fn * n[c] + fs[c];
-      moment[c] = mt * n[c] + mb[c];
-    }
+      k.fs[c][l] = h.fs[c], k.mb[c][l] = h.mb[c];
+    BondSet::Result out;
     if constexpr (damped) {
-      double dv[3], dw[3];
-      const double mvi[3] = {k.mvi[0][l], k.mvi[1][l], k.mvi[2][l]};
-      const double mvj[3] = {k.mvj[0][l], k.mvj[1][l], k.mvj[2][l]};
-      const double mwi[3] = {k.mwi[0][l], k.mwi[1][l], k.mwi[2][l]};
-      const double mwj[3] = {k.mwj[0][l], k.mwj[1][l], k.mwj[2][l]};
-      relative_motion(mvi, mwi, mvj, mwj, n, rci, rcj, dv, dw);
-      const double cn = k.cn[l], cs = k.cs[l], ct = k.ct[l], cb = k.cb[l];
-      const double dvn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
-      const double dwt = dw[0] * n[0] + dw[1] * n[1] + dw[2] * n[2];
-      for (int c = 0; c < 3; ++c) {
-        force[c] -= cn * dvn * n[c] + cs * (dv[c] - dvn * n[c]);
-        moment[c] -= ct * dwt * n[c] + cb * (dw[c] - dwt * n[c]);
-      }
+      const double damping[4] = {k.cn[l], k.cs[l], k.ct[l], k.cb[l]};
+      const BondEnds predicted{{k.mvi[0][l], k.mvi[1][l], k.mvi[2][l]},
+                               {k.mwi[0][l], k.mwi[1][l], k.mwi[2][l]},
+                               {k.mvj[0][l], k.mvj[1][l], k.mvj[2][l]},
+                               {k.mwj[0][l], k.mwj[1][l], k.mwj[2][l]}};
+      bond_result<true>(out, h, x, n, rci, rcj, predicted, damping);
+    } else {
+      const double none[4] = {0.0, 0.0, 0.0, 0.0};
+      bond_result<false>(out, h, x, n, rci, rcj, ends, none);
     }
-    const double cx = n[1] * force[2] - n[2] * force[1];
-    const double cy = n[2] * force[0] - n[0] * force[2];
-    const double cz = n[0] * force[1] - n[1] * force[0];
-    for (int c = 0; c < 3; ++c)
-      k.force[c][l] = force[c];
-    k.separation_force[l] = dx * force[0] + dy * force[1] + dz * force[2];
-    k.torque_first[0][l] = -rci * cx - moment[0];
-    k.torque_first[1][l] = -rci * cy - moment[1];
-    k.torque_first[2][l] = -rci * cz - moment[2];
-    k.torque_second[0][l] = -rcj * cx + moment[0];
-    k.torque_second[1][l] = -rcj * cy + moment[1];
-    k.torque_second[2][l] = -rcj * cz + moment[2];
+    for (int c = 0; c < 3; ++c) {
+      k.force[c][l] = out.force[c];
+      k.torque_first[c][l] = out.torque_first[c];
+      k.torque_second[c][l] = out.torque_second[c];
+    }
+    k.separation_force[l] = out.separation_force;
   }
 }
 
