@@ -469,9 +469,7 @@ void Engine::bond_substep_forces(double dt, double kick) {
 }
 
 void Engine::slow_forces(double kick) {
-  bond_forces_in_gather_ = false;
-  gather_forces(kick);
-  bond_forces_in_gather_ = true;
+  gather_forces(kick, false);  // the bonds have their own kicks
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
   double* slow = slow_force_.data();

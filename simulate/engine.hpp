@@ -199,16 +199,17 @@ class Engine {
   void slow_forces(double kick);
   void pack_spheres();  // geometry_ and motion_ from the state (step() fuses this into its drift)
   void pair_forces();
-  void index_bonded_pairs();        // pair_bond_ for the current list
-  void index_cross_chunk_pairs();   // cross_second_end_ for the current list
-  void find_wall_candidates();      // wall_candidates_ at a list build
-  void gather_forces(double kick);  // per sphere: its contacts in fixed order, walls, gravity
+  void index_bonded_pairs();       // pair_bond_ for the current list
+  void index_cross_chunk_pairs();  // cross_second_end_ for the current list
+  void find_wall_candidates();     // wall_candidates_ at a list build
+  // Per sphere: its contacts in fixed order, its bonds (unless `with_bonds` is false: bond
+  // sub-steps kick them on their own), walls, gravity.
+  void gather_forces(double kick, bool with_bonds = true);
   // Law: one of NormalLaws, or AnyNormalLaw (contact_law.hpp) for a scene mixing laws.
   template <bool stress_on, class Law>
   void pair_forces_with();
   template <bool stress_on, bool damped, class Law>
-  void gather_forces_with(double kick);
-  bool bond_forces_in_gather_ = true;  // false while substepping: the bonds have their own kicks
+  void gather_forces_with(double kick, bool with_bonds);
   void require_material_pairs() const;
   void require_bond_substeps();  // and sizes the force shares
   void enable_particle_stress();

@@ -92,17 +92,17 @@ void Engine::pair_forces() {
   });
 }
 
-void Engine::gather_forces(double kick) {
+void Engine::gather_forces(double kick, bool with_bonds) {
   // Local damping is a template argument: a test per sphere made the undamped gather 7 % longer
   // (callgrind, bench scene).
   const bool damped = settings_.local_damping > 0.0;
   with_scene_law(materials_, [&]<class Law>() {
     if (particle_stress_on_)
-      damped ? gather_forces_with<true, true, Law>(kick)
-             : gather_forces_with<true, false, Law>(kick);
+      damped ? gather_forces_with<true, true, Law>(kick, with_bonds)
+             : gather_forces_with<true, false, Law>(kick, with_bonds);
     else
-      damped ? gather_forces_with<false, true, Law>(kick)
-             : gather_forces_with<false, false, Law>(kick);
+      damped ? gather_forces_with<false, true, Law>(kick, with_bonds)
+             : gather_forces_with<false, false, Law>(kick, with_bonds);
   });
 }
 
@@ -285,7 +285,7 @@ void Engine::pair_forces_with() {
 }
 
 template <bool stress_on, bool damped, class Law>
-void Engine::gather_forces_with(double kick) {
+void Engine::gather_forces_with(double kick, bool with_bonds) {
   SphereState& s = state_;
   const std::int64_t n = static_cast<std::int64_t>(s.size());
   const std::size_t wall_count = walls_.size();
@@ -357,7 +357,6 @@ void Engine::gather_forces_with(double kick) {
   double* __restrict chunk_force = wall_chunk_force_.data();
   std::int64_t* __restrict chunk_contacts = wall_chunk_contacts_.data();
   const bool has_bonds = !bonds_.empty();
-  const bool bonds_in_force = bond_forces_in_gather_;
   const int threads = n >= parallel_min_spheres ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads)
   {
@@ -411,7 +410,7 @@ void Engine::gather_forces_with(double kick) {
           }
         }
         if (has_bonds) {
-          if (bonds_in_force) gather_bond_forces(bonds_, i, f, t);
+          if (with_bonds) gather_bond_forces(bonds_, i, f, t);
           // A bonded sub-sphere's stress includes its bonds (models.md, "Stress of a bonded
           // sub-sphere"): summed over a body's sub-spheres the bond terms leave the body's stress
           // from its external contacts.

@@ -26,17 +26,15 @@ struct Bed {
   int per_side = 6, layers = 4;
 };
 
-testing::CompactionScene scene(int bond_substeps, const std::string& punch, Bed size,
-                               const std::string& fraction = "0.1") {
+testing::CompactionScene scene(int bond_substeps, const std::string& punch, Bed size) {
   const double r = 20e-6, pitch = 6.0;
   const BodyPacking bed = shapepress::testing::cluster_bed(BodyKind::bms, r, size.per_side,
                                                            size.layers, 11, 0.0, pitch);
   const std::string side = std::to_string(size.per_side * pitch * r * 1e6) + " um";
   const ConfigTable root = ConfigTable::parse(
       shapepress::testing::test_data_text("scenarios/bonded-bed-one-material.toml") +
-          "\n[box]\nx = \"" + side + "\"\ny = \"" + side +
-          "\"\n\n[run]\nbond_substeps = " + std::to_string(bond_substeps) +
-          "\ntime_step_fraction = " + fraction + "\n\n[punch]\n" + punch,
+          "\n[box]\nx = \"" + side + "\"\ny = \"" + side + "\"\n\n[run]\nbond_substeps = " +
+          std::to_string(bond_substeps) + "\ntime_step_fraction = 0.1\n\n[punch]\n" + punch,
       "bonded-bed-one-material");
   return testing::scene_from(prepare_compaction(read_compact_config(root), bed));
 }
@@ -91,12 +89,12 @@ struct Curve {
 };
 
 // 48 clusters (624 sub-spheres) pressed to 20 % strain at 2 m/s and unloaded at the same speed.
-Curve pressed_and_released_curve(int bond_substeps, const std::string& fraction = "0.1") {
+Curve pressed_and_released_curve(int bond_substeps) {
   testing::CompactionScene s =
       scene(bond_substeps,
             "mode = \"displacement\"\nspeed = \"2 m/s\"\ntarget_strain = 0.2\n"
             "unload_speed = \"2 m/s\"\n",
-            Bed{4, 3}, fraction);
+            Bed{4, 3});
   s.setup.record_every = 1;
   Curve curve;
   CompactionHooks hooks;
