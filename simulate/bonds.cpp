@@ -40,6 +40,19 @@ void BondParameters::check() const {
     throw InputError(fmt::format("bond damping ratio {} must be in [0, 1]", damping_ratio));
 }
 
+void BondSet::History::resize(std::size_t n) {
+  for (auto* array : {&length, &normal_force, &twist_moment})
+    array->resize(n, 0.0);
+  shear_force.x.resize(n, 0.0), shear_force.y.resize(n, 0.0), shear_force.z.resize(n, 0.0);
+  bend_moment.x.resize(n, 0.0), bend_moment.y.resize(n, 0.0), bend_moment.z.resize(n, 0.0);
+}
+
+void BondSet::Results::resize(std::size_t n) {
+  for (Vec3Array* v : {&force, &torque[0], &torque[1]})
+    v->resize(n);
+  separation_force.assign(n, 0.0);
+}
+
 std::int64_t BondSet::intact_count() const {
   std::int64_t n = 0;
   for (std::uint8_t b : intact)
@@ -63,8 +76,13 @@ void BondSet::index(const SphereState& state) {
     gather[static_cast<std::size_t>(fill[static_cast<std::size_t>(first[b])]++)] = entry;
     gather[static_cast<std::size_t>(fill[static_cast<std::size_t>(second[b])]++)] = entry + 1;
   }
-  result.assign(size(), Result{});
-  constants.assign(size(), Constants{});
+  result.resize(size());
+  for (auto* array : {&constants.arm[0], &constants.arm[1]})
+    array->assign(size(), 0.0);
+  for (std::size_t mode = 0; mode < 4; ++mode) {
+    constants.spring[mode].assign(size(), 0.0);
+    constants.damping[mode].assign(size(), 0.0);
+  }
   breakable = false;
   std::size_t with_dampers = 0;
   for (std::size_t b = 0; b < size(); ++b) {
@@ -72,19 +90,17 @@ void BondSet::index(const SphereState& state) {
     with_dampers += damping_ratio[b] > 0.0;
     const auto i = static_cast<std::size_t>(first[b]), j = static_cast<std::size_t>(second[b]);
     const double ri = state.radius[i], rj = state.radius[j];
-    Constants& k = constants[b];
-    k.first = first[b], k.second = second[b];
-    k.arm_first = ri / (ri + rj), k.arm_second = rj / (ri + rj);
-    k.normal_spring = normal_spring[b], k.shear_spring = shear_spring[b];
-    k.twist_spring = twist_spring[b], k.bend_spring = bend_spring[b];
+    constants.arm[0][b] = ri / (ri + rj), constants.arm[1][b] = rj / (ri + rj);
+    const double spring[4] = {normal_spring[b], shear_spring[b], twist_spring[b], bend_spring[b]};
+    for (std::size_t mode = 0; mode < 4; ++mode)
+      constants.spring[mode][b] = spring[mode];
     const double zeta = damping_ratio[b];
     if (zeta <= 0.0) continue;
     const double m_eff = 1.0 / (state.inverse_mass[i] + state.inverse_mass[j]);
     const double i_eff = 1.0 / (state.inverse_inertia[i] + state.inverse_inertia[j]);
-    k.damping[0] = 2.0 * zeta * std::sqrt(normal_spring[b] * m_eff);
-    k.damping[1] = 2.0 * zeta * std::sqrt(shear_spring[b] * m_eff);
-    k.damping[2] = 2.0 * zeta * std::sqrt(twist_spring[b] * i_eff);
-    k.damping[3] = 2.0 * zeta * std::sqrt(bend_spring[b] * i_eff);
+    const double inertia[4] = {m_eff, m_eff, i_eff, i_eff};
+    for (std::size_t mode = 0; mode < 4; ++mode)
+      constants.damping[mode][b] = 2.0 * zeta * std::sqrt(spring[mode] * inertia[mode]);
   }
   damped = with_dampers > 0 && with_dampers == size();
   damping_mix = with_dampers > 0 && with_dampers < size();
@@ -120,9 +136,10 @@ void add_bond(BondSet& bonds, const SphereState& s, std::int32_t i, std::int32_t
   bonds.tensile_strength.push_back(p.tensile_strength);
   bonds.shear_strength.push_back(p.shear_strength);
   bonds.damping_ratio.push_back(p.damping_ratio);
-  BondSet::History h;
-  h.length = centre_distance(s, static_cast<std::size_t>(i), static_cast<std::size_t>(j));
-  bonds.history.push_back(h);
+  const std::size_t b = bonds.history.size();
+  bonds.history.resize(b + 1);
+  bonds.history.length[b] =
+      centre_distance(s, static_cast<std::size_t>(i), static_cast<std::size_t>(j));
   bonds.intact.push_back(1);
 }
 
@@ -257,11 +274,109 @@ struct BondSprings {
   h.mt = h.mt - kt * increment_dt * wt;
 }
 
+// The arrays of a BondSet that the bond loop reads and writes, from one bond on: the history,
+// the constants and the results (bonds.hpp). Each is distinct (a vector of its own), which
+// restrict tells the compiler: passed by value, the blocks load and store them as vectors
+// without checks for overlap. (GCC takes restrict from named members, not from arrays of them.)
+struct BondArrays {
+  double* __restrict length;
+  double* __restrict normal_force;
+  double* __restrict shear_x;
+  double* __restrict shear_y;
+  double* __restrict shear_z;
+  double* __restrict twist_moment;
+  double* __restrict bend_x;
+  double* __restrict bend_y;
+  double* __restrict bend_z;
+  const double* __restrict arm_first;
+  const double* __restrict arm_second;
+  const double* __restrict normal_spring;
+  const double* __restrict shear_spring;
+  const double* __restrict twist_spring;
+  const double* __restrict bend_spring;
+  const double* __restrict normal_damping;
+  const double* __restrict shear_damping;
+  const double* __restrict twist_damping;
+  const double* __restrict bend_damping;
+  double* __restrict force_x;
+  double* __restrict force_y;
+  double* __restrict force_z;
+  double* __restrict torque_first_x;
+  double* __restrict torque_first_y;
+  double* __restrict torque_first_z;
+  double* __restrict torque_second_x;
+  double* __restrict torque_second_y;
+  double* __restrict torque_second_z;
+  double* __restrict separation_force;
+
+  explicit BondArrays(BondSet& bonds)
+      : length(bonds.history.length.data()),
+        normal_force(bonds.history.normal_force.data()),
+        shear_x(bonds.history.shear_force.x.data()),
+        shear_y(bonds.history.shear_force.y.data()),
+        shear_z(bonds.history.shear_force.z.data()),
+        twist_moment(bonds.history.twist_moment.data()),
+        bend_x(bonds.history.bend_moment.x.data()),
+        bend_y(bonds.history.bend_moment.y.data()),
+        bend_z(bonds.history.bend_moment.z.data()),
+        arm_first(bonds.constants.arm[0].data()),
+        arm_second(bonds.constants.arm[1].data()),
+        normal_spring(bonds.constants.spring[0].data()),
+        shear_spring(bonds.constants.spring[1].data()),
+        twist_spring(bonds.constants.spring[2].data()),
+        bend_spring(bonds.constants.spring[3].data()),
+        normal_damping(bonds.constants.damping[0].data()),
+        shear_damping(bonds.constants.damping[1].data()),
+        twist_damping(bonds.constants.damping[2].data()),
+        bend_damping(bonds.constants.damping[3].data()),
+        force_x(bonds.result.force.x.data()),
+        force_y(bonds.result.force.y.data()),
+        force_z(bonds.result.force.z.data()),
+        torque_first_x(bonds.result.torque[0].x.data()),
+        torque_first_y(bonds.result.torque[0].y.data()),
+        torque_first_z(bonds.result.torque[0].z.data()),
+        torque_second_x(bonds.result.torque[1].x.data()),
+        torque_second_y(bonds.result.torque[1].y.data()),
+        torque_second_z(bonds.result.torque[1].z.data()),
+        separation_force(bonds.result.separation_force.data()) {}
+
+  // The same arrays from bond b on.
+  BondArrays from(std::int64_t b) const {
+    BondArrays a = *this;
+    for (double* __restrict* p :
+         {&a.length, &a.normal_force, &a.shear_x, &a.shear_y, &a.shear_z, &a.twist_moment,
+          &a.bend_x, &a.bend_y, &a.bend_z, &a.force_x, &a.force_y, &a.force_z, &a.torque_first_x,
+          &a.torque_first_y, &a.torque_first_z, &a.torque_second_x, &a.torque_second_y,
+          &a.torque_second_z, &a.separation_force})
+      *p += b;
+    for (const double* __restrict* p :
+         {&a.arm_first, &a.arm_second, &a.normal_spring, &a.shear_spring, &a.twist_spring,
+          &a.bend_spring, &a.normal_damping, &a.shear_damping, &a.twist_damping, &a.bend_damping})
+      *p += b;
+    return a;
+  }
+  BondSprings springs(std::int64_t b) const {
+    return {length[b],
+            normal_force[b],
+            {shear_x[b], shear_y[b], shear_z[b]},
+            twist_moment[b],
+            {bend_x[b], bend_y[b], bend_z[b]}};
+  }
+  void store(std::int64_t b, const BondSprings& h) const {
+    length[b] = h.length, normal_force[b] = h.fn, twist_moment[b] = h.mt;
+    shear_x[b] = h.fs[0], shear_y[b] = h.fs[1], shear_z[b] = h.fs[2];
+    bend_x[b] = h.mb[0], bend_y[b] = h.mb[1], bend_z[b] = h.mb[2];
+  }
+};
+
 // The bond's force on `second` and the torques on its ends from its springs, with the dampers
 // `damping` (normal, shear, twist, bending) on the predicted end-of-step motion `predicted`, as
 // the contact law's (forces.cpp). `separation`: x_second - x_first.
+struct BondResult {
+  double force[3], torque_first[3], torque_second[3], separation_force;
+};
 template <bool damped>
-[[gnu::always_inline]] inline void bond_result(BondSet::Result& out, const BondSprings& h,
+[[gnu::always_inline]] inline void bond_result(BondResult& out, const BondSprings& h,
                                                const double separation[3], const double n[3],
                                                double rci, double rcj, const BondEnds& predicted,
                                                const double damping[4]) {
@@ -296,6 +411,15 @@ template <bool damped>
   out.torque_second[2] = -rcj * cz + moment[2];
 }
 
+inline void store_result(const BondArrays& a, std::int64_t b, const BondResult& out) {
+  a.force_x[b] = out.force[0], a.force_y[b] = out.force[1], a.force_z[b] = out.force[2];
+  a.torque_first_x[b] = out.torque_first[0], a.torque_first_y[b] = out.torque_first[1];
+  a.torque_first_z[b] = out.torque_first[2];
+  a.torque_second_x[b] = out.torque_second[0], a.torque_second_y[b] = out.torque_second[1];
+  a.torque_second_z[b] = out.torque_second[2];
+  a.separation_force[b] = out.separation_force;
+}
+
 // Bonds [begin, end) of compute_bond_forces, one thread's share, one bond at a time: the loop for
 // breakable bonds and for mixed dampers (the others go through bond_blocks_range).
 // An AVX2 clone is picked at load time where the CPU has it: the same scalar IEEE operations (no
@@ -303,16 +427,15 @@ template <bool damped>
 __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
     BondSet& bonds, const SphereState& s, const double* __restrict motion, const Box& box,
     double increment_dt, std::int64_t begin, std::int64_t end) {
-  const BondSet::Constants* __restrict constants = bonds.constants.data();
-  BondSet::History* __restrict history = bonds.history.data();
+  const BondArrays a(bonds);
+  const std::int32_t* __restrict first = bonds.first.data();
+  const std::int32_t* __restrict second = bonds.second.data();
   std::uint8_t* __restrict intact = bonds.intact.data();
-  BondSet::Result* __restrict result = bonds.result.data();
   const bool periodic_x = box.periodic_x(), periodic_y = box.periodic_y();
   for (std::int64_t b = begin; b < end; ++b) {
     if (!intact[b]) continue;
-    const BondSet::Constants& k = constants[b];
-    const std::size_t i = static_cast<std::size_t>(k.first);
-    const std::size_t j = static_cast<std::size_t>(k.second);
+    const std::size_t i = static_cast<std::size_t>(first[b]);
+    const std::size_t j = static_cast<std::size_t>(second[b]);
     double separation[3] = {s.position.x[j] - s.position.x[i], s.position.y[j] - s.position.y[i],
                             s.position.z[j] - s.position.z[i]};
     // Bonds join sub-spheres of one particle, smaller than half the box: the nearest image.
@@ -324,18 +447,15 @@ __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
     const double n[3] = {x[0] * inverse_d, x[1] * inverse_d, x[2] * inverse_d};
     // The bond's centre divides the centre distance in the ratio of the radii (the contact point
     // of touching spheres).
-    const double rci = d * k.arm_first, rcj = d * k.arm_second;
+    const double rci = d * a.arm_first[b], rcj = d * a.arm_second[b];
     const BondEnds ends{
         {s.velocity.x[i], s.velocity.y[i], s.velocity.z[i]},
         {s.angular_velocity.x[i], s.angular_velocity.y[i], s.angular_velocity.z[i]},
         {s.velocity.x[j], s.velocity.y[j], s.velocity.z[j]},
         {s.angular_velocity.x[j], s.angular_velocity.y[j], s.angular_velocity.z[j]}};
-    BondSet::History& stored = history[b];
-    BondSprings h{stored.length, stored.normal_force, {}, stored.twist_moment, {}};
-    for (int c = 0; c < 3; ++c)
-      h.fs[c] = stored.shear_force[c], h.mb[c] = stored.bend_moment[c];
-    advance_springs(h, d, n, rci, rcj, ends, k.normal_spring, k.shear_spring, k.twist_spring,
-                    k.bend_spring, increment_dt);
+    BondSprings h = a.springs(b);
+    advance_springs(h, d, n, rci, rcj, ends, a.normal_spring[b], a.shear_spring[b],
+                    a.twist_spring[b], a.bend_spring[b], increment_dt);
     if (bonds.breakable) {
       // Strength (P&C 2004 Eq. 11): the elastic forces only.
       const double r = bonds.radius[b];
@@ -354,71 +474,74 @@ __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
           h.fs[c] = h.mb[c] = 0.0;
       }
     }
-    stored.length = h.length, stored.normal_force = h.fn, stored.twist_moment = h.mt;
-    for (int c = 0; c < 3; ++c)
-      stored.shear_force[c] = h.fs[c], stored.bend_moment[c] = h.mb[c];
+    a.store(b, h);
+    BondResult out{};
     if (!intact[b]) {
-      result[b] = BondSet::Result{};
+      store_result(a, b, out);
       continue;
     }
-    if (k.damping[0] > 0.0) {
+    const double damping[4] = {a.normal_damping[b], a.shear_damping[b], a.twist_damping[b],
+                               a.bend_damping[b]};
+    if (damping[0] > 0.0) {
       const double* mi = motion + 8 * i;
       const double* mj = motion + 8 * j;
       const BondEnds predicted{{mi[0], mi[1], mi[2]},
                                {mi[3], mi[4], mi[5]},
                                {mj[0], mj[1], mj[2]},
                                {mj[3], mj[4], mj[5]}};
-      bond_result<true>(result[b], h, x, n, rci, rcj, predicted, k.damping);
+      bond_result<true>(out, h, x, n, rci, rcj, predicted, damping);
     } else {
-      bond_result<false>(result[b], h, x, n, rci, rcj, ends, k.damping);
+      bond_result<false>(out, h, x, n, rci, rcj, ends, damping);
     }
+    store_result(a, b, out);
   }
 }
 
-// Unbreakable bonds over blocks of `bond_block_capacity` laid out as arrays, so that the compiler
-// vectorizes bond_forces_range's arithmetic across bonds: copied in, computed lane by lane with
-// the scalar loop's IEEE operations in its order (no FMA, no reassociation: the same bits as
-// bond_forces_range, tests/unit/simulate/bonds_test.cpp), then copied out. `damped`: every bond
-// has dampers (BondSet::Constants::damping[0] > 0), or none has.
+// Unbreakable bonds over blocks of `bond_block_capacity`, so that the compiler vectorizes
+// bond_forces_range's arithmetic across bonds: the ends' positions and motion gathered into a
+// block laid out as arrays, then computed lane by lane with the scalar loop's IEEE operations in
+// its order (no FMA, no reassociation: the same bits as bond_forces_range,
+// tests/unit/simulate/bonds_test.cpp), reading and writing the history, constants and results
+// in place. `damped`: every bond has dampers (BondSet::Constants::damping[0] > 0), or none has.
 constexpr int bond_block_capacity = 32;
 
-struct alignas(64) BondBlock {
+struct alignas(64) BondEndsBlock {
   static constexpr int capacity = bond_block_capacity;
   double dx[capacity], dy[capacity], dz[capacity];
   double vi[3][capacity], vj[3][capacity], wi[3][capacity], wj[3][capacity];
   double mvi[3][capacity], mvj[3][capacity], mwi[3][capacity], mwj[3][capacity];
-  double arm_first[capacity], arm_second[capacity];
-  double kn[capacity], ks[capacity], kt[capacity], kb[capacity];
-  double cn[capacity], cs[capacity], ct[capacity], cb[capacity];
-  double length[capacity], fn[capacity], fs[3][capacity], mt[capacity], mb[3][capacity];
-  double force[3][capacity], torque_first[3][capacity], torque_second[3][capacity];
-  double separation_force[capacity];
 };
 
+// `a` points at the block's first bond. Its arrays are read and written here in place, not
+// through BondArrays' helpers: a member call takes the struct's address, and GCC then no longer
+// trusts its restrict and leaves the loop scalar.
 template <bool damped>
-[[gnu::always_inline]] inline void bond_block_lanes(BondBlock& k, int lanes, double increment_dt) {
+[[gnu::always_inline]] inline void bond_block_lanes(BondEndsBlock& k, BondArrays a, int lanes,
+                                                    double increment_dt) {
   for (int l = 0; l < lanes; ++l) {
     const double x[3] = {k.dx[l], k.dy[l], k.dz[l]};
     const double d = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
     const double inverse_d = 1.0 / d;
     const double n[3] = {x[0] * inverse_d, x[1] * inverse_d, x[2] * inverse_d};
-    const double rci = d * k.arm_first[l], rcj = d * k.arm_second[l];
+    const double rci = d * a.arm_first[l], rcj = d * a.arm_second[l];
     const BondEnds ends{{k.vi[0][l], k.vi[1][l], k.vi[2][l]},
                         {k.wi[0][l], k.wi[1][l], k.wi[2][l]},
                         {k.vj[0][l], k.vj[1][l], k.vj[2][l]},
                         {k.wj[0][l], k.wj[1][l], k.wj[2][l]}};
-    BondSprings h{k.length[l],
-                  k.fn[l],
-                  {k.fs[0][l], k.fs[1][l], k.fs[2][l]},
-                  k.mt[l],
-                  {k.mb[0][l], k.mb[1][l], k.mb[2][l]}};
-    advance_springs(h, d, n, rci, rcj, ends, k.kn[l], k.ks[l], k.kt[l], k.kb[l], increment_dt);
-    k.length[l] = h.length, k.fn[l] = h.fn, k.mt[l] = h.mt;
-    for (int c = 0; c < 3; ++c)
-      k.fs[c][l] = h.fs[c], k.mb[c][l] = h.mb[c];
-    BondSet::Result out;
+    BondSprings h{a.length[l],
+                  a.normal_force[l],
+                  {a.shear_x[l], a.shear_y[l], a.shear_z[l]},
+                  a.twist_moment[l],
+                  {a.bend_x[l], a.bend_y[l], a.bend_z[l]}};
+    advance_springs(h, d, n, rci, rcj, ends, a.normal_spring[l], a.shear_spring[l],
+                    a.twist_spring[l], a.bend_spring[l], increment_dt);
+    a.length[l] = h.length, a.normal_force[l] = h.fn, a.twist_moment[l] = h.mt;
+    a.shear_x[l] = h.fs[0], a.shear_y[l] = h.fs[1], a.shear_z[l] = h.fs[2];
+    a.bend_x[l] = h.mb[0], a.bend_y[l] = h.mb[1], a.bend_z[l] = h.mb[2];
+    BondResult out;
     if constexpr (damped) {
-      const double damping[4] = {k.cn[l], k.cs[l], k.ct[l], k.cb[l]};
+      const double damping[4] = {a.normal_damping[l], a.shear_damping[l], a.twist_damping[l],
+                                 a.bend_damping[l]};
       const BondEnds predicted{{k.mvi[0][l], k.mvi[1][l], k.mvi[2][l]},
                                {k.mwi[0][l], k.mwi[1][l], k.mwi[2][l]},
                                {k.mvj[0][l], k.mvj[1][l], k.mvj[2][l]},
@@ -428,85 +551,87 @@ template <bool damped>
       const double none[4] = {0.0, 0.0, 0.0, 0.0};
       bond_result<false>(out, h, x, n, rci, rcj, ends, none);
     }
-    for (int c = 0; c < 3; ++c) {
-      k.force[c][l] = out.force[c];
-      k.torque_first[c][l] = out.torque_first[c];
-      k.torque_second[c][l] = out.torque_second[c];
-    }
-    k.separation_force[l] = out.separation_force;
+    a.force_x[l] = out.force[0], a.force_y[l] = out.force[1], a.force_z[l] = out.force[2];
+    a.torque_first_x[l] = out.torque_first[0], a.torque_first_y[l] = out.torque_first[1];
+    a.torque_first_z[l] = out.torque_first[2];
+    a.torque_second_x[l] = out.torque_second[0], a.torque_second_y[l] = out.torque_second[1];
+    a.torque_second_z[l] = out.torque_second[2];
+    a.separation_force[l] = out.separation_force;
   }
 }
 
 // The clones are plain functions: GCC does not vectorize a function template's clones.
 __attribute__((target_clones("avx2", "default"))) void bond_block_forces_damped(
-    BondBlock& k, int lanes, double increment_dt) {
-  bond_block_lanes<true>(k, lanes, increment_dt);
+    BondEndsBlock& k, BondArrays a, int lanes, double increment_dt) {
+  bond_block_lanes<true>(k, a, lanes, increment_dt);
 }
 __attribute__((target_clones("avx2", "default"))) void bond_block_forces_undamped(
-    BondBlock& k, int lanes, double increment_dt) {
-  bond_block_lanes<false>(k, lanes, increment_dt);
+    BondEndsBlock& k, BondArrays a, int lanes, double increment_dt) {
+  bond_block_lanes<false>(k, a, lanes, increment_dt);
+}
+
+// d -= L nearbyint(d / L), the scalar loop's nearest image, calling nearbyint only for the few
+// bonds across the boundary: for |d| <= L/2 the quotient rounds to a zero of d's sign, and
+// subtracting L times it is d + 0 (which turns -0 into +0 as the subtraction does).
+inline void wrap_to_nearest_image(double* d, int lanes, double length) {
+  const double half = 0.5 * length;
+  for (int l = 0; l < lanes; ++l)
+    d[l] = std::fabs(d[l]) > half ? d[l] - length * std::nearbyint(d[l] / length) : d[l] + 0.0;
 }
 
 // Bonds [begin, end) as bond_forces_range computes them, for unbreakable bonds all damped or all
-// undamped: blocks copied in, bond_block_forces, copied out.
+// undamped: the ends gathered into a block, then bond_block_forces.
 template <bool damped>
 void bond_blocks_range(BondSet& bonds, const SphereState& s, const double* __restrict motion,
                        const Box& box, double increment_dt, std::int64_t begin, std::int64_t end) {
-  const BondSet::Constants* __restrict constants = bonds.constants.data();
-  BondSet::History* __restrict history = bonds.history.data();
-  BondSet::Result* __restrict result = bonds.result.data();
+  const BondArrays arrays(bonds);
+  const std::int32_t* __restrict first = bonds.first.data();
+  const std::int32_t* __restrict second = bonds.second.data();
   const bool periodic_x = box.periodic_x(), periodic_y = box.periodic_y();
-  BondBlock k;
-  for (std::int64_t b0 = begin; b0 < end; b0 += BondBlock::capacity) {
-    const int lanes = static_cast<int>(std::min<std::int64_t>(BondBlock::capacity, end - b0));
+  // One pass per quantity: with every sphere array at once the copy ran out of registers and
+  // reloaded their addresses for each bond.
+  const double *__restrict x = s.position.x.data(), *__restrict y = s.position.y.data(),
+                           *__restrict z = s.position.z.data();
+  const double *__restrict vx = s.velocity.x.data(), *__restrict vy = s.velocity.y.data(),
+                           *__restrict vz = s.velocity.z.data();
+  const double *__restrict wx = s.angular_velocity.x.data(),
+                           *__restrict wy = s.angular_velocity.y.data(),
+                           *__restrict wz = s.angular_velocity.z.data();
+  BondEndsBlock k;
+  for (std::int64_t b0 = begin; b0 < end; b0 += BondEndsBlock::capacity) {
+    const int lanes = static_cast<int>(std::min<std::int64_t>(BondEndsBlock::capacity, end - b0));
+    const std::int32_t* __restrict is = first + b0;
+    const std::int32_t* __restrict js = second + b0;
     for (int l = 0; l < lanes; ++l) {
-      const BondSet::Constants& c = constants[b0 + l];
-      const std::size_t i = static_cast<std::size_t>(c.first);
-      const std::size_t j = static_cast<std::size_t>(c.second);
-      double dx = s.position.x[j] - s.position.x[i], dy = s.position.y[j] - s.position.y[i];
-      if (periodic_x) dx -= box.length_x * std::nearbyint(dx / box.length_x);
-      if (periodic_y) dy -= box.length_y * std::nearbyint(dy / box.length_y);
-      k.dx[l] = dx, k.dy[l] = dy, k.dz[l] = s.position.z[j] - s.position.z[i];
-      k.vi[0][l] = s.velocity.x[i], k.vi[1][l] = s.velocity.y[i], k.vi[2][l] = s.velocity.z[i];
-      k.vj[0][l] = s.velocity.x[j], k.vj[1][l] = s.velocity.y[j], k.vj[2][l] = s.velocity.z[j];
-      k.wi[0][l] = s.angular_velocity.x[i], k.wi[1][l] = s.angular_velocity.y[i];
-      k.wi[2][l] = s.angular_velocity.z[i];
-      k.wj[0][l] = s.angular_velocity.x[j], k.wj[1][l] = s.angular_velocity.y[j];
-      k.wj[2][l] = s.angular_velocity.z[j];
-      if constexpr (damped) {
-        const double* mi = motion + 8 * i;
-        const double* mj = motion + 8 * j;
-        for (int a = 0; a < 3; ++a) {
-          k.mvi[a][l] = mi[a], k.mwi[a][l] = mi[3 + a];
-          k.mvj[a][l] = mj[a], k.mwj[a][l] = mj[3 + a];
-        }
-        k.cn[l] = c.damping[0], k.cs[l] = c.damping[1];
-        k.ct[l] = c.damping[2], k.cb[l] = c.damping[3];
-      }
-      k.arm_first[l] = c.arm_first, k.arm_second[l] = c.arm_second;
-      k.kn[l] = c.normal_spring, k.ks[l] = c.shear_spring;
-      k.kt[l] = c.twist_spring, k.kb[l] = c.bend_spring;
-      const BondSet::History& h = history[b0 + l];
-      k.length[l] = h.length, k.fn[l] = h.normal_force, k.mt[l] = h.twist_moment;
-      for (int a = 0; a < 3; ++a)
-        k.fs[a][l] = h.shear_force[a], k.mb[a][l] = h.bend_moment[a];
+      const std::int32_t i = is[l], j = js[l];
+      k.dx[l] = x[j] - x[i], k.dy[l] = y[j] - y[i], k.dz[l] = z[j] - z[i];
+    }
+    if (periodic_x) wrap_to_nearest_image(k.dx, lanes, box.length_x);
+    if (periodic_y) wrap_to_nearest_image(k.dy, lanes, box.length_y);
+    for (int l = 0; l < lanes; ++l) {
+      const std::int32_t i = is[l], j = js[l];
+      k.vi[0][l] = vx[i], k.vi[1][l] = vy[i], k.vi[2][l] = vz[i];
+      k.vj[0][l] = vx[j], k.vj[1][l] = vy[j], k.vj[2][l] = vz[j];
+    }
+    for (int l = 0; l < lanes; ++l) {
+      const std::int32_t i = is[l], j = js[l];
+      k.wi[0][l] = wx[i], k.wi[1][l] = wy[i], k.wi[2][l] = wz[i];
+      k.wj[0][l] = wx[j], k.wj[1][l] = wy[j], k.wj[2][l] = wz[j];
     }
     if constexpr (damped)
-      bond_block_forces_damped(k, lanes, increment_dt);
-    else
-      bond_block_forces_undamped(k, lanes, increment_dt);
-    for (int l = 0; l < lanes; ++l) {
-      BondSet::History& h = history[b0 + l];
-      h.length = k.length[l], h.normal_force = k.fn[l], h.twist_moment = k.mt[l];
-      BondSet::Result& out = result[b0 + l];
-      for (int a = 0; a < 3; ++a) {
-        h.shear_force[a] = k.fs[a][l], h.bend_moment[a] = k.mb[a][l];
-        out.force[a] = k.force[a][l];
-        out.torque_first[a] = k.torque_first[a][l];
-        out.torque_second[a] = k.torque_second[a][l];
+      for (int l = 0; l < lanes; ++l) {
+        const double* __restrict mi = motion + 8 * is[l];
+        const double* __restrict mj = motion + 8 * js[l];
+        for (int c = 0; c < 3; ++c) {
+          k.mvi[c][l] = mi[c], k.mwi[c][l] = mi[3 + c];
+          k.mvj[c][l] = mj[c], k.mwj[c][l] = mj[3 + c];
+        }
       }
-      out.separation_force = k.separation_force[l];
-    }
+    const BondArrays a = arrays.from(b0);
+    if constexpr (damped)
+      bond_block_forces_damped(k, a, lanes, increment_dt);
+    else
+      bond_block_forces_undamped(k, a, lanes, increment_dt);
   }
 }
 
@@ -541,18 +666,17 @@ void compute_bond_forces(BondSet& bonds, const SphereState& s, const double* mot
 }
 
 double bond_elastic_energy(const BondSet& bonds) {
+  const BondSet::History& h = bonds.history;
+  const auto square = [](const Vec3Array& v, std::size_t b) {
+    return v.x[b] * v.x[b] + v.y[b] * v.y[b] + v.z[b] * v.z[b];
+  };
   double e = 0.0;
   for (std::size_t b = 0; b < bonds.size(); ++b) {
     if (!bonds.intact[b]) continue;
-    const BondSet::History& h = bonds.history[b];
-    const double fs2 = h.shear_force[0] * h.shear_force[0] + h.shear_force[1] * h.shear_force[1] +
-                       h.shear_force[2] * h.shear_force[2];
-    const double mb2 = h.bend_moment[0] * h.bend_moment[0] + h.bend_moment[1] * h.bend_moment[1] +
-                       h.bend_moment[2] * h.bend_moment[2];
-    e += 0.5 * h.normal_force * h.normal_force / bonds.normal_spring[b] +
-         0.5 * fs2 / bonds.shear_spring[b] +
-         0.5 * h.twist_moment * h.twist_moment / bonds.twist_spring[b] +
-         0.5 * mb2 / bonds.bend_spring[b];
+    e += 0.5 * h.normal_force[b] * h.normal_force[b] / bonds.normal_spring[b] +
+         0.5 * square(h.shear_force, b) / bonds.shear_spring[b] +
+         0.5 * h.twist_moment[b] * h.twist_moment[b] / bonds.twist_spring[b] +
+         0.5 * square(h.bend_moment, b) / bonds.bend_spring[b];
   }
   return e;
 }
@@ -573,7 +697,7 @@ double bond_oscillation_period(const BondSet& bonds, const SphereState& state) {
     const double k = std::max(bonds.normal_spring[b], bonds.shear_spring[b]);
     const double ks = bonds.shear_spring[b];
     const double turn = std::max(bonds.twist_spring[b], bonds.bend_spring[b]);
-    const double ri = state.radius[i], rj = state.radius[j], d = bonds.history[b].length;
+    const double ri = state.radius[i], rj = state.radius[j], d = bonds.history.length[b];
     const double ai = d * ri / (ri + rj), aj = d * rj / (ri + rj);
     const double mi = state.inverse_mass[i], mj = state.inverse_mass[j];  // inverses
     const double ii = state.inverse_inertia[i], ij = state.inverse_inertia[j];
@@ -635,8 +759,8 @@ BondSet bonds_from_pairs(const SphereState& state,
     if (!(rest_length[b] > 0.0 && std::isfinite(rest_length[b])))
       throw InputError(fmt::format("bond {}: rest length {} must be > 0", b, rest_length[b]));
     add_bond(bonds, state, i, j, parameters);
-    BondSet::History& h = bonds.history.back();
-    h.normal_force = bonds.normal_spring.back() * (rest_length[b] - h.length);
+    bonds.history.normal_force[b] =
+        bonds.normal_spring.back() * (rest_length[b] - bonds.history.length[b]);
   }
   bonds.index(state);
   return bonds;

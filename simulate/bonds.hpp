@@ -67,42 +67,66 @@ struct BondSet {
   std::vector<double> tensile_strength;  // σc [Pa], +inf: unbreakable
   std::vector<double> shear_strength;    // τc [Pa]
   std::vector<double> damping_ratio;     // ζ
-  // History per bond (saved in snapshots), one record per bond: the bond loop reads and writes
-  // it whole, one pointer instead of nine (with nine the loop ran out of registers).
+  // History per bond (saved in snapshots), one array per component: the bond loop's blocks read
+  // and write it in place, several bonds per instruction. Each array starts at its own offset in
+  // a page (SphereArray): the loop streams some thirty of them at once.
   struct History {
-    double length = 0.0;                      // centre distance at the last evaluation [m]
-    double normal_force = 0.0;                // Fn on `second` along n (i→j), > 0 compressive [N]
-    double shear_force[3] = {0.0, 0.0, 0.0};  // Fs on `second` [N], world frame
-    double twist_moment = 0.0;                // Mt on `second` along n [N m]
-    double bend_moment[3] = {0.0, 0.0, 0.0};  // Mb on `second` [N m], world frame
+    SphereArray<double> length;        // centre distance at the last evaluation [m]
+    SphereArray<double> normal_force;  // Fn on `second` along n (i→j), > 0 compressive [N]
+    Vec3Array shear_force;             // Fs on `second` [N], world frame
+    SphereArray<double> twist_moment;  // Mt on `second` along n [N m]
+    Vec3Array bend_moment;             // Mb on `second` [N m], world frame
+    std::size_t size() const { return length.size(); }
+    void resize(std::size_t n);  // new bonds at rest, of length 0
     friend bool operator==(const History&, const History&) = default;
+    // One bond's history as a record, for reading.
+    struct Record {
+      double length, normal_force, shear_force[3], twist_moment, bend_moment[3];
+    };
+    Record at(std::size_t b) const {
+      return {length[b],
+              normal_force[b],
+              {shear_force.x[b], shear_force.y[b], shear_force.z[b]},
+              twist_moment[b],
+              {bend_moment.x[b], bend_moment.y[b], bend_moment.z[b]}};
+    }
   };
-  std::vector<History> history;
+  History history;
   std::vector<std::uint8_t> intact;
   bool contact_when_bonded = true;
 
-  // Results of the last evaluation (not saved: recomputed from the state on restart).
-  struct Result {
-    double force[3];  // on second (first gets the negative)
-    double torque_first[3];
-    double torque_second[3];
+  // Results of the last evaluation (not saved: recomputed from the state on restart), one array
+  // per component as the history.
+  struct Results {
+    Vec3Array force;  // on second (first gets the negative)
+    // The torque on each end, [0] first, [1] second: the gather picks it by the end's bit.
+    std::array<Vec3Array, 2> torque;
     // (x_second - x_first) · force, nearest image: each end's Love–Weber term is its share of it
     // (forces.cpp), so the gather does not recompute the separation per bond end.
-    double separation_force;
+    SphereArray<double> separation_force;
+    void resize(std::size_t n);  // zeros
+    // One bond's result as a record, for reading.
+    struct Record {
+      double force[3], torque_first[3], torque_second[3], separation_force;
+    };
+    Record at(std::size_t b) const {
+      const Vec3Array &first = torque[0], &second = torque[1];
+      return {{force.x[b], force.y[b], force.z[b]},
+              {first.x[b], first.y[b], first.z[b]},
+              {second.x[b], second.y[b], second.z[b]},
+              separation_force[b]};
+    }
   };
-  std::vector<Result> result;
-  // What the bond loop reads per bond, packed in one record (derived by index(), not saved): the
-  // ends, the bond centre's share of the centre distance at each end, ri/(ri + rj) and
-  // rj/(ri + rj) (so the arms cost a multiplication), the four springs and the damper
-  // coefficients 2ζ√(k m*) of the normal, shear, twist and bending modes (√(k I*) for the turns).
-  // One record instead of a dozen arrays and a division less per bond and step.
+  Results result;
+  // What the bond loop reads per bond besides the ends (derived by index(), not saved): each
+  // end's share of the centre distance up to the bond centre, [0] ri/(ri + rj) and [1]
+  // rj/(ri + rj) (so the arms cost a multiplication), and per mode (normal, shear, twist,
+  // bending) the spring and the damper coefficient 2ζ√(k m*) (√(k I*) for the turns).
   struct Constants {
-    std::int32_t first, second;
-    double arm_first, arm_second;
-    double normal_spring, shear_spring, twist_spring, bend_spring;
-    double damping[4];
+    std::array<SphereArray<double>, 2> arm;
+    std::array<SphereArray<double>, 4> spring, damping;
   };
-  std::vector<Constants> constants;
+  Constants constants;
   bool breakable = false;  // whether any bond can break (skips the strength test)
   // Whether every bond has dampers, and whether some have and some not (the bond loop's blocks
   // take one kind at a time).
@@ -150,20 +174,26 @@ void compute_bond_forces(BondSet& bonds, const SphereState& state, const double*
                          const Box& box, double dt, bool first_evaluation);
 
 // Adds the bond forces and torques of sphere i (its bonds in fixed order). A broken bond's
-// result is zero (compute_bond_forces clears it), so it adds nothing and needs no test.
+// result is zero (compute_bond_forces clears it), so it adds nothing and needs no test. The end
+// picks the force's sign (-F on `first`; a product by -1 is exact, so f + (-1)·F is f - F) and
+// the torque's array, without a branch: which end a sphere is flips from bond to bond.
 inline void gather_bond_forces(const BondSet& bonds, std::int64_t i, double f[3], double t[3]) {
   const std::int32_t* __restrict gather = bonds.gather.data();
-  const BondSet::Result* __restrict result = bonds.result.data();
+  const double* __restrict fx = bonds.result.force.x.data();
+  const double* __restrict fy = bonds.result.force.y.data();
+  const double* __restrict fz = bonds.result.force.z.data();
+  const double* const torque[2][3] = {
+      {bonds.result.torque[0].x.data(), bonds.result.torque[0].y.data(),
+       bonds.result.torque[0].z.data()},
+      {bonds.result.torque[1].x.data(), bonds.result.torque[1].y.data(),
+       bonds.result.torque[1].z.data()}};
+  constexpr double sign_of_end[2] = {-1.0, 1.0};
   for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
     const std::int32_t entry = gather[e];
-    const BondSet::Result& r = result[entry >> 1];
-    if ((entry & 1) == 0) {
-      f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
-      t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
-    } else {
-      f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
-      t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
-    }
+    const std::int32_t b = entry >> 1, end = entry & 1;
+    const double sign = sign_of_end[end];
+    f[0] += sign * fx[b], f[1] += sign * fy[b], f[2] += sign * fz[b];
+    t[0] += torque[end][0][b], t[1] += torque[end][1][b], t[2] += torque[end][2][b];
   }
 }
 

@@ -209,14 +209,17 @@ std::vector<double> Engine::particle_stress() const {
     if (!bonds_.empty())
       for (std::int32_t e = bonds_.gather_offset[i]; e < bonds_.gather_offset[i + 1]; ++e) {
         const std::int32_t entry = bonds_.gather[e];
-        const BondSet::Constants& k = bonds_.constants[entry >> 1];
-        double d[3] = {s.position.x[k.second] - s.position.x[k.first],
-                       s.position.y[k.second] - s.position.y[k.first],
-                       s.position.z[k.second] - s.position.z[k.first]};
+        const std::size_t b = static_cast<std::size_t>(entry >> 1);
+        const std::size_t first = static_cast<std::size_t>(bonds_.first[b]);
+        const std::size_t second = static_cast<std::size_t>(bonds_.second[b]);
+        double d[3] = {s.position.x[second] - s.position.x[first],
+                       s.position.y[second] - s.position.y[first],
+                       s.position.z[second] - s.position.z[first]};
         if (box_.periodic_x()) d[0] -= box_.length_x * std::nearbyint(d[0] / box_.length_x);
         if (box_.periodic_y()) d[1] -= box_.length_y * std::nearbyint(d[1] / box_.length_y);
-        add(sigma, (entry & 1) == 0 ? k.arm_first : k.arm_second, d,
-            bonds_.result[entry >> 1].force);
+        const Vec3Array& f = bonds_.result.force;
+        const double force[3] = {f.x[b], f.y[b], f.z[b]};
+        add(sigma, bonds_.constants.arm[static_cast<std::size_t>(entry & 1)][b], d, force);
       }
     for (std::size_t k = 0; k < walls_.size(); ++k) {
       // (a restarted engine has no wall forces until its first step)

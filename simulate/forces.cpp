@@ -74,9 +74,9 @@ double bond_arm_force(const BondSet& bonds, std::int64_t i) {
   double sum = 0.0;
   for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
     const std::int32_t entry = bonds.gather[e];
-    const BondSet::Constants& k = bonds.constants[entry >> 1];
-    const double share = (entry & 1) == 0 ? k.arm_first : k.arm_second;
-    sum += share * bonds.result[entry >> 1].separation_force;
+    const std::size_t b = static_cast<std::size_t>(entry >> 1);
+    sum += bonds.constants.arm[static_cast<std::size_t>(entry & 1)][b] *
+           bonds.result.separation_force[b];
   }
   return sum;
 }

@@ -123,21 +123,12 @@ void write_bonds(H5Writer& file, const BondSet& b) {
   write_with_unit(file, "/bonds/tensile_strength", b.tensile_strength, "Pa");
   write_with_unit(file, "/bonds/shear_strength", b.shear_strength, "Pa");
   file.write("/bonds/damping_ratio", b.damping_ratio);
-  // The history as one dataset per quantity (the engine keeps one record per bond).
-  std::vector<double> length, normal_force, twist_moment;
-  Vec3Array shear_force, bend_moment;
-  for (const BondSet::History& h : b.history) {
-    length.push_back(h.length);
-    normal_force.push_back(h.normal_force);
-    twist_moment.push_back(h.twist_moment);
-    shear_force.push_back(h.shear_force[0], h.shear_force[1], h.shear_force[2]);
-    bend_moment.push_back(h.bend_moment[0], h.bend_moment[1], h.bend_moment[2]);
-  }
-  write_with_unit(file, "/bonds/length", length, "m");
-  write_with_unit(file, "/bonds/normal_force", normal_force, "N");
-  write_vec3(file, "/bonds/shear_force", shear_force, "N");
-  write_with_unit(file, "/bonds/twist_moment", twist_moment, "N m");
-  write_vec3(file, "/bonds/bend_moment", bend_moment, "N m");
+  const BondSet::History& h = b.history;
+  write_with_unit(file, "/bonds/length", h.length, "m");
+  write_with_unit(file, "/bonds/normal_force", h.normal_force, "N");
+  write_vec3(file, "/bonds/shear_force", h.shear_force, "N");
+  write_with_unit(file, "/bonds/twist_moment", h.twist_moment, "N m");
+  write_vec3(file, "/bonds/bend_moment", h.bend_moment, "N m");
   file.write("/bonds/intact", b.intact);
   file.attribute("/bonds", "contact_when_bonded", std::int64_t{b.contact_when_bonded ? 1 : 0});
 }
@@ -158,28 +149,22 @@ BondSet read_bonds(const H5Reader& file) {
   b.tensile_strength = file.doubles("/bonds/tensile_strength");
   b.shear_strength = file.doubles("/bonds/shear_strength");
   b.damping_ratio = file.doubles("/bonds/damping_ratio");
-  const std::vector<double> length = file.doubles("/bonds/length");
-  const std::vector<double> normal_force = file.doubles("/bonds/normal_force");
-  const Vec3Array shear_force = split(file.doubles("/bonds/shear_force"));
-  const std::vector<double> twist_moment = file.doubles("/bonds/twist_moment");
-  const Vec3Array bend_moment = split(file.doubles("/bonds/bend_moment"));
+  BondSet::History& h = b.history;
+  h.length = to_sphere_array(file.doubles("/bonds/length"));
+  h.normal_force = to_sphere_array(file.doubles("/bonds/normal_force"));
+  h.shear_force = split(file.doubles("/bonds/shear_force"));
+  h.twist_moment = to_sphere_array(file.doubles("/bonds/twist_moment"));
+  h.bend_moment = split(file.doubles("/bonds/bend_moment"));
   b.intact = file.uint8s("/bonds/intact");
   b.contact_when_bonded = file.attribute_int64("/bonds", "contact_when_bonded") != 0;
   const std::size_t n = b.size();
   for (std::size_t size :
-       {b.radius.size(), b.normal_spring.size(), length.size(), normal_force.size(),
-        twist_moment.size(), shear_force.size(), bend_moment.size(), b.intact.size()})
+       {b.radius.size(), b.normal_spring.size(), b.shear_spring.size(), b.twist_spring.size(),
+        b.bend_spring.size(), b.tensile_strength.size(), b.shear_strength.size(),
+        b.damping_ratio.size(), h.length.size(), h.normal_force.size(), h.twist_moment.size(),
+        h.shear_force.size(), h.bend_moment.size(), b.intact.size()})
     if (size != n)
       throw InputError("'" + file.path().string() + "': /bonds datasets differ in length");
-  b.history.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    BondSet::History& h = b.history[k];
-    h.length = length[k], h.normal_force = normal_force[k], h.twist_moment = twist_moment[k];
-    h.shear_force[0] = shear_force.x[k], h.shear_force[1] = shear_force.y[k];
-    h.shear_force[2] = shear_force.z[k];
-    h.bend_moment[0] = bend_moment.x[k], h.bend_moment[1] = bend_moment.y[k];
-    h.bend_moment[2] = bend_moment.z[k];
-  }
   return b;
 }
 

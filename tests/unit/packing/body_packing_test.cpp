@@ -64,8 +64,8 @@ TEST(BodyPacking, NoBondJoinsTwoBodiesAndBondsStartForceFree) {
   BedRequest request{1541.0, 0, BondParameters{}, false};
   const Bed bed = bed_from_packing(p, request);
   ASSERT_EQ(bed.bonds.size(), p.bonds.size());
-  for (const BondSet::History& h : bed.bonds.history)
-    EXPECT_NEAR(h.normal_force, 0.0, 1e-12 * bed.bonds.normal_spring[0] * r);
+  for (const double normal_force : bed.bonds.history.normal_force)
+    EXPECT_NEAR(normal_force, 0.0, 1e-12 * bed.bonds.normal_spring[0] * r);
   // A sub-sphere's body id is its body's first particle.
   for (std::size_t i = 0; i < bed.state.size(); ++i)
     EXPECT_EQ(bed.state.body[i], p.first_particle[static_cast<std::size_t>(p.particle_body[i])]);
@@ -76,8 +76,8 @@ TEST(BodyPacking, AStoredRestLengthLoadsTheBond) {
   BodyPacking p = cluster_bed(BodyKind::bms, r, 1, 1);
   p.bond_rest_length[0] *= 1.01;  // the bond pressed by 1 % of its length
   const Bed bed = bed_from_packing(p, {1541.0, 0, BondParameters{}, false});
-  EXPECT_NEAR(bed.bonds.history[0].normal_force,
-              bed.bonds.normal_spring[0] * 0.01 * bed.bonds.history[0].length,
+  EXPECT_NEAR(bed.bonds.history.at(0).normal_force,
+              bed.bonds.normal_spring[0] * 0.01 * bed.bonds.history.at(0).length,
               1e-9 * bed.bonds.normal_spring[0] * r);
 }
 

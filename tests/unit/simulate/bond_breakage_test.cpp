@@ -63,12 +63,12 @@ TEST(BondBreakage, AShearedBondBreaksAtItsShearStrength) {
   s.velocity.y[1] = 0.9 * tau_c / (ks_bar * dt);
   compute_bond_forces(bonds, s, motion.data(), Box{}, dt, false);
   EXPECT_EQ(bonds.intact_count(), 1);
-  EXPECT_NEAR(std::fabs(bonds.history[0].shear_force[1]) / area, 0.9 * tau_c, 1e-9 * tau_c);
+  EXPECT_NEAR(std::fabs(bonds.history.at(0).shear_force[1]) / area, 0.9 * tau_c, 1e-9 * tau_c);
   s.velocity.y[1] = 0.2 * tau_c / (ks_bar * dt);
   compute_bond_forces(bonds, s, motion.data(), Box{}, dt, false);
   EXPECT_EQ(bonds.intact_count(), 0);
-  EXPECT_EQ(bonds.history[0].shear_force[1], 0.0);
-  EXPECT_EQ(bonds.result[0].force[1], 0.0);  // a broken bond pulls no more
+  EXPECT_EQ(bonds.history.at(0).shear_force[1], 0.0);
+  EXPECT_EQ(bonds.result.at(0).force[1], 0.0);  // a broken bond pulls no more
 }
 
 TEST(BondBreakage, AnUnbreakableBondNeverBreaks) {
@@ -84,7 +84,7 @@ TEST(BondBreakage, AnUnbreakableBondNeverBreaks) {
   s.velocity.y[1] = 0.5 * r / dt;
   compute_bond_forces(bonds, s, motion.data(), Box{}, dt, false);
   EXPECT_EQ(bonds.intact_count(), 1);
-  EXPECT_NEAR(bonds.result[0].force[0], -kn_bar * area * 0.5 * r, 1e-9 * kn_bar * area * r);
+  EXPECT_NEAR(bonds.result.at(0).force[0], -kn_bar * area * 0.5 * r, 1e-9 * kn_bar * area * r);
 }
 
 // A bonded pair pressed to 0.8 of its radii sum (what a tablet's density does to some pairs of

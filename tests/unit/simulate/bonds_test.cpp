@@ -61,11 +61,13 @@ TEST(Bonds, NormalSpringIsKnTimesAreaOnTheChangeOfLength) {
   const double stretch = 1e-6;
   s.position.x[1] += stretch;  // pulled apart: tension pulls sphere 1 back (-x)
   compute_bond_forces(bonds, s, motion.data(), Box{}, 1e-6, false);
-  EXPECT_NEAR(bonds.result[0].force[0], -kn_bar * area * stretch, 1e-9 * kn_bar * area * stretch);
-  EXPECT_DOUBLE_EQ(bonds.result[0].force[1], 0.0);
+  EXPECT_NEAR(bonds.result.at(0).force[0], -kn_bar * area * stretch,
+              1e-9 * kn_bar * area * stretch);
+  EXPECT_DOUBLE_EQ(bonds.result.at(0).force[1], 0.0);
   // Incremental: a second step with the same length adds nothing.
   compute_bond_forces(bonds, s, motion.data(), Box{}, 1e-6, false);
-  EXPECT_NEAR(bonds.result[0].force[0], -kn_bar * area * stretch, 1e-9 * kn_bar * area * stretch);
+  EXPECT_NEAR(bonds.result.at(0).force[0], -kn_bar * area * stretch,
+              1e-9 * kn_bar * area * stretch);
 }
 
 TEST(Bonds, ShearTwistAndBendingSpringsAct) {
@@ -77,13 +79,13 @@ TEST(Bonds, ShearTwistAndBendingSpringsAct) {
   s.angular_velocity.x[1] = w;  // twist about the bond axis
   s.angular_velocity.z[1] = w;  // bending about z
   compute_bond_forces(bonds, s, motion.data(), Box{}, dt, false);
-  const BondSet::Result& out = bonds.result[0];
+  const BondSet::Results::Record out = bonds.result.at(0);
   // The bond centre of sphere 1 moves at v_y + (ω × (-r n))_y = v + r ω_z... the shear
   // displacement of the bond centre: (v - r ωz·(+1)) since ω × (-r x̂) = -r (ω_z ŷ - ω_y ẑ).
   const double shear_velocity = v - r * w;
-  EXPECT_NEAR(bonds.history[0].shear_force[1], -ks_bar * area * shear_velocity * dt, 1e-15);
-  EXPECT_NEAR(bonds.history[0].twist_moment, -ks_bar * polar * w * dt, 1e-20);
-  EXPECT_NEAR(bonds.history[0].bend_moment[2], -kn_bar * 0.5 * polar * w * dt, 1e-20);
+  EXPECT_NEAR(bonds.history.at(0).shear_force[1], -ks_bar * area * shear_velocity * dt, 1e-15);
+  EXPECT_NEAR(bonds.history.at(0).twist_moment, -ks_bar * polar * w * dt, 1e-20);
+  EXPECT_NEAR(bonds.history.at(0).bend_moment[2], -kn_bar * 0.5 * polar * w * dt, 1e-20);
   // Equal and opposite forces; the torques balance the couple of the shear force about the
   // centres: τ1 + τ2 + (x2 - x1) × F2 = 0.
   const double couple_z = 2 * r * out.force[1];
@@ -95,15 +97,15 @@ TEST(Bonds, ShearForceTurnsWithTheBond) {
   SphereState s = pair_state();
   BondSet bonds = create_bonds(s, 1.15, stiff());
   const std::vector<double> motion = still_motion(s);
-  bonds.history[0].shear_force[1] = 3.0;
+  bonds.history.shear_force.y[0] = 3.0;
   // The pair turned by 2° about z: the shear force keeps its length and lies in the new plane
   // normal to the bond.
   const double angle = 2.0 * std::numbers::pi / 180.0;
   s.position.x[1] = 2 * r * std::cos(angle);
   s.position.y[1] = 2 * r * std::sin(angle);
   compute_bond_forces(bonds, s, motion.data(), Box{}, 1e-6, false);
-  const double fx = bonds.history[0].shear_force[0], fy = bonds.history[0].shear_force[1],
-               fz = bonds.history[0].shear_force[2];
+  const double fx = bonds.history.at(0).shear_force[0], fy = bonds.history.at(0).shear_force[1],
+               fz = bonds.history.at(0).shear_force[2];
   EXPECT_NEAR(std::sqrt(fx * fx + fy * fy + fz * fz), 3.0, 1e-12);
   EXPECT_NEAR(fx * std::cos(angle) + fy * std::sin(angle), 0.0, 1e-12);
   EXPECT_NEAR(fx, -3.0 * std::sin(angle), 1e-12);
@@ -125,7 +127,7 @@ TEST(Bonds, BreakForGoodAtTheTensileStrength) {
   s.position.x[1] -= 1.1 * breaking_stretch;  // back to the start: stays broken
   compute_bond_forces(bonds, s, motion.data(), Box{}, 1e-6, false);
   EXPECT_EQ(bonds.intact_count(), 0);
-  EXPECT_EQ(bonds.history[0].normal_force, 0.0);
+  EXPECT_EQ(bonds.history.at(0).normal_force, 0.0);
 }
 
 TEST(Bonds, FreeOscillationKeepsEnergyAndHasTheSpringPeriod) {
@@ -357,13 +359,16 @@ void load_bonds(BondSet& bonds, const SphereState& s, const std::vector<double>&
     const Vec e1 = unit(cross(n, {0.3, -0.5, 0.8}));
     const Vec e2 = cross(n, e1);
     const double k = static_cast<double>(b) + 1.0;
-    BondSet::History& h = bonds.history[b];
-    h.normal_force = 5.0 * k;
-    h.twist_moment = 2e-3 * k;
-    for (int c = 0; c < 3; ++c) {
-      h.shear_force[c] = 3.0 * k * (0.6 * e1[c] + 0.8 * e2[c]);
-      h.bend_moment[c] = 1e-3 * k * (0.8 * e1[c] - 0.6 * e2[c]);
-    }
+    BondSet::History& h = bonds.history;
+    h.normal_force[b] = 5.0 * k;
+    h.twist_moment[b] = 2e-3 * k;
+    const Vec shear = {3.0 * k * (0.6 * e1[0] + 0.8 * e2[0]), 3.0 * k * (0.6 * e1[1] + 0.8 * e2[1]),
+                       3.0 * k * (0.6 * e1[2] + 0.8 * e2[2])};
+    const Vec bend = {1e-3 * k * (0.8 * e1[0] - 0.6 * e2[0]),
+                      1e-3 * k * (0.8 * e1[1] - 0.6 * e2[1]),
+                      1e-3 * k * (0.8 * e1[2] - 0.6 * e2[2])};
+    h.shear_force.x[b] = shear[0], h.shear_force.y[b] = shear[1], h.shear_force.z[b] = shear[2];
+    h.bend_moment.x[b] = bend[0], h.bend_moment.y[b] = bend[1], h.bend_moment.z[b] = bend[2];
   }
   compute_bond_forces(bonds, s, motion.data(), Box{}, 0.0, true);
 }
@@ -415,12 +420,12 @@ void expect_turned_with_the_bodies(const BondSet& before, const BondSet& after, 
       EXPECT_NEAR(got[c], want[c], tolerance * norm(was)) << what << "[" << c << "] of bond " << b;
   };
   for (std::size_t b = 0; b < before.size(); ++b) {
-    const BondSet::History &h0 = before.history[b], &h = after.history[b];
+    const BondSet::History::Record h0 = before.history.at(b), h = after.history.at(b);
     EXPECT_NEAR(h.normal_force, h0.normal_force, 1e-9 * std::fabs(h0.normal_force));
     EXPECT_DOUBLE_EQ(h.twist_moment, h0.twist_moment);
     expect_near(vec(h.shear_force), vec(h0.shear_force), "shear force", b, true);
     expect_near(vec(h.bend_moment), vec(h0.bend_moment), "bending moment", b, true);
-    const BondSet::Result &r0 = before.result[b], &r = after.result[b];
+    const BondSet::Results::Record r0 = before.result.at(b), r = after.result.at(b);
     expect_near(vec(r.force), vec(r0.force), "force", b);
     expect_near(vec(r.torque_first), vec(r0.torque_first), "torque on first", b);
     expect_near(vec(r.torque_second), vec(r0.torque_second), "torque on second", b);
@@ -584,12 +589,12 @@ void expect_blocks_match_the_scalar_loop(double damping_ratio) {
     }
     compute_bond_forces(blocks, s, motion.data(), Box{}, 1e-7, step == 0);
     compute_bond_forces(scalar, s, motion.data(), Box{}, 1e-7, step == 0);
-    for (std::size_t b = 0; b < blocks.size(); ++b)
-      ASSERT_EQ(std::memcmp(&blocks.history[b], &scalar.history[b], sizeof(BondSet::History)), 0)
-          << "bond " << b << " step " << step;
-    for (std::size_t b = 0; b < blocks.size(); ++b)
-      ASSERT_EQ(std::memcmp(&blocks.result[b], &scalar.result[b], sizeof(BondSet::Result)), 0)
-          << "bond " << b << " step " << step;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      const BondSet::History::Record hb = blocks.history.at(b), hs = scalar.history.at(b);
+      ASSERT_EQ(std::memcmp(&hb, &hs, sizeof hb), 0) << "bond " << b << " step " << step;
+      const BondSet::Results::Record rb = blocks.result.at(b), rs = scalar.result.at(b);
+      ASSERT_EQ(std::memcmp(&rb, &rs, sizeof rb), 0) << "bond " << b << " step " << step;
+    }
   }
 }
 
