@@ -1,0 +1,82 @@
+# The include directions, checked against the links (cmake -P):
+#   -DLINKS=<build>/stage_links.cmake   what each stage links (cmake/ShapepressArchitecture.cmake)
+#   -DSOURCE_DIR=<tree>                 the tree whose stage folders are scanned
+#   -DEXPECT=<file>                     (optional) the one offending file the tree must show: the
+#                                       check of the check, on a planted include
+#   -DDOC=<docs/architecture.md>        (optional) its stage-links block must be the links' table
+#   -DWRITE_DOC=ON                      (with DOC) rewrite that block instead of comparing
+# A file of stage S may include "T/..." only when T is in SHAPEPRESS_ALLOWED_S: a header of a
+# library S does not link would build today through the one include root and break the day the
+# link order changes.
+cmake_minimum_required(VERSION 3.25)
+include(${LINKS})
+
+function(stage_links_table out)
+  set(table "| library | links publicly | links privately |\n|---|---|---|\n")
+  foreach(stage IN LISTS SHAPEPRESS_STAGES)
+    set(public "${SHAPEPRESS_PUBLIC_LINKS_${stage}}")
+    set(private "${SHAPEPRESS_PRIVATE_LINKS_${stage}}")
+    list(JOIN public ", " public)
+    list(JOIN private ", " private)
+    if(public STREQUAL "")
+      set(public "—")
+    endif()
+    if(private STREQUAL "")
+      set(private "—")
+    endif()
+    string(APPEND table "| `${stage}` | ${public} | ${private} |\n")
+  endforeach()
+  set(${out} "${table}" PARENT_SCOPE)
+endfunction()
+
+if(DEFINED DOC)
+  set(begin "<!-- stage-links: generated from the CMake targets by scripts/update-architecture.sh -->\n")
+  set(end "<!-- end of stage-links -->")
+  file(READ ${DOC} doc)
+  string(FIND "${doc}" "${begin}" at_begin)
+  string(FIND "${doc}" "${end}" at_end)
+  if(at_begin EQUAL -1 OR at_end EQUAL -1)
+    message(FATAL_ERROR "${DOC}: no stage-links block (the markers '${begin}' and '${end}')")
+  endif()
+  string(LENGTH "${begin}" begin_length)
+  math(EXPR from "${at_begin} + ${begin_length}")
+  math(EXPR length "${at_end} - ${from}")
+  string(SUBSTRING "${doc}" ${from} ${length} block)
+  stage_links_table(table)
+  if(WRITE_DOC)
+    string(SUBSTRING "${doc}" 0 ${from} head)
+    string(SUBSTRING "${doc}" ${at_end} -1 tail)
+    file(WRITE ${DOC}.new "${head}${table}${tail}")
+    file(RENAME ${DOC}.new ${DOC})
+  elseif(NOT block STREQUAL table)
+    message(FATAL_ERROR "${DOC}: the stage-links table differs from the CMake targets' links; "
+                        "run scripts/update-architecture.sh. Now:\n${table}")
+  endif()
+  return()
+endif()
+
+set(violations "")
+foreach(stage IN LISTS SHAPEPRESS_STAGES)
+  file(GLOB_RECURSE files RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/${stage}/*.cpp
+       ${SOURCE_DIR}/${stage}/*.hpp)
+  foreach(file IN LISTS files)
+    file(STRINGS ${SOURCE_DIR}/${file} includes REGEX "^#include \"[a-z_]+/")
+    foreach(line IN LISTS includes)
+      string(REGEX REPLACE "^#include \"([a-z_]+)/.*" "\\1" target "${line}")
+      if(target IN_LIST SHAPEPRESS_STAGES AND NOT target IN_LIST SHAPEPRESS_ALLOWED_${stage})
+        list(APPEND violations "${file}: ${line} (${stage} does not link ${target})")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+
+if(DEFINED EXPECT)
+  list(LENGTH violations count)
+  if(NOT count EQUAL 1 OR NOT violations MATCHES "^${EXPECT}: ")
+    message(FATAL_ERROR "expected one include against the links, in ${EXPECT}; found: ${violations}")
+  endif()
+  message(STATUS "found the planted include: ${violations}")
+elseif(violations)
+  list(JOIN violations "\n  " listed)
+  message(FATAL_ERROR "includes of libraries not linked:\n  ${listed}")
+endif()
