@@ -10,11 +10,20 @@
 #                                                  bonds and k1), SPHERES_CONFIG likewise
 #                                                  BOND_SUBSTEPS=1 (run.bond_substeps of the
 #                                                  bonded bed; 0: as many as the bonds need)
-# A reduced run for a noisy machine: COUNT=50 SUB=120 STEPS=20000.
+#                                                  OLD_SHAPEPRESS=path: another build (say
+#                                                  main's, copied aside) pressing the same bed,
+#                                                  ROUNDS times alternating with this one (2)
+#                                                  PACKED=path: press this packed.h5 instead of
+#                                                  generating, filling and packing one
+# A reduced run for a noisy machine: STEPS=4000 with a packed bed of the study's 150 bodies at a
+# lower N (COUNT=50 SUB=120 no longer packs: 50 bodies jam at 0.56 by body volume, short of the
+# protocol's 0.59).
 # Both compactions run with the mass scaling DENSITY_SCALE, the largest the spherical Avicel bed
 # stays quasi-static at (docs/measurements.md, "Mass scaling"); 1 is the unscaled run.
 # Prints wall and CPU seconds and peak memory of each stage, sub-sphere-steps and bond-steps per
-# second, and the ratio to the spheres' particle-steps per second.
+# second, and the ratio to the spheres' particle-steps per second; with OLD_SHAPEPRESS, each
+# build's loop seconds on the bonded bed, round by round, their ratio (old over new, the medians),
+# and whether the two punch.csv are the same bytes.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../../.." && pwd)
@@ -27,13 +36,16 @@ scale=${DENSITY_SCALE:-1000}
 work=${WORK:-$(mktemp -d)}
 echo "avicel-bms bench: $count bodies x ~$sub sub-spheres, $threads threads, steps ${steps}, density scale $scale in $work"
 cd "$work"
+if [[ -n "${PACKED:-}" && ! -f packed.h5 ]]; then
+  cp "$PACKED" packed.h5
+fi
 timed() {  # label command...: wall/CPU seconds and peak memory of one stage
   local label=$1; shift
   /usr/bin/time -f "$label wall_s=%e cpu_s=%U+%S max_rss_kB=%M" "$@" 2> >(grep -E "wall_s=|error|warning" >&2)
 }
-[[ -f shapes/shapes.csv ]] || timed generate "$bin" --quiet generate \
+[[ -f packed.h5 ]] || [[ -f shapes/shapes.csv ]] || timed generate "$bin" --quiet generate \
   --targets "$repo/tests/data/geometry/avicel_ph200_projected.toml" --count 3 --seed 7 --out shapes
-[[ -f templates.h5 ]] || timed fill "$bin" --quiet fill shapes/*.stl --kind bms --count "$sub" \
+[[ -f packed.h5 ]] || [[ -f templates.h5 ]] || timed fill "$bin" --quiet fill shapes/*.stl --kind bms --count "$sub" \
   --lattice random --out templates.h5
 sed "s/^count = .*/count = $count/" "$repo/pipelines/configs/pack-avicel-bms.toml" > pack.toml
 [[ -f packed.h5 ]] || timed pack "$bin" --quiet --threads "$threads" pack templates.h5 \
@@ -57,6 +69,32 @@ timed compact-bms "$bin" --quiet --threads "$threads" compact \
 timed compact-spheres "$bin" --quiet --threads "$threads" compact \
   --config compact-spheres.toml --out spheres "${step_args[@]}" \
   | tee spheres.summary
+if [[ -n "${OLD_SHAPEPRESS:-}" ]]; then
+  rounds=${ROUNDS:-2}
+  for ((round = 1; round <= rounds; ++round)); do
+    for build in old new; do
+      exe=$bin
+      [[ $build == old ]] && exe=$OLD_SHAPEPRESS
+      rm -rf "side-$build-$round"
+      "$exe" --quiet --threads "$threads" compact --config compact-bms.toml --packing packed.h5 \
+        --out "side-$build-$round" "${step_args[@]}" > "side-$build-$round.summary"
+    done
+  done
+  python3 - "$work" "$rounds" <<'PY'
+import json, pathlib, statistics, sys
+w, rounds = pathlib.Path(sys.argv[1]), int(sys.argv[2])
+def loop_s(build, r):
+    return json.loads((w / f"side-{build}-{r}" / "run.json").read_text())["facts"]["loop_s"]
+old = [loop_s("old", r) for r in range(1, rounds + 1)]
+new = [loop_s("new", r) for r in range(1, rounds + 1)]
+for r, (o, n) in enumerate(zip(old, new), 1):
+    print(f"side by side, round {r}: old {o:.2f} s, new {n:.2f} s, old/new {o / n:.3f}")
+print(f"old/new loop seconds, medians: {statistics.median(old) / statistics.median(new):.3f}")
+same = all((w / f"side-old-{r}" / "punch.csv").read_bytes() ==
+           (w / f"side-new-{r}" / "punch.csv").read_bytes() for r in range(1, rounds + 1))
+print(f"punch.csv old and new: {'identical' if same else 'DIFFERENT'}")
+PY
+fi
 python3 - "$work" <<'PY'
 import json, re, sys, pathlib
 w = pathlib.Path(sys.argv[1])
