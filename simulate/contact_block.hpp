@@ -91,7 +91,7 @@ struct PairKinematics {
 }
 
 // Up to `capacity` touching pairs of one pair constant, one array per quantity ([axis][lane] for
-// vectors). About 17 KiB: a block's inputs and results stay in L1 between the copy in, the law
+// vectors). About 19 KiB: a block's inputs and results stay in L1 between the copy in, the law
 // and the sums.
 struct ContactBlock {
   static constexpr int capacity = 64;
@@ -107,15 +107,24 @@ struct ContactBlock {
   alignas(64) double inverse_inertia_first[capacity];
   alignas(64) double inverse_inertia_second[capacity];
   alignas(64) double spring[3][capacity];  // ContactHistory::tangential: in, and updated
-  // Out: the force on second and the torques on each end.
+  // The multi-contact law's P_ij = ½ (p_i + p_j) (in) and its history, k1 δp^{3/2} (in, and
+  // updated); the Hertz law reads neither.
+  alignas(64) double pair_pressure[capacity];
+  alignas(64) double plastic_force[capacity];
+  // Out: the force on second and the torques on each end; Fn and δ for the Love–Weber sums.
   alignas(64) double force[3][capacity];
   alignas(64) double torque_first[3][capacity];
   alignas(64) double torque_second[3][capacity];
+  alignas(64) double normal_force[capacity];
+  alignas(64) double overlap[capacity];
 };
 
 // Hertz–Mindlin (contact_force<HertzLaw>) on lanes [0, count) of `block`, all with pair constants
 // `pair`: the forces, torques and updated springs. Clones for AVX-512 and AVX2 are picked at load
 // time where the CPU has them.
 void hertz_contact_block(ContactBlock& block, int count, const PairConstants& pair, double dt);
+// The same with the multi-contact law (contact_force<MulticontactLaw>, Eq. 6 Giannis 2023).
+void multicontact_contact_block(ContactBlock& block, int count, const PairConstants& pair,
+                                double dt);
 
 }  // namespace shapepress::simulate

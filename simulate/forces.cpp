@@ -207,7 +207,11 @@ void Engine::pair_forces_with() {
           out.torque_second[axis] = torque_second[axis];
         }
       };
-      if constexpr (!stress_on && std::is_same_v<Law, HertzLaw>) {
+      // The multi-contact law reads P_ij and keeps Love–Weber's Fn and δ/2 (stress_on); Hertz's
+      // block runs without them, as the scalar loop would.
+      constexpr bool block_law =
+          (!stress_on && std::is_same_v<Law, HertzLaw>) || std::is_same_v<Law, MulticontactLaw>;
+      if constexpr (block_law) {
         if (block_pair != nullptr) {
           // The law vectorized over blocks of touching pairs (contact_block.hpp): copied in,
           // computed, then delivered in list order; the same bits as the loop below.
@@ -237,8 +241,17 @@ void Engine::pair_forces_with() {
               block.mass_second[l] = mj[6];
               block.inverse_inertia_first[l] = mi[7];
               block.inverse_inertia_second[l] = mj[7];
+              if constexpr (std::is_same_v<Law, MulticontactLaw>) {
+                block.pair_pressure[l] = 0.0;
+                if constexpr (stress_on)
+                  block.pair_pressure[l] = 0.5 * (pressure[first[p]] + pressure[second[p]]);
+                block.plastic_force[l] = plastic_force(history_[p]);
+              }
             }
-            hertz_contact_block(block, lanes, *block_pair, dt);
+            if constexpr (std::is_same_v<Law, MulticontactLaw>)
+              multicontact_contact_block(block, lanes, *block_pair, dt);
+            else
+              hertz_contact_block(block, lanes, *block_pair, dt);
             for (int l = 0; l < lanes; ++l) {
               const std::int64_t p = selected[q0 + l];
               const double force[3] = {block.force[0][l], block.force[1][l], block.force[2][l]};
@@ -248,6 +261,12 @@ void Engine::pair_forces_with() {
                                                block.torque_second[2][l]};
               for (int axis = 0; axis < 3; ++axis)
                 history_[p].tangential[axis] = block.spring[axis][l];
+              if constexpr (std::is_same_v<Law, MulticontactLaw>)
+                plastic_force(history_[p]) = block.plastic_force[l];
+              if constexpr (stress_on) {
+                virial[2 * p] = block.normal_force[l];
+                virial[2 * p + 1] = 0.5 * block.overlap[l];
+              }
               deliver(q0 + l, first[p], second[p], force, torque_first, torque_second);
             }
           }

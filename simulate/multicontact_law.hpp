@@ -11,8 +11,9 @@
 // exactly when x ≥ xmax, so raising xp whenever (1 - λp) x exceeds it selects the loading branch
 // and updates the history in one comparison. The history keeps k1 xp (N), the "plastic force"
 // (1 - λp) × the largest loading force: k1 is fixed for a contact (its R* does not change), and
-// keeping the product spares the hot loop a division and, with k1 from E* and kc = 0, any square
-// root beyond Hertz's (docs/measurements.md, "Benchmarks").
+// keeping the product spares the hot loop a division (docs/measurements.md, "Benchmarks").
+// √δ is taken whether or not a branch needs it: a choice between it and 0 on the pair's constants
+// would keep the contact blocks (contact_block.hpp) from vectorizing the law.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -106,8 +107,8 @@ struct MulticontactLaw {
     // damping stiffness are written like the Hertz branch, and without a loading modulus
     // λp = 1, kc = F0 = β = 0 gives Hertz's bits (the coefficient is 4/3, the factor 1).
     const bool given = k.loading_stiffness > 0.0;
-    const double sqrt_overlap = given || k.adhesion_stiffness > 0.0 ? std::sqrt(overlap) : 0.0;
-    const double x = overlap * sqrt_overlap;  // δ^{3/2} (only where used)
+    const double sqrt_overlap = std::sqrt(overlap);
+    const double x = overlap * sqrt_overlap;  // δ^{3/2}
     const double loading =
         given ? k.loading_stiffness * x
               : k.loading_coefficient * p.effective_modulus * sqrt_r_overlap * overlap;

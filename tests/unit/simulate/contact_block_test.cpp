@@ -105,5 +105,70 @@ TEST(ContactBlock, SameBitsWithRollingFrictionAndAPartialBlock) {
   expect_scalar_bits(0.3, 0.1, ContactBlock::capacity - 3);
 }
 
+// The multi-contact law's block: P_ij from tension to confinement, and plastic forces from none
+// (virgin loading raises it) to past the loading force (the unloading and adhesive branches).
+// `law` states k1 or leaves it to the loading modulus, with or without adhesion.
+void expect_multicontact_scalar_bits(const MulticontactParameters& law, int lanes) {
+  Material m{"m", 1e8, 0.3, 1541.0};
+  if (!law.loading_stiffness) m.loading_modulus = 5.4e8;  // one source of k1
+  const PairConstants p =
+      MaterialTable({m}, {Interaction{"m", "m", 0.35, 0.5, 0.1, MulticontactLaw{law}}}).pair(0, 0);
+  const double dt = 1e-6;
+  auto block = std::make_unique<ContactBlock>();
+  fill(*block, lanes, 20261207 + lanes);
+  std::mt19937_64 random(7 + lanes);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int l = 0; l < lanes; ++l) {
+    block->pair_pressure[l] = 1e6 * (unit(random) - 0.2);
+    block->plastic_force[l] = l % 3 == 0 ? 0.0 : 0.5 * unit(random) * (l % 3);  // N
+  }
+  const ContactBlock in = *block;
+  multicontact_contact_block(*block, lanes, p, dt);
+  int raised = 0;
+  for (int l = 0; l < lanes; ++l) {
+    const double d[3] = {in.separation[0][l], in.separation[1][l], in.separation[2][l]};
+    const PairEnd first{{in.velocity_first[0][l], in.velocity_first[1][l], in.velocity_first[2][l]},
+                        {in.spin_first[0][l], in.spin_first[1][l], in.spin_first[2][l]},
+                        in.mass_first[l],
+                        in.inverse_inertia_first[l]};
+    const PairEnd second{
+        {in.velocity_second[0][l], in.velocity_second[1][l], in.velocity_second[2][l]},
+        {in.spin_second[0][l], in.spin_second[1][l], in.spin_second[2][l]},
+        in.mass_second[l],
+        in.inverse_inertia_second[l]};
+    PairKinematics k = pair_kinematics(d, in.radius_first[l], in.radius_second[l], first, second);
+    k.contact.pair_pressure = in.pair_pressure[l];
+    ContactHistory history;
+    for (int axis = 0; axis < 3; ++axis)
+      history.tangential[axis] = in.spring[axis][l];
+    plastic_force(history) = in.plastic_force[l];
+    const ContactForce f = contact_force<MulticontactLaw>(k.contact, p, history, dt);
+    double torque_first[3], torque_second[3];
+    contact_torques(k.contact.normal, f, k.arm_first, k.arm_second, torque_first, torque_second);
+    raised += plastic_force(history) > in.plastic_force[l];
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_TRUE(same_bits(block->force[axis][l], f.force[axis])) << "lane " << l;
+      EXPECT_TRUE(same_bits(block->torque_first[axis][l], torque_first[axis])) << "lane " << l;
+      EXPECT_TRUE(same_bits(block->torque_second[axis][l], torque_second[axis])) << "lane " << l;
+      EXPECT_TRUE(same_bits(block->spring[axis][l], history.tangential[axis])) << "lane " << l;
+    }
+    EXPECT_TRUE(same_bits(block->plastic_force[l], plastic_force(history))) << "lane " << l;
+    EXPECT_TRUE(same_bits(block->normal_force[l], f.normal_force)) << "lane " << l;
+    EXPECT_TRUE(same_bits(block->overlap[l], k.contact.overlap)) << "lane " << l;
+  }
+  // Both the virgin loading and the branches below it were taken.
+  EXPECT_GT(raised, 0);
+  EXPECT_LT(raised, lanes);
+}
+
+TEST(ContactBlock, MulticontactSameBitsAsTheScalarLaw) {
+  // The study's law: k1 from the loading modulus, λp = 0.3, β = 1.3.
+  expect_multicontact_scalar_bits({std::nullopt, 0.3, 0.0, 0.0, 1.3}, ContactBlock::capacity);
+}
+
+TEST(ContactBlock, MulticontactSameBitsWithAStatedK1AdhesionAndAPartialBlock) {
+  expect_multicontact_scalar_bits({1.0e7, 0.5, 2.0e6, -1e-4, 1.0}, ContactBlock::capacity - 5);
+}
+
 }  // namespace
 }  // namespace shapepress::simulate
