@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "common/error.hpp"
 #include "common/hdf5_file.hpp"
 
@@ -42,6 +44,14 @@ SphereList read_sphere_text(const std::filesystem::path& path) {
 
 SphereList read_sphere_hdf5(const std::filesystem::path& path) {
   H5Reader reader(path);
+  // A snapshot of bodies read as loose spheres would lose its bonds or rigid clumps unnoticed:
+  // the bodies fall apart at the first step.
+  const bool bonded = reader.has("/bonds/pairs"), rigid = reader.has("/clumps/range");
+  if (bonded || rigid)
+    throw InputError(fmt::format(
+        "'{}': a snapshot of {} bodies, not a sphere packing: continue it with `compact "
+        "--restart`, or press a packing made by `shapepress pack`",
+        path.string(), bonded ? "bonded (BMS)" : "rigid (CMS)"));
   std::vector<std::size_t> shape;
   const std::vector<double> position = reader.doubles("/particles/position", &shape);
   SphereList list;
