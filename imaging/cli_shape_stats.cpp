@@ -77,7 +77,7 @@ const std::map<std::string, std::string> split_choices = {
     {"none", "keep touching particles together"},
     {"neck", "split at narrow necks (distance map, neck width against the smaller radius)"},
     {"prominence", "distance-map maxima standing out by --split-prominence, 1 px lines"},
-    {"imagej", "as prominence, on the mask before its holes are filled (ImageJ's order)"}};
+    {"imagej", "ImageJ's Watershed itself, on the mask before its holes are filled"}};
 
 int run(const ShapeStatsCli& cli, const RunContext& context) {
   ShapeStatsOptions options;
@@ -244,6 +244,10 @@ StageRunner setup_shape_stats_cli(CLI::App& app) {
   app.add_flag("--no-overlays", cli->no_overlays, "skip overlay and plot PNGs");
   return [cli, &app](const RunContext& context) {
     if (cli->imagej) apply_imagej_preset(*cli, app);
+    // ImageJ's Watershed keeps maxima standing out by more than 0.5 px (EDM.java's tolerance);
+    // 0.6 is the default of the prominence flood only.
+    if (cli->split == "imagej" && app.count("--split-prominence") == 0)
+      cli->segment.split_prominence_px = 0.5;
     return run(*cli, context);
   };
 }

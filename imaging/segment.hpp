@@ -47,6 +47,8 @@ struct SegmentOptions {
   SplitRule split_rule = SplitRule::prominence;
   // ImageJ's tolerance is 0.5, but on the three real images of tests/data/imaging this
   // flooding matches ImageJ's counts best at 0.6 (0.5 splits 2–7 % more; docs/imaging.md).
+  // With fill_holes_after_split it is the tolerance of ImageJ's own watershed, which the CLI
+  // sets to ImageJ's 0.5 for --split imagej.
   double split_prominence_px = 0.6;
   // A piece the split cuts off whose area is below this fraction of the median piece is joined
   // back to its neighbour (a sliver shaved off a large particle, not a particle; 0: never).
@@ -54,8 +56,9 @@ struct SegmentOptions {
   // Clear a line between split particles so that no two touch, even diagonally (ImageJ's
   // watershed draws such lines; its areas leave them out).
   bool split_lines = true;
-  // Split the mask as thresholded and fill each piece's holes afterwards, as ImageJ's
-  // Watershed then Analyze Particles' "include holes" do (else holes are filled first).
+  // Split the mask as thresholded with ImageJ's own watershed (imagej_watershed.hpp) and fill
+  // each piece's holes afterwards, as ImageJ's Watershed then Analyze Particles' "include
+  // holes" do (else holes are filled first, and the split is split_rule's).
   bool fill_holes_after_split = false;
   // Split along the gaps of the image before smoothing, which closes gaps of 1–2 px between
   // touching particles: in concave blobs (below relief_solidity) the distance map is that of the

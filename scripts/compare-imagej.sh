@@ -26,8 +26,8 @@ means() {
 
 echo "| image | run | count | area | Feret | MinFeret |"
 echo "|---|---|---:|---:|---:|---:|"
-for entry in coins.png:bright gravel256.png:bright blobs.gif:dark water_coins.png:dark \
-  smarties.png:dark; do
+for entry in coins.png:bright gravel256.png:bright gravel256_tr.png:bright gravel256_br.png:bright \
+  blobs.gif:dark water_coins.png:dark smarties.png:dark; do
   image=${entry%%:*} polarity=${entry##*:} stem=${image%.*}
   for ws in 0 1; do
     label=$([[ $ws == 1 ]] && echo "ImageJ, Watershed" || echo "ImageJ, no watershed")

@@ -191,8 +191,8 @@ TEST_F(ShapeStatsCli, BlobsSampleImage) {
 }
 
 // Issue 22: ImageJ's sample GIF read, the --imagej preset giving ImageJ's own count on a real
-// photograph (tests/data/imaging/coins_ij_ws0.csv: 23), and a file that is not a readable
-// image (a truncated GIF) an exit 2 naming it.
+// photograph (tests/data/imaging/coins_ij_ws0.csv: 23), with its watershed too (issue 42), and
+// a file that is not a readable image (a truncated GIF) an exit 2 naming it.
 TEST_F(ShapeStatsCli, ImageJPresetAndGifInput) {
   const std::string data = std::string(SHAPEPRESS_TEST_DATA) + "/imaging/";
   auto coins = run_shapepress("-q shape-stats " + data + "coins.png --imagej --polarity bright " +
@@ -203,7 +203,16 @@ TEST_F(ShapeStatsCli, ImageJPresetAndGifInput) {
   auto blobs = run_shapepress("-q shape-stats " + data + "blobs.gif --imagej --split imagej " +
                               "--pixel-size 1um --no-overlays --out " + path("blobs"));
   ASSERT_EQ(blobs.exit_code, 0) << blobs.output;
-  EXPECT_NEAR(data_rows(path("blobs/particles.csv")), 47, 4.7);  // ImageJ's Watershed: 47
+  EXPECT_EQ(data_rows(path("blobs/particles.csv")), 47);  // ImageJ's Watershed: 47
+
+  // --split imagej takes ImageJ's tolerance, 0.5 px, unless --split-prominence is given: on
+  // gravel's top-right quarter ImageJ's watershed finds 235 (gravel256_tr_ij_ws1.csv), 229 with
+  // 0.6 px, the prominence flood's default.
+  auto gravel = run_shapepress("-q shape-stats " + data +
+                               "gravel256_tr.png --imagej --split imagej --polarity bright " +
+                               "--pixel-size 1um --no-overlays --out " + path("gravel"));
+  ASSERT_EQ(gravel.exit_code, 0) << gravel.output;
+  EXPECT_EQ(data_rows(path("gravel/particles.csv")), 235);
 
   { std::ofstream(path("truncated.gif"), std::ios::binary) << "GIF89a"; }
   auto bad = run_shapepress("-q shape-stats " + path("truncated.gif") + " --pixel-size 1um --out " +
