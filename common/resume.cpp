@@ -58,11 +58,14 @@ void CheckpointClock::taken() {
 }
 
 void write_invocation(const std::filesystem::path& path, const RunInvocation& i) {
-  const nlohmann::ordered_json json{{"command", i.command_line},
-                                    {"working_directory", i.working_directory.string()},
-                                    {"config", i.config},
-                                    {"config_sha256", i.config_sha256},
-                                    {"arguments", i.arguments}};
+  nlohmann::ordered_json json{{"command", i.command_line},
+                              {"working_directory", i.working_directory.string()},
+                              {"config", i.config},
+                              {"config_sha256", i.config_sha256},
+                              {"arguments", i.arguments}};
+  for (const RecordedInput& input : i.inputs)
+    json["inputs"].push_back(
+        {{"role", input.role}, {"file", input.file}, {"sha256", input.sha256}});
   write_file_atomically(path, json.dump(2) + "\n");
 }
 
@@ -81,6 +84,9 @@ RunInvocation resume_invocation(const std::filesystem::path& path, const std::st
     i.config = j.at("config").get<std::string>();
     i.config_sha256 = j.at("config_sha256").get<std::string>();
     i.arguments = j.at("arguments").get<std::map<std::string, std::vector<std::string>>>();
+    for (const nlohmann::json& input : j.value("inputs", nlohmann::json::array()))
+      i.inputs.push_back({input.at("role").get<std::string>(), input.at("file").get<std::string>(),
+                          input.at("sha256").get<std::string>()});
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("{}: not a resume record ({})", path.string(), e.what()));
   }
@@ -89,11 +95,14 @@ RunInvocation resume_invocation(const std::filesystem::path& path, const std::st
   if (ec)
     throw InputError(fmt::format("{}: the run was started in {}, which is gone ({})", run,
                                  i.working_directory.string(), ec.message()));
-  if (!std::filesystem::is_regular_file(i.config) || sha256_file(i.config) != i.config_sha256)
-    throw InputError(fmt::format(
-        "{}: the config {} is missing or changed since the run started; a resumed run needs the "
-        "same one",
-        run, i.config));
+  std::vector<RecordedInput> files = {{"config", i.config, i.config_sha256}};
+  files.insert(files.end(), i.inputs.begin(), i.inputs.end());
+  for (const RecordedInput& file : files)
+    if (!std::filesystem::is_regular_file(file.file) || sha256_file(file.file) != file.sha256)
+      throw InputError(fmt::format(
+          "{}: the {} {} is missing or changed since the run started; a resumed run needs the "
+          "same one",
+          run, file.role, file.file));
   return i;
 }
 

@@ -52,15 +52,23 @@ class CheckpointClock {
   std::chrono::steady_clock::time_point last_;
 };
 
+// A file besides the config that a resumed run must find unchanged (calibrate's reference).
+struct RecordedInput {
+  std::string role;  // the option naming it
+  std::string file;
+  std::string sha256;
+};
+
 // How a run was started: what --resume runs again (before the first checkpoint) or continues.
-// `arguments` are the stage's own (option name → values), relative paths in them from
-// working_directory.
+// `arguments` are the stage's own (option name → values, common/command_options.hpp), relative
+// paths in them from working_directory.
 struct RunInvocation {
   std::string command_line;
   std::filesystem::path working_directory;
   std::string config;  // the config file, whose SHA-256 must not change before a resume
   std::string config_sha256;
   std::map<std::string, std::vector<std::string>> arguments;
+  std::vector<RecordedInput> inputs;
 };
 void write_invocation(const std::filesystem::path& path, const RunInvocation& invocation);
 // Reads the record of `run` (the stage's --out) from `path`, makes its working folder current

@@ -43,15 +43,22 @@ RunMetadata& RunMetadata::fact(const std::string& key, nlohmann::ordered_json va
   return *this;
 }
 
+RunMetadata& RunMetadata::options(nlohmann::ordered_json options) {
+  options_ = std::move(options);
+  return *this;
+}
+
 nlohmann::ordered_json RunMetadata::json() const {
-  return nlohmann::ordered_json{{"schema", run_metadata_schema},
-                                {"stage", stage_},
-                                {"version", shapepress_version()},
-                                {"revision", shapepress_git_revision()},
-                                {"command", command_line_},
-                                {"inputs", inputs_},
-                                {"outputs", outputs_},
-                                {"facts", facts_}};
+  nlohmann::ordered_json out{{"schema", run_metadata_schema},
+                             {"stage", stage_},
+                             {"version", shapepress_version()},
+                             {"revision", shapepress_git_revision()},
+                             {"command", command_line_}};
+  if (!options_.is_null()) out["options"] = options_;
+  out["inputs"] = inputs_;
+  out["outputs"] = outputs_;
+  out["facts"] = facts_;
+  return out;
 }
 
 void RunMetadata::write(const std::filesystem::path& path) const {

@@ -6,6 +6,7 @@
 //
 //   {"schema": 1, "stage": "compact", "version": "0.1.0", "revision": "3f2a9c1e0b7d",
 //    "command": "shapepress compact --config c.toml --out run",
+//    "options": {"config": "c.toml", "packing": null, "steps": null, "out": "run"},
 //    "inputs": [{"role": "config", "path": "c.toml", "sha256": "…"}],
 //    "outputs": ["punch.csv"],
 //    "facts": {"reference_gap_m": 0.0102, "die_area_m2": 1e-4, "particles": 500, …}}
@@ -46,6 +47,9 @@ class RunMetadata {
   RunMetadata& fact(const std::string& key, nlohmann::ordered_json value);
 
   const nlohmann::ordered_json& facts() const { return facts_; }
+  // The effective command-line options of the run, typed (common/command_options.hpp): a stage
+  // with an options table gives them; the key is absent otherwise.
+  RunMetadata& options(nlohmann::ordered_json options);
   nlohmann::ordered_json json() const;
   // Atomically (common/atomic_file.hpp), so a killed stage never leaves half a run.json.
   void write(const std::filesystem::path& path) const;
@@ -55,6 +59,7 @@ class RunMetadata {
   nlohmann::ordered_json inputs_ = nlohmann::ordered_json::array();
   nlohmann::ordered_json outputs_ = nlohmann::ordered_json::array();
   nlohmann::ordered_json facts_ = nlohmann::ordered_json::object();
+  nlohmann::ordered_json options_;
 };
 
 // A run.json read back. Every accessor throws InputError naming the file and the key when the

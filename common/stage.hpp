@@ -14,7 +14,8 @@ class App;
 
 namespace shapepress {
 
-struct StageOptions;  // common/options.hpp
+struct StageOptions;   // common/options.hpp
+class CommandOptions;  // common/command_options.hpp
 
 // Global options, parsed by main() before any stage runs.
 struct RunContext {
@@ -36,6 +37,9 @@ struct Stage {
   StageOptions (*config_options)() = nullptr;
   // What the stage's --out (or --resume) names; main() locks it for the run (common/run_lock.hpp).
   RunOutput output = RunOutput::folder;
+  // The stage's command-line options as one table, for docs/stages.md; null for a stage that
+  // binds its options to CLI11 directly.
+  CommandOptions (*command_options)() = nullptr;
 };
 
 }  // namespace shapepress

@@ -1,14 +1,7 @@
 #include "fem/tet_mesh.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <Eigen/Geometry>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -16,9 +9,8 @@
 #include <fmt/format.h>
 
 #include "common/atomic_file.hpp"
+#include "common/child_process.hpp"
 #include "common/error.hpp"
-
-extern char** environ;
 
 namespace shapepress::fem {
 namespace {
@@ -70,34 +62,16 @@ std::string geo_script(const std::filesystem::path& stl, const TetSizes& sizes_m
   return geo;
 }
 
-int run_gmsh(const std::string& program, const std::filesystem::path& geo,
-             const std::filesystem::path& msh, const std::filesystem::path& log) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::vector<std::string> text = {program, "-3",         geo.string(), "-format", "msh22",
-                                   "-o",    msh.string(), "-nt",        "1"};
-  std::vector<char*> arguments;
-  for (std::string& a : text)
-    arguments.push_back(a.data());
-  arguments.push_back(nullptr);
-  pid_t pid = 0;
-  const int error =
-      posix_spawnp(&pid, program.c_str(), &actions, nullptr, arguments.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (error != 0)
-    throw InputError(fmt::format(
-        "cannot run the mesher '{}': {}{}", program, std::strerror(error),
-        error == ENOENT ? " (install Debian's gmsh: scripts/install-deps.sh, or name the program "
-                          "with --gmsh)"
-                        : ""));
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)  // a signal (SIGINT noted, say) interrupts the wait
-    if (errno != EINTR)
-      throw ComputationError(fmt::format("lost the run of {}: {}", program, std::strerror(errno)));
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+ChildEnd run_gmsh(const std::string& program, const std::filesystem::path& geo,
+                  const std::filesystem::path& msh, const std::filesystem::path& log) {
+  return run_child(
+      {{program, "-3", geo.string(), "-format", "msh22", "-o", msh.string(), "-nt", "1"},
+       "the mesher",
+       "install Debian's gmsh: scripts/install-deps.sh, or name the program with "
+       "--gmsh",
+       {},
+       {},
+       log});
 }
 
 // Gmsh puts a boundary edge's midside node on its rebuilt surface; where an edge runs along the
@@ -256,12 +230,10 @@ TetMesh tetrahedral_mesh(const geometry::TriangleMesh& surface, const TetSizes& 
   const TetSizes sizes_mm{mm * sizes.at_plates, mm * sizes.elsewhere, mm * sizes.band};
   write_file_atomically(geo, geo_script(stl, sizes_mm, top, bottom, embedded_mm));
   std::filesystem::remove(msh);
-  const int status = run_gmsh(program, geo, msh, log);
-  if (status != 0 || !std::filesystem::exists(msh))
-    throw ComputationError(
-        fmt::format("Gmsh could not mesh the particle's volume (exit status "
-                    "{}): see {}",
-                    status, log.string()));
+  const ChildEnd end = run_gmsh(program, geo, msh, log);
+  if (end.exit_code != 0 || !std::filesystem::exists(msh))
+    throw ComputationError(fmt::format("Gmsh could not mesh the particle's volume ({}): see {}",
+                                       end.how(), log.string()));
   TetMesh mesh = read_gmsh_tetrahedra(msh, 1.0 / mm);
   if (mesh.elements.empty())
     throw ComputationError(

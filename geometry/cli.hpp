@@ -10,5 +10,7 @@ StageRunner setup_describe_cli(CLI::App& app);
 StageRunner setup_fill_cli(CLI::App& app);
 // The keys of generate's --targets TOML.
 StageOptions generate_options();
+// generate's command-line options (docs/stages.md).
+CommandOptions generate_command_options();
 
 }  // namespace shapepress::geometry

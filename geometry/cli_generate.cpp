@@ -4,18 +4,16 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <limits>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/command_options.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/resume.hpp"
 #include "common/run_metadata.hpp"
-#include "common/sha256.hpp"
 #include "geometry/cli.hpp"
 #include "geometry/descriptors.hpp"
 #include "geometry/generate.hpp"
@@ -41,74 +39,48 @@ std::filesystem::path checkpoint_folder(const std::filesystem::path& out) {
   return out / "checkpoints";
 }
 
-// What --resume needs to run the same generate again: every option, as text (doubles exact).
-RunInvocation invocation_of(const GenerateCli& cli, const std::string& command_line) {
-  RunInvocation invocation{
-      command_line, std::filesystem::current_path(), cli.targets, sha256_file(cli.targets), {}};
-  const GenerateOptions& o = cli.options;
-  for (const auto& [name, value] :
-       {std::pair<const char*, std::string>{"count", std::to_string(o.count)},
-        {"seed", std::to_string(o.seed)},
-        {"subdivisions", std::to_string(o.subdivisions)},
-        {"max-degree", std::to_string(o.max_degree)},
-        {"format", cli.format},
-        {"directions", std::to_string(cli.directions)},
-        {"ks-tolerance", exact_text(cli.ks_tolerance)},
-        {"checkpoint-every", std::to_string(cli.checkpoints.every_steps)},
-        {"checkpoint-minutes", exact_text(cli.checkpoints.minutes)}})
-    invocation.arguments[name] = {value};
-  return invocation;
-}
-
-// --resume OUT: the arguments the run was started with, from the working directory it was
-// started in (a relative --targets means what it meant then).
-GenerateCli resumed_arguments(const std::string& given, std::string& command_line) {
-  const std::filesystem::path out = std::filesystem::absolute(given);
-  const std::filesystem::path record = checkpoint_folder(out) / "resume.json";
-  const RunInvocation invocation = resume_invocation(record, given);
-  command_line = invocation.command_line;
-  const auto argument = [&](const char* name) {
-    const auto it = invocation.arguments.find(name);
-    if (it == invocation.arguments.end() || it->second.size() != 1)
-      throw InputError(
-          fmt::format("{}: no argument '{}' (a damaged resume record)", record.string(), name));
-    return it->second.front();
-  };
-  const auto number = [&](const char* name) { return parse_exact(argument(name), record); };
-  const auto refuse = [&](const char* name, const std::string& text) {
-    return InputError(fmt::format("{}: argument '{}' is '{}' (a damaged resume record)",
-                                  record.string(), name, text));
-  };
-  const auto whole = [&](const char* name, std::uint64_t most) {
-    const std::string text = argument(name);
-    if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789") != text.npos)
-      throw refuse(name, text);
-    try {
-      if (const std::uint64_t value = std::stoull(text); value <= most) return value;
-    } catch (const std::out_of_range&) {
-    }
-    throw refuse(name, text);
-  };
-  constexpr std::uint64_t int_most = std::numeric_limits<int>::max();
-  GenerateCli cli;
-  cli.targets = invocation.config;
-  cli.out = out.string();
-  cli.options.count = static_cast<int>(whole("count", int_most));
-  cli.options.seed = whole("seed", std::numeric_limits<std::uint64_t>::max());
-  cli.options.subdivisions = static_cast<int>(whole("subdivisions", int_most));
-  cli.options.max_degree = static_cast<int>(whole("max-degree", int_most));
-  cli.format = argument("format");
-  cli.directions = static_cast<int>(whole("directions", int_most));
-  cli.ks_tolerance = number("ks-tolerance");
-  cli.checkpoints.every_steps = static_cast<std::int64_t>(whole("checkpoint-every", 1ULL << 40));
-  cli.checkpoints.minutes = number("checkpoint-minutes");
-  if (cli.format != "stl" && cli.format != "off" && cli.format != "ply")
-    throw refuse("format", cli.format);
-  if (!(cli.ks_tolerance >= 0.0 && cli.ks_tolerance <= 1.0))
-    throw refuse("ks-tolerance", argument("ks-tolerance"));
-  if (!(cli.checkpoints.minutes >= 0.0))
-    throw refuse("checkpoint-minutes", argument("checkpoint-minutes"));
-  return cli;
+// generate's options, bound once: parsed, recorded for --resume, written into run.json and
+// documented (docs/stages.md).
+CommandOptions generate_command(GenerateCli& cli) {
+  CommandOptions options("generate");
+  options
+      .text("--targets", &cli.targets,
+            "shape statistics: shape-stats summary.json or a TOML with the same keys")
+      .config()
+      .whole("--count", &cli.options.count, "particles")
+      .range(Range::closed(1, 1000000))
+      .show_default()
+      .whole("--seed", &cli.options.seed, "seed (same seed, same particles)")
+      .show_default()
+      .whole("--subdivisions", &cli.options.subdivisions, "icosphere level (4: 2562 vertices)")
+      .range(Range::closed(1, 7))
+      .show_default()
+      .whole("--max-degree", &cli.options.max_degree, "highest spherical-harmonic degree")
+      .range(Range::closed(3, 40))
+      .show_default()
+      .text("--format", &cli.format, "mesh format")
+      .choices({"stl", "off", "ply"})
+      .show_default()
+      .whole("--directions", &cli.directions, "views per particle for shapes.csv")
+      .range(Range::closed(1, 10000))
+      .show_default()
+      .number("--ks-tolerance", &cli.ks_tolerance,
+              "KS distance of the projected ASR to the image distribution above which generate "
+              "warns (output and run.json)")
+      .range(Range::closed(0.0, 1.0))
+      .show_default()
+      .whole("--checkpoint-every", &cli.checkpoints.every_steps,
+             "particle steps between checkpoints for --resume (a step: one particle drawn, "
+             "shaped or described; 0: by wall time only)")
+      .range(Range::closed(0, static_cast<double>(std::int64_t{1} << 40)))
+      .show_default()
+      .number("--checkpoint-minutes", &cli.checkpoints.minutes,
+              "minutes of wall time between checkpoints for --resume (0: by steps only)")
+      .range(Range::closed(0.0, 1e6))
+      .show_default()
+      .text("--out", &cli.out, "output folder (meshes, shapes.csv, effective.toml)")
+      .output();
+  return options;
 }
 
 // Quantile of a sorted sample at cumulative level p (the Hazen plotting position, as shape-stats).
@@ -128,8 +100,7 @@ struct Generated {
 };
 
 std::optional<Generated> generate_resumably(const GenerateCli& cli, const ShapeTargets& targets,
-                                            bool resumed, const std::string& command_line,
-                                            bool quiet) {
+                                            bool resumed, const RunInvocation& start, bool quiet) {
   const std::filesystem::path out(cli.out), checkpoints = checkpoint_folder(out);
   const auto count = static_cast<std::size_t>(cli.options.count);
   GenerateWork work;
@@ -151,7 +122,7 @@ std::optional<Generated> generate_resumably(const GenerateCli& cli, const ShapeT
     // A fresh start must not be resumed from another run's checkpoints.
     std::filesystem::remove_all(checkpoints);
     ensure_output_folder(checkpoints);
-    write_invocation(checkpoints / "resume.json", invocation_of(cli, command_line));
+    write_invocation(checkpoints / "resume.json", start);
   }
   const CheckpointFolderGuard checkpoints_guard(checkpoints);
   // A step is one particle through one phase: drawn, shaped (a pass of the projected-ASR fit or
@@ -196,8 +167,10 @@ int run(const GenerateCli& given, const RunContext& context) {
     std::filesystem::remove_all(checkpoint_folder(resumed), ignored);
     return 0;
   }
-  const GenerateCli cli =
-      given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
+  GenerateCli cli = given;
+  if (!given.resume.empty())
+    command_line = generate_command(cli).resume(
+        checkpoint_folder(std::filesystem::absolute(given.resume)) / "resume.json", given.resume);
   if (cli.targets.empty()) throw InputError("generate: give --targets FILE (or --resume OUT)");
   if (cli.out.empty()) throw InputError("generate: give --out FOLDER (or --resume OUT)");
   const ShapeTargets targets = read_shape_targets(cli.targets);
@@ -205,7 +178,8 @@ int run(const GenerateCli& given, const RunContext& context) {
   targets.check();
   cli.options.check();
   const std::optional<Generated> generated =
-      generate_resumably(cli, targets, !given.resume.empty(), command_line, context.quiet);
+      generate_resumably(cli, targets, !given.resume.empty(),
+                         generate_command(cli).invocation(command_line), context.quiet);
   const std::filesystem::path out(cli.out);
   if (!generated) {
     spdlog::warn(
@@ -272,6 +246,7 @@ int run(const GenerateCli& given, const RunContext& context) {
   }
   csv.commit();
   RunMetadata meta("generate", command_line);
+  meta.options(generate_command(cli).json());
   meta.input("targets", cli.targets).output("shapes.csv");
   for (std::size_t i = 0; i < particles.size(); ++i)
     meta.output(fmt::format("particle_{:04d}.{}", i, cli.format));
@@ -312,46 +287,16 @@ StageOptions generate_options() {
   return shape_targets_options();
 }
 
+CommandOptions generate_command_options() {
+  static GenerateCli defaults;
+  return generate_command(defaults);
+}
+
 StageRunner setup_generate_cli(CLI::App& app) {
   auto cli = std::make_shared<GenerateCli>();
-  std::vector<CLI::Option*> run_options = {
-      app.add_option("--targets", cli->targets,
-                     "shape statistics: shape-stats summary.json or a TOML with the same keys"),
-      app.add_option("--count", cli->options.count, "particles")->capture_default_str(),
-      app.add_option("--seed", cli->options.seed, "seed (same seed, same particles)")
-          ->capture_default_str(),
-      app.add_option("--subdivisions", cli->options.subdivisions,
-                     "icosphere level (4: 2562 vertices)")
-          ->capture_default_str(),
-      app.add_option("--max-degree", cli->options.max_degree, "highest spherical-harmonic degree")
-          ->capture_default_str(),
-      app.add_option("--format", cli->format, "mesh format")
-          ->check(CLI::IsMember({"stl", "off", "ply"}))
-          ->capture_default_str(),
-      app.add_option("--directions", cli->directions, "views per particle for shapes.csv")
-          ->check(CLI::Range(1, 10000))
-          ->capture_default_str(),
-      app.add_option("--ks-tolerance", cli->ks_tolerance,
-                     "KS distance of the projected ASR to the image distribution above which "
-                     "generate warns (output and run.json)")
-          ->check(CLI::Range(0.0, 1.0))
-          ->capture_default_str(),
-      app.add_option("--checkpoint-every", cli->checkpoints.every_steps,
-                     "particle steps between checkpoints for --resume (a step: one particle "
-                     "drawn, shaped or described; 0: by wall time only)")
-          ->check(CLI::Range(std::int64_t{0}, std::int64_t{1} << 40))
-          ->capture_default_str(),
-      app.add_option("--checkpoint-minutes", cli->checkpoints.minutes,
-                     "minutes of wall time between checkpoints for --resume (0: by steps only)")
-          ->check(CLI::Range(0.0, 1e6))
-          ->capture_default_str(),
-      app.add_option("--out", cli->out, "output folder (meshes, shapes.csv, effective.toml)")};
-  auto* resume = app.add_option(
-      "--resume", cli->resume,
-      "continue the killed run that writes this folder from its last checkpoint, with the "
-      "arguments it was started with");
-  for (CLI::Option* option : run_options)
-    resume->excludes(option);
+  generate_command(*cli).add_to(app, &cli->resume,
+                                "continue the killed run that writes this folder from its last "
+                                "checkpoint, with the arguments it was started with");
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

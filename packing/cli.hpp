@@ -8,5 +8,7 @@ namespace shapepress::packing {
 StageRunner setup_pack_cli(CLI::App& app);
 // Its config keys (pack_config.hpp), for --help-config and docs/config-reference.md.
 StageOptions pack_options();
+// Its command-line options (docs/stages.md).
+CommandOptions pack_command_options();
 
 }  // namespace shapepress::packing

@@ -5,20 +5,19 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "common/atomic_file.hpp"
+#include "common/command_options.hpp"
 #include "common/config.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/provenance.hpp"
 #include "common/resume.hpp"
 #include "common/run_metadata.hpp"
-#include "common/sha256.hpp"
 #include "packing/cli.hpp"
 #include "packing/pack_config.hpp"
 #include "simulate/checkpoint.hpp"
@@ -78,30 +77,26 @@ PackPhaseState read_phase(const std::filesystem::path& path) {
   return s;
 }
 
-// --resume OUT: the arguments the run was started with, from its working directory.
-PackCli resumed_arguments(const std::string& given, std::string& command_line) {
-  const std::filesystem::path out = std::filesystem::absolute(given);
-  const std::filesystem::path record = checkpoint_folder(out) / "resume.json";
-  const RunInvocation invocation = resume_invocation(record, given);
-  command_line = invocation.command_line;
-  PackCli cli;
-  cli.config = invocation.config;
-  cli.out = out.string();
-  if (const auto it = invocation.arguments.find("templates"); it != invocation.arguments.end())
-    cli.templates = it->second;
-  if (const auto it = invocation.arguments.find("seed");
-      it != invocation.arguments.end() && !it->second.empty())
-    cli.seed = parse_unsigned(it->second.front(), "seed", record);
-  if (const auto it = invocation.arguments.find("summary");
-      it != invocation.arguments.end() && !it->second.empty())
-    cli.summary = it->second.front();
-  if (const auto it = invocation.arguments.find("count");
-      it != invocation.arguments.end() && !it->second.empty())
-    cli.count = parse_whole(it->second.front(), "count", record, 1,
-                            std::numeric_limits<std::int64_t>::max());
-  if (const auto it = invocation.arguments.find("template"); it != invocation.arguments.end())
-    cli.template_names = it->second;
-  return cli;
+// pack's options, bound once: parsed, recorded for --resume, written into run.json and
+// documented (docs/stages.md).
+CommandOptions pack_command(PackCli& cli) {
+  CommandOptions options("pack");
+  options
+      .texts("templates", &cli.templates,
+             "templates files of fill (their /bms and /cms groups); none for spheres only")
+      .text("--config", &cli.config, "pack config TOML ([pack], [[template]], [sizes], ...)")
+      .config()
+      .text("--out", &cli.out, "packed.h5 (packed.xmf and packed.h5.run.json beside it)")
+      .output()
+      .whole("--seed", &cli.seed, "random seed (overrides pack.seed)")
+      .text("--summary", &cli.summary,
+            "sizes from this shape-stats summary.json (its Q3 x10/x50/x90) instead of the "
+            "config's [sizes] summary or size_quantiles")
+      .whole("--count", &cli.count, "number of bodies (overrides pack.count and target_mass)")
+      .texts("--template", &cli.template_names,
+             "a template to pack, \"bms/<name>\", \"cms/<name>\" or \"sphere\"; repeated: equal "
+             "weights (replaces the config's [[template]] blocks)");
+  return options;
 }
 
 // run.json names a length's fact with its unit, as the other stages do (bed_height_m).
@@ -116,7 +111,10 @@ int run(const PackCli& given, const RunContext& context) {
   if (finished_before_resume("pack", given.resume, checkpoint_folder(given.resume) / "resume.json",
                              run_metadata_beside(given.resume)))
     return 0;
-  const PackCli cli = given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
+  PackCli cli = given;
+  if (!given.resume.empty())
+    command_line = pack_command(cli).resume(
+        checkpoint_folder(std::filesystem::absolute(given.resume)) / "resume.json", given.resume);
   if (cli.config.empty()) throw InputError("pack: give --config FILE (or --resume OUT)");
   if (cli.out.empty()) throw InputError("pack: give --out FILE (or --resume OUT)");
   RunMetadata meta("pack", command_line);
@@ -164,14 +162,7 @@ int run(const PackCli& given, const RunContext& context) {
     // A fresh start must not be resumed from another run's checkpoints.
     std::filesystem::remove_all(checkpoints);
     ensure_output_folder(checkpoints);
-    RunInvocation invocation{
-        command_line, std::filesystem::current_path(), cli.config, sha256_file(cli.config), {}};
-    if (!cli.templates.empty()) invocation.arguments["templates"] = cli.templates;
-    if (cli.seed) invocation.arguments["seed"] = {std::to_string(*cli.seed)};
-    if (!cli.summary.empty()) invocation.arguments["summary"] = {cli.summary};
-    if (cli.count) invocation.arguments["count"] = {std::to_string(*cli.count)};
-    if (!cli.template_names.empty()) invocation.arguments["template"] = cli.template_names;
-    write_invocation(checkpoints / "resume.json", invocation);
+    write_invocation(checkpoints / "resume.json", pack_command(cli).invocation(command_line));
   }
   const CheckpointFolderGuard checkpoints_guard(checkpoints);
   const Provenance provenance{command_line, root.text(), config.request.seed};
@@ -229,6 +220,7 @@ int run(const PackCli& given, const RunContext& context) {
   // Absent when there was no press, or the bed settled denser than its target.
   if (result.precompression_solid_fraction > 0.0)
     meta.fact("precompression_solid_fraction", result.precompression_solid_fraction);
+  meta.options(pack_command(cli).json());
   add_measures(meta, m);
   meta.fact("effective_config", pack_config_toml(config));
   meta.write(run_metadata_beside(out));
@@ -263,36 +255,16 @@ StageOptions pack_options() {
   return pack_config_options();
 }
 
+CommandOptions pack_command_options() {
+  static PackCli defaults;
+  return pack_command(defaults);
+}
+
 StageRunner setup_pack_cli(CLI::App& app) {
   auto cli = std::make_shared<PackCli>();
-  auto* templates =
-      app.add_option("templates", cli->templates,
-                     "templates files of fill (their /bms and /cms groups); none for spheres only");
-  auto* config = app.add_option("--config", cli->config,
-                                "pack config TOML ([pack], [[template]], [sizes], ...)");
-  auto* out =
-      app.add_option("--out", cli->out, "packed.h5 (packed.xmf and packed.h5.run.json beside it)");
-  auto* seed = app.add_option("--seed", cli->seed, "random seed (overrides pack.seed)");
-  auto* summary = app.add_option(
-      "--summary", cli->summary,
-      "sizes from this shape-stats summary.json (its Q3 x10/x50/x90) instead of the config's "
-      "[sizes] summary or size_quantiles");
-  auto* count = app.add_option("--count", cli->count,
-                               "number of bodies (overrides pack.count and target_mass)");
-  auto* names =
-      app.add_option("--template", cli->template_names,
-                     "a template to pack, \"bms/<name>\", \"cms/<name>\" or \"sphere\"; "
-                     "repeated: equal weights (replaces the config's [[template]] blocks)");
-  app.add_option("--resume", cli->resume,
-                 "continue the killed run that writes this packed.h5 from its last checkpoint, "
-                 "with the arguments it was started with")
-      ->excludes(templates)
-      ->excludes(config)
-      ->excludes(out)
-      ->excludes(seed)
-      ->excludes(summary)
-      ->excludes(count)
-      ->excludes(names);
+  pack_command(*cli).add_to(app, &cli->resume,
+                            "continue the killed run that writes this packed.h5 from its last "
+                            "checkpoint, with the arguments it was started with");
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

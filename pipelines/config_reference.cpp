@@ -1,9 +1,13 @@
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "common/command_options.hpp"
 #include "common/error.hpp"
 #include "common/options.hpp"
 #include "pipelines/stages.hpp"
@@ -51,6 +55,26 @@ int run(const HelpConfigCli& cli) {
 }
 
 }  // namespace
+
+std::string with_stage_option_tables(std::string_view document) {
+  std::vector<CommandOptions> tables;
+  for (const Stage& stage : registered_stages())
+    if (stage.command_options) tables.push_back(stage.command_options());
+  return with_option_tables(document, tables);
+}
+
+StageRunner setup_help_options_cli(CLI::App& app) {
+  auto document = std::make_shared<std::string>();
+  app.add_option("document", *document, "docs/stages.md, printed with its option tables made anew")
+      ->required();
+  return [document](const RunContext&) {
+    std::ifstream in(*document);
+    if (!in) throw InputError(*document + ": cannot be read");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::fputs(with_stage_option_tables(text).c_str(), stdout);
+    return 0;
+  };
+}
 
 StageRunner setup_help_config_cli(CLI::App& app) {
   auto cli = std::make_shared<HelpConfigCli>();

@@ -2,6 +2,7 @@
 // The table of stages the `shapepress` binary offers. A stage is listed only when it is real.
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "common/stage.hpp"
 
@@ -14,5 +15,11 @@ std::span<const Stage> registered_stages();
 StageRunner setup_help_config_cli(CLI::App& app);
 // The Markdown of docs/config-reference.md.
 std::string config_reference_markdown();
+
+// shapepress help-options DOCUMENT: DOCUMENT (docs/stages.md) with each stage's option table
+// between its markers, as the stages' tables give them now (a test keeps the file equal to it).
+StageRunner setup_help_options_cli(CLI::App& app);
+// `document` with the option tables put in (common/command_options.hpp with_option_tables).
+std::string with_stage_option_tables(std::string_view document);
 
 }  // namespace shapepress

@@ -120,7 +120,7 @@ nlohmann::json make_bed(const BedJob& bed, const FillRecipe& recipe,
   ensure_output_folder(bed.folder);
   const std::string binary = this_binary();
   nlohmann::json record = {{"key", bed.key}};
-  ProcessEnd end;
+  ChildEnd end;
   if (bed.count > 1) {
     std::vector<std::string> fill = {binary, "--quiet", "fill"};
     fill.insert(fill.end(), recipe.meshes.begin(), recipe.meshes.end());
@@ -164,7 +164,7 @@ void write_rung_config(const RungJob& job, CompactConfig config) {
 nlohmann::json press(const RungJob& job, const BedJob& bed, const CompactConfig& config) {
   ensure_output_folder(job.folder);
   write_rung_config(job, config);
-  const ProcessEnd end =
+  const ChildEnd end =
       run_process({this_binary(), "--quiet", "--threads", "1", "compact", "--config",
                    (job.folder / "compact.toml").string(), "--packing",
                    (bed.folder / "packed.h5").string(), "--out", job.folder.string()},
@@ -173,8 +173,8 @@ nlohmann::json press(const RungJob& job, const BedJob& bed, const CompactConfig&
       {"key", job.key}, {"exit_code", end.exit_code}, {"cpu_s", end.cpu_seconds}};
   if (end.exit_code != 0) record["message"] = error_line(job.folder / "log.txt", "compact");
   if (end.exit_code != 0 && end.exit_code != 1 && end.exit_code != 2)
-    throw ComputationError(fmt::format("advise: rung {} ended with exit {} (log: {})", job.label,
-                                       end.exit_code, (job.folder / "log.txt").string()));
+    throw ComputationError(fmt::format("advise: rung {} ended with {} (log: {})", job.label,
+                                       end.how(), (job.folder / "log.txt").string()));
   write_file_atomically(job.folder / "rung.json", record.dump(1) + "\n");
   return record;
 }

@@ -1,16 +1,10 @@
 #include "scenarios/advise_runs.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <exception>
 #include <fstream>
 #include <mutex>
@@ -19,33 +13,12 @@
 #include "analysis/plot.hpp"
 #include "common/error.hpp"
 
-extern char** environ;
-
 namespace shapepress::scenarios {
 
 namespace fs = std::filesystem;
 
-ProcessEnd run_process(const std::vector<std::string>& args, const fs::path& log) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  std::vector<char*> argv;
-  for (const std::string& a : args)
-    argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0)
-    throw ComputationError(fmt::format("advise: cannot start {}: {}", args[0], spawned));
-  int status = 0;
-  rusage usage{};
-  while (wait4(pid, &status, 0, &usage) < 0)
-    if (errno != EINTR) throw ComputationError("advise: lost the run of " + log.string());
-  const auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status),
-          seconds(usage.ru_utime) + seconds(usage.ru_stime)};
+ChildEnd run_process(const std::vector<std::string>& args, const fs::path& log) {
+  return run_child({args, "a step of advise", "", {}, {}, log});
 }
 
 std::string error_line(const fs::path& log, const std::string& stage) {

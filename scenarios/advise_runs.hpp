@@ -14,16 +14,13 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/advise.hpp"
+#include "common/child_process.hpp"
 #include "common/run_metadata.hpp"
 
 namespace shapepress::scenarios {
 
-struct ProcessEnd {
-  int exit_code = 0;         // 128 + the signal for a killed process
-  double cpu_seconds = 0.0;  // user + system CPU of the process (and its threads)
-};
 // Runs `args` (argv[0] the binary) with stdout and stderr into `log`.
-ProcessEnd run_process(const std::vector<std::string>& args, const std::filesystem::path& log);
+ChildEnd run_process(const std::vector<std::string>& args, const std::filesystem::path& log);
 
 // The message of a failed run: the last "shapepress STAGE: error: …" (exit 2) or
 // "…: failed: …" (exit 1) line main() printed into `log`.

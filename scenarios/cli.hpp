@@ -18,5 +18,9 @@ StageRunner setup_calibrate_cli(CLI::App& app);
 StageOptions plate_options();
 StageOptions calibrate_options();
 StageOptions compact_options();
+// The command-line options of the resumable ones (docs/stages.md).
+CommandOptions plate_command_options();
+CommandOptions calibrate_command_options();
+CommandOptions compact_command_options();
 
 }  // namespace shapepress::scenarios

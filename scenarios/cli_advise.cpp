@@ -183,12 +183,13 @@ int run(const AdviseCli& cli, const RunContext& context) {
                                      "--out",
                                      job.folder.string()};
     if (particle == "bms") args.insert(args.end(), {"--fills", std::to_string(fills)});
-    const int code = run_process(args, job.folder / "log.txt").exit_code;
+    const ChildEnd end = run_process(args, job.folder / "log.txt");
+    const int code = end.exit_code;
     nlohmann::json record = {{"key", job.key}, {"exit_code", code}};
     if (code != 0) record["message"] = error_line(job.folder / "log.txt", "plate");
     if (code != 0 && code != 1 && code != 2)
-      throw ComputationError(fmt::format("advise: rung {} ended with exit {} (log: {})", job.label,
-                                         code, (job.folder / "log.txt").string()));
+      throw ComputationError(fmt::format("advise: rung {} ended with {} (log: {})", job.label,
+                                         end.how(), (job.folder / "log.txt").string()));
     write_file_atomically(job.folder / "rung.json", record.dump(1) + "\n");
     const std::lock_guard guard(lock);
     records[pending[i]] = record;

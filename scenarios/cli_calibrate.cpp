@@ -11,12 +11,12 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/command_options.hpp"
 #include "common/config.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/run_metadata.hpp"
-#include "common/sha256.hpp"
 #include "common/units.hpp"
 #include "scenarios/bms_particle.hpp"
 #include "scenarios/calibrate.hpp"
@@ -56,80 +56,68 @@ std::filesystem::path reference_file(const std::string& reference) {
                                                   : std::filesystem::path(reference);
 }
 
-nlohmann::json invocation_json(const CalibrateCli& cli, const std::string& command_line) {
-  nlohmann::json j = {{"command_line", command_line},
-                      {"working_directory", std::filesystem::current_path().string()},
-                      {"config", cli.config},
-                      {"config_sha256", sha256_file(cli.config)},
-                      {"reference", cli.reference},
-                      {"reference_sha256", sha256_file(reference_file(cli.reference))},
-                      {"x_column", cli.x_column},
-                      {"y_column", cli.y_column},
-                      {"fit", cli.fit},
-                      {"start", cli.start},
-                      {"count", cli.count},
-                      {"fills", cli.fills},
-                      {"from", cli.from},
-                      {"to", cli.to},
-                      {"max_evaluations", cli.max_evaluations},
-                      {"initial_factor", cli.initial_factor},
-                      {"packing", cli.packing},
-                      {"density_scale", cli.density_scale},
-                      {"out", std::filesystem::absolute(cli.out).string()}};
-  if (!cli.packing.empty()) j["packing_sha256"] = sha256_file(cli.packing);
-  return j;
+// calibrate's options, bound once: parsed, recorded for --resume (with the SHA-256 of the
+// reference and the bed: the evaluations a resume reuses were run against them), written into
+// run.json and documented (docs/stages.md).
+CommandOptions calibrate_command(CalibrateCli& cli) {
+  CommandOptions options("calibrate");
+  options
+      .text("--config", &cli.config,
+            "plate config with [bms] and [bond], or compact config (with [punch]); the start "
+            "values")
+      .config()
+      .text("--reference", &cli.reference,
+            "reference curve CSV: plate force (e.g. the Tatara curve); compaction stress-strain "
+            "or solid fraction-stress, the unit in each column name (strain_%, stress_MPa); or a "
+            "fem-plate run folder (its force.csv: deformation, top_force_N; a 3D run: the mean "
+            "of both plates)")
+      .hashed(reference_file)
+      .text("--x-column", &cli.x_column,
+            "x column of the reference (plate: deformation; compaction: found by name)")
+      .text("--y-column", &cli.y_column,
+            "y column of the reference (plate: F_tatara_N [N]; compaction: found by name)")
+      .text("--fit", &cli.fit,
+            "parameters, comma-separated. Plate (default modulus,shear_ratio): modulus, "
+            "shear_ratio, normal_stiffness, shear_stiffness, contact_modulus, radius_multiplier. "
+            "Compaction (default loading_stiffness): loading_stiffness, youngs_modulus, "
+            "plasticity_ratio, multicontact_prefactor, normal_stiffness, shear_stiffness")
+      .text("--start", &cli.start,
+            "start values replacing the config's, in SI units: name=value,... (e.g. "
+            "modulus=3e6,contact_modulus=1.85e9)")
+      .whole("--count", &cli.count, "plate: sub-spheres (overrides bms.count)")
+      .range(Range::closed(1, 1000000))
+      .whole("--fills", &cli.fills,
+             "plate: fit the mean curve of this many fills (seeds seed, seed + 1, …; overrides "
+             "bms.fills)")
+      .range(Range::closed(1, 1000))
+      .text("--from", &cli.from,
+            "objective window, lowest x: plate deformation (0.05); compaction strain or stress "
+            "with unit, e.g. 0.3 or 5MPa (default: all)")
+      .text("--to", &cli.to, "objective window, highest x (plate: 0.40)")
+      .whole("--max-evaluations", &cli.max_evaluations, "runs at most")
+      .show_default()
+      .number("--initial-factor", &cli.initial_factor,
+              "first simplex: each parameter times this factor (plate 4, compaction 2; smaller "
+              "when the start is already close)")
+      .range(Range::closed(1.01, 100.0))
+      .text("--packing", &cli.packing,
+            "compaction: the bed every evaluation presses (pack's packed.h5, or spheres); "
+            "default the config's [generate] bed, settled once")
+      .hashed()
+      .number("--density-scale", &cli.density_scale,
+              "compaction: mass scaling of the evaluations only (a cheaper scene); "
+              "calibrated.toml keeps the config's run.density_scale")
+      .range(Range::positive())
+      .text("--out", &cli.out,
+            "output folder (calibrated.toml, calibration.csv, evaluations.csv, force.csv or "
+            "punch.csv, run.json)")
+      .output();
+  return options;
 }
 
-CalibrateCli resumed_arguments(const std::string& folder, std::string& command_line) {
-  const std::filesystem::path path = std::filesystem::path(folder) / invocation_name;
-  std::ifstream in(path);
-  if (!in)
-    throw InputError(fmt::format("--resume {}: no {} there (not a calibrate output folder)", folder,
-                                 invocation_name));
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-    CalibrateCli cli;
-    command_line = j.at("command_line").get<std::string>();
-    const std::string working = j.at("working_directory").get<std::string>();
-    std::error_code ec;
-    std::filesystem::current_path(working, ec);
-    if (ec)
-      throw InputError(
-          fmt::format("--resume {}: the calibration was started in {}, which is "
-                      "gone ({})",
-                      folder, working, ec.message()));
-    for (const auto& [file, hash] :
-         {std::pair{"config", "config_sha256"}, std::pair{"reference", "reference_sha256"},
-          std::pair{"packing", "packing_sha256"}}) {
-      const std::string given = j.at(file).get<std::string>();
-      if (given.empty()) continue;
-      const std::filesystem::path name = reference_file(given);
-      if (!std::filesystem::is_regular_file(name) || sha256_file(name) != j.at(hash))
-        throw InputError(fmt::format(
-            "--resume {}: the {} {} is missing or changed since the calibration started; a "
-            "resumed calibration needs the same one",
-            folder, file, name.string()));
-    }
-    cli.config = j.at("config");
-    cli.reference = j.at("reference");
-    cli.x_column = j.at("x_column");
-    cli.y_column = j.at("y_column");
-    cli.fit = j.at("fit");
-    cli.start = j.at("start");
-    cli.count = j.at("count");
-    cli.fills = j.at("fills");
-    cli.from = j.at("from");
-    cli.to = j.at("to");
-    cli.max_evaluations = j.at("max_evaluations");
-    cli.initial_factor = j.at("initial_factor");
-    cli.packing = j.at("packing");
-    cli.density_scale = j.at("density_scale");
-    cli.out = j.at("out");
-    return cli;
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("{}: {}", path.string(), e.what()));
-  }
+// The table reads the fields it is bound to: a copy binds a running calibration's.
+nlohmann::ordered_json options_json(CalibrateCli cli) {
+  return calibrate_command(cli).json();
 }
 
 // The evaluations of an interrupted calibration (its evaluations.csv), for the search to reuse.
@@ -209,11 +197,11 @@ struct Invocation {
   bool quiet = false;
 };
 
-void write_invocation(const std::filesystem::path& out, const CalibrateCli& cli,
+void write_invocation(const std::filesystem::path& out, CalibrateCli cli,
                       const Invocation& invocation) {
   if (invocation.resumed) return;  // it is the first start's
-  write_file_atomically(out / invocation_name,
-                        invocation_json(cli, invocation.command_line).dump(2) + "\n");
+  shapepress::write_invocation(out / invocation_name,
+                               calibrate_command(cli).invocation(invocation.command_line));
 }
 
 std::vector<std::pair<std::string, double>> start_values(const std::string& text) {
@@ -260,6 +248,7 @@ RunMetadata& add_fitted_values(RunMetadata& meta, const std::vector<std::string>
 int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
                                const Invocation& invocation) {
   RunMetadata meta("calibrate", invocation.command_line);
+  meta.options(options_json(cli));
   meta.input("config", cli.config);
   CompactConfig config = read_compact_config(root);
   root.check_unknown_keys();
@@ -487,6 +476,7 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config
 
 int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation& invocation) {
   RunMetadata meta("calibrate", invocation.command_line);
+  meta.options(options_json(cli));
   meta.input("config", cli.config);
   PlateConfig config = read_plate_config(root);
   root.check_unknown_keys();
@@ -585,8 +575,10 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
 
 int run(const CalibrateCli& given, const RunContext& context) {
   Invocation invocation{context.command_line, !given.resume.empty(), context.quiet};
-  const CalibrateCli cli =
-      given.resume.empty() ? given : resumed_arguments(given.resume, invocation.command_line);
+  CalibrateCli cli = given;
+  if (!given.resume.empty())
+    invocation.command_line = calibrate_command(cli).resume(
+        std::filesystem::absolute(given.resume) / invocation_name, given.resume);
   if (cli.config.empty() || cli.reference.empty() || cli.out.empty())
     throw InputError("calibrate: give --config, --reference and --out (or --resume OUT)");
   const ConfigTable root = ConfigTable::load_file(cli.config);
@@ -607,77 +599,17 @@ StageOptions calibrate_options() {
   return options;
 }
 
+CommandOptions calibrate_command_options() {
+  static CalibrateCli defaults;
+  return calibrate_command(defaults);
+}
+
 StageRunner setup_calibrate_cli(CLI::App& app) {
   auto cli = std::make_shared<CalibrateCli>();
-  auto* config = app.add_option("--config", cli->config,
-                                "plate config with [bms] and [bond], or compact config (with "
-                                "[punch]); the start values");
-  auto* reference = app.add_option(
-      "--reference", cli->reference,
-      "reference curve CSV: plate force (e.g. the Tatara curve); compaction stress-strain or "
-      "solid fraction-stress, the unit in each column name (strain_%, stress_MPa); or a "
-      "fem-plate run folder (its force.csv: deformation, top_force_N; a 3D run: the mean of both "
-      "plates)");
-  auto* x_column = app.add_option("--x-column", cli->x_column,
-                                  "x column of the reference (plate: deformation; compaction: "
-                                  "found by name)");
-  auto* y_column = app.add_option("--y-column", cli->y_column,
-                                  "y column of the reference (plate: F_tatara_N [N]; compaction: "
-                                  "found by name)");
-  auto* fit = app.add_option(
-      "--fit", cli->fit,
-      "parameters, comma-separated. Plate (default modulus,shear_ratio): modulus, shear_ratio, "
-      "normal_stiffness, shear_stiffness, contact_modulus, radius_multiplier. Compaction "
-      "(default loading_stiffness): loading_stiffness, youngs_modulus, plasticity_ratio, "
-      "multicontact_prefactor, normal_stiffness, shear_stiffness");
-  auto* start = app.add_option("--start", cli->start,
-                               "start values replacing the config's, in SI units: "
-                               "name=value,... (e.g. modulus=3e6,contact_modulus=1.85e9)");
-  auto* count = app.add_option("--count", cli->count, "plate: sub-spheres (overrides bms.count)")
-                    ->check(CLI::Range(1, 1000000));
-  auto* fills = app.add_option("--fills", cli->fills,
-                               "plate: fit the mean curve of this many fills (seeds seed, seed + "
-                               "1, …; overrides bms.fills)")
-                    ->check(CLI::Range(1, 1000));
-  auto* from = app.add_option("--from", cli->from,
-                              "objective window, lowest x: plate deformation (0.05); compaction "
-                              "strain or stress with unit, e.g. 0.3 or 5MPa (default: all)");
-  auto* to = app.add_option("--to", cli->to, "objective window, highest x (plate: 0.40)");
-  auto* evaluations = app.add_option("--max-evaluations", cli->max_evaluations, "runs at most")
-                          ->capture_default_str();
-  auto* factor = app.add_option("--initial-factor", cli->initial_factor,
-                                "first simplex: each parameter times this factor (plate 4, "
-                                "compaction 2; smaller when the start is already close)")
-                     ->check(CLI::Range(1.01, 100.0));
-  auto* packing = app.add_option("--packing", cli->packing,
-                                 "compaction: the bed every evaluation presses (pack's "
-                                 "packed.h5, or spheres); default the config's [generate] bed, "
-                                 "settled once");
-  auto* density = app.add_option("--density-scale", cli->density_scale,
-                                 "compaction: mass scaling of the evaluations only (a cheaper "
-                                 "scene); calibrated.toml keeps the config's run.density_scale")
-                      ->check(CLI::PositiveNumber);
-  auto* out = app.add_option("--out", cli->out,
-                             "output folder (calibrated.toml, calibration.csv, evaluations.csv, "
-                             "force.csv or punch.csv, run.json)");
-  app.add_option("--resume", cli->resume,
-                 "continue the interrupted calibration in this output folder, with the arguments "
-                 "it was started with: evaluations in its evaluations.csv are not run again")
-      ->excludes(config)
-      ->excludes(reference)
-      ->excludes(x_column)
-      ->excludes(y_column)
-      ->excludes(fit)
-      ->excludes(start)
-      ->excludes(count)
-      ->excludes(fills)
-      ->excludes(from)
-      ->excludes(to)
-      ->excludes(evaluations)
-      ->excludes(factor)
-      ->excludes(packing)
-      ->excludes(density)
-      ->excludes(out);
+  calibrate_command(*cli).add_to(app, &cli->resume,
+                                 "continue the interrupted calibration in this output folder, "
+                                 "with the arguments it was started with: evaluations in its "
+                                 "evaluations.csv are not run again");
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -5,16 +5,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <memory>
 
 #include "common/atomic_file.hpp"
+#include "common/command_options.hpp"
 #include "common/config.hpp"
 #include "common/csv.hpp"
 #include "common/progress.hpp"
 #include "common/provenance.hpp"
 #include "common/resume.hpp"
-#include "common/sha256.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/compact_checkpoint.hpp"
 #include "scenarios/compact_setup.hpp"
@@ -30,29 +29,26 @@ struct CompactCli {
   std::string restart;
   std::string out;
   std::string resume;
-  std::int64_t steps = -1;
+  std::optional<std::int64_t> steps;
 };
 
-// --resume OUT: the arguments the run was started with, from the working directory it was
-// started in (relative paths in them and in the config mean what they meant then).
-CompactCli resumed_arguments(const std::string& folder, std::string& command_line) {
-  const std::filesystem::path out = std::filesystem::absolute(folder);
-  const std::filesystem::path record = out / std::string(checkpoint_folder) / "resume.json";
-  const RunInvocation invocation = resume_invocation(record, folder);
-  command_line = invocation.command_line;
-  const auto argument = [&](const char* name) {
-    const auto it = invocation.arguments.find(name);
-    return it == invocation.arguments.end() || it->second.empty() ? std::string()
-                                                                  : it->second.front();
-  };
-  CompactCli cli;
-  cli.config = invocation.config;
-  cli.packing = argument("packing");
-  cli.restart = argument("restart");
-  if (const std::string steps = argument("steps"); !steps.empty())
-    cli.steps = parse_whole(steps, "steps", record, 0, std::numeric_limits<std::int64_t>::max());
-  cli.out = out.string();
-  return cli;
+// compact's options, bound once: parsed, recorded for --resume, written into run.json and
+// documented (docs/stages.md).
+CommandOptions compact_command(CompactCli& cli) {
+  CommandOptions options("compact");
+  options.text("--config", &cli.config, "compact config TOML (materials, box, punch, run)")
+      .config()
+      .text("--packing", &cli.packing,
+            "spheres: 'x y z r' text (m) or HDF5 /particles/{position,radius}; without it the "
+            "config's [generate] makes a bed")
+      .text("--restart", &cli.restart, "continue from a snapshot written by compact")
+      .excludes("--packing")
+      .whole("--steps", &cli.steps, "stop at this total step count (overrides run.steps)")
+      .range(Range::non_negative())
+      .text("--out", &cli.out,
+            "output folder (punch.csv, snapshots/, snapshots.xdmf, effective.toml)")
+      .output();
+  return options;
 }
 
 int run(const CompactCli& given, const RunContext& context) {
@@ -62,8 +58,11 @@ int run(const CompactCli& given, const RunContext& context) {
                              resumed / std::string(checkpoint_folder) / "resume.json",
                              resumed / std::string(run_metadata_name)))
     return 0;
-  const CompactCli cli =
-      given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
+  CompactCli cli = given;
+  if (!given.resume.empty())
+    command_line = compact_command(cli).resume(
+        std::filesystem::absolute(given.resume) / std::string(checkpoint_folder) / "resume.json",
+        given.resume);
   if (cli.config.empty()) throw InputError("compact: give --config FILE (or --resume OUT)");
   if (cli.out.empty()) throw InputError("compact: give --out FOLDER (or --resume OUT)");
   const std::filesystem::path out(cli.out);
@@ -90,7 +89,7 @@ int run(const CompactCli& given, const RunContext& context) {
   meta.input("config", cli.config);
   CompactConfig config = read_compact_config(root);
   root.check_unknown_keys();
-  if (cli.steps >= 0) config.setup.max_steps = cli.steps;
+  if (cli.steps) config.setup.max_steps = *cli.steps;
   ensure_output_folder(out / "snapshots");
   const bool fresh = !checkpoint && !settle_checkpoint;
   // A fresh start must not be resumed from another run's checkpoints.
@@ -99,12 +98,7 @@ int run(const CompactCli& given, const RunContext& context) {
   const CheckpointFolderGuard checkpoints_guard(checkpoints);
   // Before the settle, so --resume can start a run killed before its first checkpoint again.
   if (fresh) {
-    RunInvocation invocation{
-        command_line, std::filesystem::current_path(), cli.config, sha256_file(cli.config), {}};
-    if (!cli.packing.empty()) invocation.arguments["packing"] = {cli.packing};
-    if (!cli.restart.empty()) invocation.arguments["restart"] = {cli.restart};
-    if (cli.steps >= 0) invocation.arguments["steps"] = {std::to_string(cli.steps)};
-    write_invocation(checkpoints / "resume.json", invocation);
+    write_invocation(checkpoints / "resume.json", compact_command(cli).invocation(command_line));
   }
   const Provenance provenance{
       command_line, root.text(),
@@ -262,6 +256,7 @@ int run(const CompactCli& given, const RunContext& context) {
   csv.commit();
   meta.output("punch.csv");
   if (!index.empty()) meta.output("snapshots.xdmf");
+  meta.options(compact_command(cli).json());
   add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, engine, summary);
   meta.write(out / run_metadata_name);
   // The run is whole: its checkpoints have done their work.
@@ -288,29 +283,16 @@ StageOptions compact_options() {
   return compact_config_options();
 }
 
+CommandOptions compact_command_options() {
+  static CompactCli defaults;
+  return compact_command(defaults);
+}
+
 StageRunner setup_compact_cli(CLI::App& app) {
   auto cli = std::make_shared<CompactCli>();
-  auto* config =
-      app.add_option("--config", cli->config, "compact config TOML (materials, box, punch, run)");
-  auto* packing =
-      app.add_option("--packing", cli->packing,
-                     "spheres: 'x y z r' text (m) or HDF5 /particles/{position,radius}; "
-                     "without it the config's [generate] makes a bed");
-  auto* restart =
-      app.add_option("--restart", cli->restart, "continue from a snapshot written by compact")
-          ->excludes(packing);
-  auto* steps =
-      app.add_option("--steps", cli->steps, "stop at this total step count (overrides run.steps)");
-  auto* out = app.add_option(
-      "--out", cli->out, "output folder (punch.csv, snapshots/, snapshots.xdmf, effective.toml)");
-  app.add_option("--resume", cli->resume,
-                 "continue the killed run in this output folder from its last checkpoint, with "
-                 "the arguments it was started with")
-      ->excludes(config)
-      ->excludes(packing)
-      ->excludes(restart)
-      ->excludes(steps)
-      ->excludes(out);
+  compact_command(*cli).add_to(app, &cli->resume,
+                               "continue the killed run in this output folder from its last "
+                               "checkpoint, with the arguments it was started with");
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 

@@ -3,18 +3,16 @@
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
-#include <limits>
-#include <map>
 #include <memory>
 #include <string_view>
 #include <vector>
 
 #include "common/atomic_file.hpp"
+#include "common/command_options.hpp"
 #include "common/config.hpp"
 #include "common/error.hpp"
 #include "common/provenance.hpp"
 #include "common/resume.hpp"
-#include "common/sha256.hpp"
 #include "scenarios/cli.hpp"
 #include "scenarios/config_io.hpp"
 #include "scenarios/plate_checkpoint.hpp"
@@ -41,53 +39,46 @@ struct PlateCli {
 
 constexpr std::string_view checkpoint_folder = "checkpoints";
 
-// The options resume.json keeps, by name (common/resume.hpp RunInvocation::arguments).
-std::map<std::string, std::vector<std::string>> arguments_of(const PlateCli& cli) {
-  std::map<std::string, std::vector<std::string>> a;
-  a["particle"] = {cli.particle};
-  if (!cli.model.empty()) a["model"] = {cli.model};
-  a["count"] = {std::to_string(cli.count)};
-  a["spheres"] = {std::to_string(cli.spheres)};
-  a["fills"] = {std::to_string(cli.fills)};
-  a["seed"] = {std::to_string(cli.seed)};
-  a["time_step_fraction"] = {exact_text(cli.time_step_fraction)};
-  a["snapshot"] = {cli.snapshot ? "1" : "0"};
-  return a;
-}
-
-// --resume OUT: the arguments the run was started with, from the working folder it was started
-// in (relative paths in them and in the config mean what they meant then).
-PlateCli resumed_arguments(const std::string& folder, std::string& command_line) {
-  const std::filesystem::path out = std::filesystem::absolute(folder);
-  const std::filesystem::path record = out / std::string(checkpoint_folder) / "resume.json";
-  const RunInvocation invocation = resume_invocation(record, folder);
-  command_line = invocation.command_line;
-  const auto argument = [&](const char* name) {
-    const auto it = invocation.arguments.find(name);
-    if (it == invocation.arguments.end() || it->second.empty())
-      throw InputError(
-          fmt::format("{}: no argument '{}' (a damaged resume record)", record.string(), name));
-    return it->second.front();
-  };
-  const auto whole = [&](const char* name, std::int64_t least) {
-    return parse_whole(argument(name), name, record, least, std::numeric_limits<int>::max());
-  };
-  PlateCli cli;
-  cli.config = invocation.config;
-  cli.out = out.string();
-  cli.particle = argument("particle");
-  if (cli.particle != "sphere" && cli.particle != "bms" && cli.particle != "cms")
-    throw InputError(fmt::format("{}: argument 'particle' is '{}' (a damaged resume record)",
-                                 record.string(), cli.particle));
-  if (invocation.arguments.contains("model")) cli.model = argument("model");
-  cli.count = static_cast<int>(whole("count", 0));
-  cli.spheres = static_cast<int>(whole("spheres", 0));
-  cli.fills = static_cast<int>(whole("fills", 0));
-  cli.seed =
-      parse_whole(argument("seed"), "seed", record, -1, std::numeric_limits<std::int64_t>::max());
-  cli.time_step_fraction = parse_exact(argument("time_step_fraction"), record);
-  cli.snapshot = argument("snapshot") == "1";
-  return cli;
+// plate's options, bound once: parsed, recorded for --resume, written into run.json and
+// documented (docs/stages.md).
+CommandOptions plate_command(PlateCli& cli) {
+  CommandOptions options("plate");
+  options
+      .text("--config", &cli.config,
+            "plate config TOML (materials, sphere, plate, bms, bond); required unless --resume")
+      .config()
+      .text("--out", &cli.out,
+            "output folder (force.csv, effective.toml); required unless --resume")
+      .output()
+      .text("--model", &cli.model,
+            "normal law of every interaction, overriding the config's normal_law, with the "
+            "interaction's parameters of that law (multicontact: paper Eq. 6)")
+      .choices(normal_law_names())
+      .text("--particle", &cli.particle,
+            "sphere (one Hertz sphere), bms (bonded sub-spheres filling it, [bms] + [bond]) or "
+            "cms (one rigid clump of overlapping sub-spheres filling it, [cms])")
+      .choices({"sphere", "bms", "cms"})
+      .show_default()
+      .whole("--count", &cli.count, "bms: number of sub-spheres (overrides bms.count)")
+      .range(Range::closed(1, 1000000))
+      .whole("--fills", &cli.fills,
+             "bms: mean curve of this many fills, seeds seed, seed + 1, … (overrides bms.fills; "
+             "run side by side on the --threads)")
+      .range(Range::closed(1, 1000))
+      .whole("--seed", &cli.seed, "bms: seed of the (first) fill (overrides bms.seed)")
+      .range(Range::non_negative())
+      .whole("--spheres", &cli.spheres,
+             "cms: number of overlapping sub-spheres asked of the filler (overrides cms.count)")
+      .range(Range::closed(1, 1000000))
+      .number("--time-step-fraction", &cli.time_step_fraction,
+              "the step as this fraction of the critical one (overrides run.time_step_fraction; "
+              "`advise` and its stability map vary it)")
+      .range(Range::positive())
+      .recorded_as("time_step_fraction")
+      .flag("--snapshot", &cli.snapshot,
+            "also write final.h5 + final.xdmf (ParaView: sub-spheres, bonds as lines, clump axes, "
+            "plates)");
+  return options;
 }
 
 int run(const PlateCli& given, const RunContext& context) {
@@ -97,7 +88,11 @@ int run(const PlateCli& given, const RunContext& context) {
                              resumed / std::string(checkpoint_folder) / "resume.json",
                              resumed / std::string(run_metadata_name)))
     return 0;
-  const PlateCli cli = given.resume.empty() ? given : resumed_arguments(given.resume, command_line);
+  PlateCli cli = given;
+  if (!given.resume.empty())
+    command_line = plate_command(cli).resume(
+        std::filesystem::absolute(given.resume) / std::string(checkpoint_folder) / "resume.json",
+        given.resume);
   if (cli.config.empty()) throw InputError("plate: give --config FILE (or --resume OUT)");
   if (cli.out.empty()) throw InputError("plate: give --out FOLDER (or --resume OUT)");
   RunMetadata meta("plate", command_line);
@@ -155,9 +150,7 @@ int run(const PlateCli& given, const RunContext& context) {
   ensure_output_folder(checkpoints);
   const CheckpointFolderGuard checkpoints_guard(checkpoints);
   if (given.resume.empty() || !std::filesystem::exists(checkpoints / "resume.json"))
-    write_invocation(checkpoints / "resume.json",
-                     {command_line, std::filesystem::current_path(), cli.config,
-                      sha256_file(cli.config), arguments_of(cli)});
+    write_invocation(checkpoints / "resume.json", plate_command(cli).invocation(command_line));
   const PlateCheckpoints resumable(
       checkpoints, {config.checkpoint_every, config.checkpoint_minutes},
       Provenance{command_line, root.text(),
@@ -188,6 +181,7 @@ int run(const PlateCli& given, const RunContext& context) {
         std::filesystem::rename(checkpoints / name, out / name);
     meta.output("final.h5").output("final.xdmf");
   }
+  meta.options(plate_command(cli).json());
   add_plate_facts(meta, config, kind, outcome);
   meta.write(out / run_metadata_name);
   // The run is whole: its checkpoints have done their work.
@@ -206,50 +200,16 @@ StageOptions plate_options() {
   return plate_config_options("plate");
 }
 
+CommandOptions plate_command_options() {
+  static PlateCli defaults;
+  return plate_command(defaults);
+}
+
 StageRunner setup_plate_cli(CLI::App& app) {
   auto cli = std::make_shared<PlateCli>();
-  app.add_option("--config", cli->config,
-                 "plate config TOML (materials, sphere, plate, bms, bond); required unless "
-                 "--resume");
-  app.add_option("--out", cli->out,
-                 "output folder (force.csv, effective.toml); required unless --resume");
-  app.add_option("--model", cli->model,
-                 "normal law of every interaction, overriding the config's normal_law, with "
-                 "the interaction's parameters of that law (multicontact: paper Eq. 6)")
-      ->check(CLI::IsMember(normal_law_names()));
-  app.add_option("--particle", cli->particle,
-                 "sphere (one Hertz sphere), bms (bonded sub-spheres filling it, [bms] + [bond]) "
-                 "or cms (one rigid clump of overlapping sub-spheres filling it, [cms])")
-      ->check(CLI::IsMember({"sphere", "bms", "cms"}))
-      ->capture_default_str();
-  app.add_option("--count", cli->count, "bms: number of sub-spheres (overrides bms.count)")
-      ->check(CLI::Range(1, 1000000));
-  app.add_option("--fills", cli->fills,
-                 "bms: mean curve of this many fills, seeds seed, seed + 1, … (overrides "
-                 "bms.fills; run side by side on the --threads)")
-      ->check(CLI::Range(1, 1000));
-  app.add_option("--seed", cli->seed, "bms: seed of the (first) fill (overrides bms.seed)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--spheres", cli->spheres,
-                 "cms: number of overlapping sub-spheres asked of the filler (overrides "
-                 "cms.count)")
-      ->check(CLI::Range(1, 1000000));
-  app.add_option("--time-step-fraction", cli->time_step_fraction,
-                 "the step as this fraction of the critical one (overrides "
-                 "run.time_step_fraction; `advise` and its stability map vary it)")
-      ->check(CLI::PositiveNumber);
-  auto* snapshot = app.add_flag(
-      "--snapshot", cli->snapshot,
-      "also write final.h5 + final.xdmf (ParaView: sub-spheres, bonds as lines, clump axes, "
-      "plates)");
-  auto* resume = app.add_option(
-      "--resume", cli->resume,
-      "continue the killed run in this folder from its checkpoints (finished fills reused), with "
-      "the arguments it was started with");
-  for (const char* name : {"--config", "--out", "--model", "--particle", "--count", "--fills",
-                           "--seed", "--spheres", "--time-step-fraction"})
-    resume->excludes(app.get_option(name));
-  resume->excludes(snapshot);
+  plate_command(*cli).add_to(app, &cli->resume,
+                             "continue the killed run in this folder from its checkpoints "
+                             "(finished fills reused), with the arguments it was started with");
   return [cli](const RunContext& context) { return run(*cli, context); };
 }
 
