@@ -72,11 +72,19 @@ std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& path) {
   return rows;
 }
 
-// report's beds.csv by the runs' labels.
+// report's beds.csv by the runs' labels: every run is pressed with the study's one config, so a
+// label is the config and the bed ("avicel_study_config: 12 spheres"), and the three beds of 12
+// BMS bodies of 40 sub-spheres are told apart by their folders ("… (asr071/run)"), by which
+// they are keyed here.
 std::map<std::string, std::map<std::string, std::string>> beds_table(const fs::path& path) {
   std::map<std::string, std::map<std::string, std::string>> table;
-  for (auto& row : csv_rows(path))
-    table[row["label"]] = row;
+  for (auto& row : csv_rows(path)) {
+    const std::string& label = row["label"];
+    EXPECT_TRUE(label.starts_with("avicel_study_config: ")) << label;
+    const std::size_t open = label.rfind(" (");
+    table[open == std::string::npos ? label : label.substr(open + 2, label.size() - open - 3)] =
+        row;
+  }
   return table;
 }
 
@@ -164,8 +172,10 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   // fraction and the loops' wall seconds of each, and bodies as elongated as the class's mesh.
   auto beds = beds_table(out / "report" / "beds.csv");
   ASSERT_EQ(beds.size(), 4u);
-  EXPECT_EQ(beds["spheres/run"]["particle_kind"], "sphere");
-  EXPECT_EQ(beds["spheres/run"]["projected_aspect_ratio"], "1");
+  const std::string spheres = "avicel_study_config: 12 spheres";
+  ASSERT_TRUE(beds.contains(spheres));
+  EXPECT_EQ(beds[spheres]["particle_kind"], "sphere");
+  EXPECT_EQ(beds[spheres]["projected_aspect_ratio"], "1");
   for (const std::string c : {"asr084", "asr071", "asr053"}) {
     SCOPED_TRACE(c);
     auto& row = beds[c + "/run"];
