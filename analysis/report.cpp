@@ -53,7 +53,8 @@ std::string what_was_pressed(const LoadedRun& run) {
     what = fmt::format("{} of {} sub-spheres", c.particle == "bms" ? "BMS" : "CMS", c.sub_spheres);
   else
     what = c.particle;
-  if (c.fills > 1) what += fmt::format(", mean of {} fills", c.fills);
+  // No comma: a label is a cell of the report's CSV tables, which readers split on commas.
+  if (c.fills > 1) what += fmt::format(" (mean of {} fills)", c.fills);
   return what;
 }
 
