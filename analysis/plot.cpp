@@ -89,6 +89,10 @@ std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
   if (map) s += "set offsets graph 0.06, graph 0.06, graph 0.06, graph 0.06\n";
   if (chart.log_x) s += "set logscale x\n";
   if (chart.log_y) s += "set logscale y\n";
+  if (chart.log_x && chart.log_x_from)
+    s += fmt::format("set xrange [{:.6g}:*]\n", *chart.log_x_from);
+  if (chart.log_y && chart.log_y_from)
+    s += fmt::format("set yrange [{:.6g}:*]\n", *chart.log_y_from);
   std::string plot = "plot ";
   for (std::size_t k = 0; k < chart.series.size(); ++k) {
     if (k > 0) plot += ", ";

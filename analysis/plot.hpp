@@ -3,6 +3,7 @@
 // PNG for slides. Beside every chart go its data as CSV and the gnuplot script, so any chart can
 // be re-plotted or restyled without re-running the analysis.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct Chart {
   // Logarithmic axes, for differences that span decades (a ladder from spheres to fine bodies);
   // points at or below zero are then left out by gnuplot.
   bool log_x = false, log_y = false;
+  // The lower end of a log axis (absent: gnuplot's autoscale, down to the smallest point): a
+  // loading curve starts at stresses decades below its peak, which would squeeze the peaks.
+  std::optional<double> log_x_from = std::nullopt, log_y_from = std::nullopt;
 };
 
 struct ChartFiles {

@@ -27,12 +27,43 @@ namespace {
 
 constexpr double mega = 1e6;
 
+// What a run pressed, in words: "500 spheres", "20 BMS bodies of 100 sub-spheres", "Hertz
+// sphere", "BMS of 545 sub-spheres".
+std::string what_was_pressed(const LoadedRun& run) {
+  if (run.bed) {
+    const BedFacts& bed = *run.bed;
+    const long per_body = std::lround(bed.sub_spheres_per_body);
+    if (bed.particle_kind == "sphere") return fmt::format("{} spheres", bed.bodies);
+    if (bed.particle_kind == "bms")
+      return fmt::format("{} BMS bodies of {} sub-spheres", bed.bodies, per_body);
+    if (bed.particle_kind == "cms")
+      return fmt::format("{} CMS clumps of {} sub-spheres", bed.bodies, per_body);
+    return fmt::format("{} {} bodies", bed.bodies, bed.particle_kind);
+  }
+  if (!run.plate) return {};
+  const PlateCurve& c = *run.plate;
+  std::string what;
+  if (c.particle == "sphere")
+    what = c.normal_law == "hertz"          ? "Hertz sphere"
+           : c.normal_law == "multicontact" ? "multi-contact sphere"
+                                            : "sphere";
+  else if (c.particle == "fem")
+    what = fmt::format("FEM of {} elements", c.elements);
+  else if (c.particle == "bms" || c.particle == "cms")
+    what = fmt::format("{} of {} sub-spheres", c.particle == "bms" ? "BMS" : "CMS", c.sub_spheres);
+  else
+    what = c.particle;
+  // No comma: a label is a cell of the report's CSV tables, which readers split on commas.
+  if (c.fills > 1) what += fmt::format(" (mean of {} fills)", c.fills);
+  return what;
+}
+
 std::vector<LoadedRun> load_runs(const ReportOptions& options) {
   std::vector<LoadedRun> runs;
+  std::vector<bool> named;  // labelled by their config and what they pressed
   for (const std::filesystem::path& folder : options.runs) {
     LoadedRun run;
     run.files = find_run(folder);
-    run.label = std::filesystem::weakly_canonical(folder).filename().string();
     if (run.files.kind == RunKind::compaction) {
       run.punch = read_punch_curve(run.files.csv);
       run.compaction = analyse_compaction(*run.punch, options.windows);
@@ -51,10 +82,17 @@ std::vector<LoadedRun> load_runs(const ReportOptions& options) {
       }
       run.plate_metrics = analyse_plate(*run.plate, options.poisson_ratio, from_fraction);
     }
+    // A run is named by its config and what it pressed ("compact-demo: 500 spheres"), not by
+    // its folder, whose name a Makefile chose ("run", "compact"); a run whose record names no
+    // config keeps its folder's name.
+    const std::string config = config_name(run.files.metadata);
+    named.push_back(!config.empty());
+    run.label = config.empty() ? std::filesystem::weakly_canonical(folder).filename().string()
+                               : fmt::format("{}: {}", config, what_was_pressed(run));
     runs.push_back(std::move(run));
   }
-  // Two folders with one name (a/run, b/run) would share a legend entry: name them with their
-  // parent folder too.
+  // Two runs with one name (one config pressing two packings; folders a/run and b/run) would
+  // share a legend entry: they are told apart by their folder and its parent.
   std::vector<bool> shared(runs.size(), false);
   for (std::size_t i = 0; i < runs.size(); ++i)
     for (std::size_t j = 0; j < runs.size(); ++j)
@@ -62,7 +100,8 @@ std::vector<LoadedRun> load_runs(const ReportOptions& options) {
   for (std::size_t i = 0; i < runs.size(); ++i) {
     if (!shared[i]) continue;
     const auto path = std::filesystem::weakly_canonical(options.runs[i]);
-    runs[i].label = (path.parent_path().filename() / path.filename()).string();
+    const std::string folder = (path.parent_path().filename() / path.filename()).string();
+    runs[i].label = named[i] ? fmt::format("{} ({})", runs[i].label, folder) : folder;
   }
   return runs;
 }
@@ -115,6 +154,20 @@ std::vector<ExperimentComparison> compare_experiments(const std::vector<LoadedRu
     comparisons.push_back(std::move(e));
   }
   return comparisons;
+}
+
+// Runs whose peak stresses differ more than tenfold (a bed of softly bonded bodies beside one of
+// spheres: 0.014 against 1.4 MPa) share no linear stress axis, on which the weaker run is a flat
+// line on zero: their stress axes are logarithmic, from a thousandth of the smallest peak [MPa].
+std::optional<double> log_stress_from(const std::vector<LoadedRun>& runs) {
+  double smallest = HUGE_VAL, largest = 0.0;
+  for (const LoadedRun& run : runs) {
+    if (!run.compaction || !(run.compaction->peak_stress > 0.0)) continue;
+    smallest = std::min(smallest, run.compaction->peak_stress);
+    largest = std::max(largest, run.compaction->peak_stress);
+  }
+  if (!(largest > 10.0 * smallest)) return std::nullopt;
+  return smallest / 1000.0 / mega;
 }
 
 std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs,
@@ -192,6 +245,14 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs,
          colour});
   }
   add_experiments(stress_strain, density, experiments);
+  if (const std::optional<double> from = log_stress_from(runs)) {
+    stress_strain.log_y = true, stress_strain.log_y_from = from;
+    for (Chart* chart : {&density, &heckel, &kawakita})
+      chart->log_x = true, chart->log_x_from = from;
+    kawakita.log_y = true;  // P/C grows with P
+    for (Chart* chart : {&stress_strain, &density, &heckel, &kawakita})
+      chart->title += " - log stress axis: the runs' peaks differ more than tenfold";
+  }
   return {stress_strain, density, heckel, kawakita};
 }
 
@@ -229,6 +290,7 @@ std::vector<Chart> figure_charts(const std::vector<LoadedRun>& runs, const std::
           {run.label, {*at}, {m.heckel.yield_pressure / mega}, SeriesStyle::markers, colour});
   }
   if (colour < 2) return {};
+  if (log_stress_from(runs)) peak.log_y = yield.log_y = true;
   return {peak, recovery, yield};
 }
 

@@ -18,7 +18,7 @@ namespace shapepress::analysis {
 // One run folder, read and analysed.
 struct LoadedRun {
   RunFiles files;
-  std::string label;  // the folder's name
+  std::string label;  // its config and what it pressed, or its folder (report.cpp load_runs)
   std::optional<PunchCurve> punch;
   std::optional<CompactionMetrics> compaction;
   std::optional<PlateCurve> plate;

@@ -111,6 +111,16 @@ PunchCurve read_punch_curve(const std::filesystem::path& path) {
   return curve;
 }
 
+std::string config_name(const std::filesystem::path& run_json) {
+  const RunRecord record = RunRecord::read(run_json);
+  const nlohmann::json& inputs = record.json().value("inputs", nlohmann::json::array());
+  for (const nlohmann::json& input : inputs)
+    if (input.is_object() && input.value("role", "") == "config" && input.contains("path") &&
+        input["path"].is_string())
+      return std::filesystem::path(input["path"].get<std::string>()).stem().string();
+  return {};
+}
+
 PlateCurve read_plate_curve(const std::filesystem::path& path) {
   const CsvTable table = read_csv(path);
   PlateCurve curve;
@@ -132,6 +142,7 @@ PlateCurve read_plate_curve(const std::filesystem::path& path) {
   curve.particle = record.text("particle_kind");
   curve.sub_spheres = static_cast<int>(record.integer("sub_spheres"));
   curve.fills = static_cast<int>(record.integer("fills"));
+  if (record.has("normal_law")) curve.normal_law = record.text("normal_law");
   if (curve.particle == "fem") curve.elements = static_cast<int>(record.integer("elements"));
   if (curve.sub_spheres < 1 || curve.fills < 1)
     throw InputError(fmt::format("{}: sub_spheres {} and fills {} must be >= 1",

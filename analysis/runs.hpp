@@ -36,6 +36,9 @@ struct PlateCurve {
   // An FEM run (particle "fem", shapepress fem-plate): the sphere's element count, its
   // resolution in the cost chart (run.json elements); 0 for the other kinds.
   int elements = 0;
+  // The normal contact law of a single sphere (run.json normal_law: hertz, multicontact; empty
+  // when the run does not say).
+  std::string normal_law;
 };
 
 struct RunFiles {
@@ -49,6 +52,10 @@ struct RunFiles {
 // Which kind of run a folder holds; InputError if it is missing, has neither CSV, has no run.json,
 // or its run.json is from a stage that does not write that CSV.
 RunFiles find_run(const std::filesystem::path& folder);
+
+// The name of the config a run was made with (the stem of run.json's input of role "config":
+// "compact-demo" for pipelines/demo/compact-demo.toml); empty when run.json names none.
+std::string config_name(const std::filesystem::path& run_json);
 
 // The '#' lines at the top of a CSV, without the "# ".
 std::vector<std::string> csv_comments(const std::filesystem::path& path);

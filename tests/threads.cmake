@@ -19,6 +19,7 @@ set(shapepress_two_thread_tests
   "^scenarios\\.ListRebuild\\.NoContactIsMissedWhileAFastPunchStrainsTheBed$"
   "^scenarios\\.CompactionCalibration\\."
   "^pipelines\\.CalibratedBondsBed\\."
+  "^pipelines\\.(AvicelSpheresStudy|Demo)\\."
   "^simulate\\.Engine\\.SameBitsForOneAndTwoThreads$"
   "^simulate\\.BondBreakage\\.APartlyBrokenBodyRestartsBitIdenticallyAndShowsItsBrokenBonds$")
 

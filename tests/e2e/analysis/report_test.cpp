@@ -118,7 +118,9 @@ TEST(ReportE2e, RealPlateAndCompactRunsOverlaid) {
   EXPECT_THAT(json, HasSubstr("\"stress_spread\""));
   // Overlaid: the stress–strain data hold both compaction runs' load branches.
   const std::string csv = read_text(dir / "report" / "stress_strain.csv");
-  EXPECT_THAT(csv, HasSubstr("compact load"));
+  // The real run by its config and its bed; the synthetic one, whose run.json names no config,
+  // by its folder.
+  EXPECT_THAT(csv, HasSubstr("compact: 500 spheres load"));
   EXPECT_THAT(csv, HasSubstr("compaction_run load"));
 
   // Both stages wrote a run.json; the report's H0 is its fact, and the config is hashed.

@@ -72,11 +72,20 @@ std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& path) {
   return rows;
 }
 
-// report's beds.csv by the runs' labels.
+// report's beds.csv by the runs' labels: every run is pressed with the study's one config (the
+// Makefile's copy for DENSITY_SCALE=10000, avicel_study_config-s10000.toml), so a label is that
+// config and the bed ("avicel_study_config-s10000: 12 spheres"), and the three beds of 12 BMS
+// bodies of 40 sub-spheres are told apart by their folders ("… (asr071/run)"), by which they
+// are keyed here.
 std::map<std::string, std::map<std::string, std::string>> beds_table(const fs::path& path) {
   std::map<std::string, std::map<std::string, std::string>> table;
-  for (auto& row : csv_rows(path))
-    table[row["label"]] = row;
+  for (auto& row : csv_rows(path)) {
+    const std::string& label = row["label"];
+    EXPECT_TRUE(label.starts_with("avicel_study_config-s10000: ")) << label;
+    const std::size_t open = label.rfind(" (");
+    table[open == std::string::npos ? label : label.substr(open + 2, label.size() - open - 3)] =
+        row;
+  }
   return table;
 }
 
@@ -91,12 +100,15 @@ double mesh_aspect_ratio(const fs::path& mesh, const fs::path& csv) {
 
 TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   const fs::path out = fresh_directory("avicel_study");
+  // The study's configs and describe's tables beside it, in a folder of their own: not in the
+  // shared temporary folder, where a second run of the suite would overwrite them mid-run.
+  const fs::path inputs = fresh_directory("avicel_study_inputs");
   // Twelve bodies lie in one layer of the 1 mm die: rigid, they cannot be pressed to 0.59, so
   // the reduced study packs them settled only (the shipped config without its [press]).
   std::string pack_config = shapepress::testing::read_text(repository_root() / "pipelines" /
                                                            "configs" / "pack-avicel-bms.toml");
   pack_config.erase(pack_config.find("[press]"));
-  shapepress::testing::write_text(out.parent_path() / "avicel_study_pack.toml", pack_config);
+  shapepress::testing::write_text(inputs / "avicel_study_pack.toml", pack_config);
   // Mass-scaled 10⁴ times a run is a few thousand steps: a record every 50 leaves the report's
   // Heckel and Kawakita fits enough points. The study's one config, for the spheres and the
   // shapes alike.
@@ -108,12 +120,12 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   // would have to be crushed to a third of their height.
   const std::size_t endpoint = text.find("target_solid_fraction = ");
   text.replace(endpoint, text.find('\n', endpoint) - endpoint, "target_solid_fraction = 0.35");
-  const fs::path study_config = out.parent_path() / "avicel_study_config.toml";
+  const fs::path study_config = inputs / "avicel_study_config.toml";
   shapepress::testing::write_text(study_config, text);
   const std::string study =
       "make -s -C " + shell_quoted(repository_root() / "pipelines" / "avicel-ph200") +
       " SHAPEPRESS=" + shell_quoted(SHAPEPRESS_BINARY) + " OUT=" + shell_quoted(out) +
-      " PACK_CONFIG=" + shell_quoted(out.parent_path() / "avicel_study_pack.toml") +
+      " PACK_CONFIG=" + shell_quoted(inputs / "avicel_study_pack.toml") +
       " STUDY_CONFIG=" + shell_quoted(study_config) +
       " BODIES=12 SUBSPHERES=40 POPULATION=6 DENSITY_SCALE=10000 THREADS=2";
   const auto first = run_command(study + " -j2");
@@ -164,8 +176,10 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
   // fraction and the loops' wall seconds of each, and bodies as elongated as the class's mesh.
   auto beds = beds_table(out / "report" / "beds.csv");
   ASSERT_EQ(beds.size(), 4u);
-  EXPECT_EQ(beds["spheres/run"]["particle_kind"], "sphere");
-  EXPECT_EQ(beds["spheres/run"]["projected_aspect_ratio"], "1");
+  const std::string spheres = "avicel_study_config-s10000: 12 spheres";
+  ASSERT_TRUE(beds.contains(spheres));
+  EXPECT_EQ(beds[spheres]["particle_kind"], "sphere");
+  EXPECT_EQ(beds[spheres]["projected_aspect_ratio"], "1");
   for (const std::string c : {"asr084", "asr071", "asr053"}) {
     SCOPED_TRACE(c);
     auto& row = beds[c + "/run"];
@@ -177,8 +191,8 @@ TEST(AvicelStudy, ReducedStudyRunsFromImagesToTheReportAndAKilledMakeResumes) {
     EXPECT_EQ(row["precompression_solid_fraction_percent"], "");  // settled only
     EXPECT_GT(std::stod(row["pack_wall_s"]), 0.0);
     EXPECT_GT(std::stod(row["compaction_wall_s"]), 0.0);
-    const double mesh = mesh_aspect_ratio(out / "classes" / (c + ".stl"),
-                                          out.parent_path() / ("avicel_study_" + c + ".csv"));
+    const double mesh =
+        mesh_aspect_ratio(out / "classes" / (c + ".stl"), inputs / ("avicel_study_" + c + ".csv"));
     EXPECT_NEAR(std::stod(row["projected_aspect_ratio"]), mesh, 0.05) << "mesh " << mesh;
   }
   EXPECT_TRUE(fs::exists(out / "report" / "shape_effect_peak_stress.svg"));

@@ -26,6 +26,19 @@ Chart two_series() {
            {"unload, it's dashed", {0.2, 0.15}, {4.0, 0.0}, SeriesStyle::dashed}}};
 }
 
+// A log axis starts where the chart says, not at its smallest point: a loading curve's first
+// stresses lie decades below the peaks the chart is for.
+TEST(PlotScript, ALogAxisStartsWhereTheChartSays) {
+  Chart chart = two_series();
+  chart.log_y = true;
+  EXPECT_EQ(gnuplot_script(chart, "a.svg", "a.png").find("set yrange"), std::string::npos);
+  chart.log_y_from = 0.001;
+  const std::string script = gnuplot_script(chart, "a.svg", "a.png");
+  EXPECT_NE(script.find("set logscale y\nset yrange [0.001:*]\n"), std::string::npos) << script;
+  chart.log_y = false;  // a linear axis keeps gnuplot's autoscale
+  EXPECT_EQ(gnuplot_script(chart, "a.svg", "a.png").find("set yrange"), std::string::npos);
+}
+
 class PlotTest : public ::testing::Test {
  protected:
   void SetUp() override {
