@@ -47,6 +47,21 @@ void fill(ContactBlock& b, int lanes, std::uint64_t seed) {
   }
 }
 
+// Lane l's kinematics as the scalar pair loop computes them.
+PairKinematics lane_kinematics(const ContactBlock& in, int l) {
+  const double d[3] = {in.separation[0][l], in.separation[1][l], in.separation[2][l]};
+  const PairEnd first{{in.velocity_first[0][l], in.velocity_first[1][l], in.velocity_first[2][l]},
+                      {in.spin_first[0][l], in.spin_first[1][l], in.spin_first[2][l]},
+                      in.mass_first[l],
+                      in.inverse_inertia_first[l]};
+  const PairEnd second{
+      {in.velocity_second[0][l], in.velocity_second[1][l], in.velocity_second[2][l]},
+      {in.spin_second[0][l], in.spin_second[1][l], in.spin_second[2][l]},
+      in.mass_second[l],
+      in.inverse_inertia_second[l]};
+  return pair_kinematics(d, in.radius_first[l], in.radius_second[l], first, second);
+}
+
 bool same_bits(double a, double b) {
   return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
 }
@@ -60,18 +75,7 @@ void expect_scalar_bits(double mu_s, double mu_r, int lanes) {
   hertz_contact_block(*block, lanes, p, dt);
   int sliding = 0;
   for (int l = 0; l < lanes; ++l) {
-    const double d[3] = {in.separation[0][l], in.separation[1][l], in.separation[2][l]};
-    const PairEnd first{{in.velocity_first[0][l], in.velocity_first[1][l], in.velocity_first[2][l]},
-                        {in.spin_first[0][l], in.spin_first[1][l], in.spin_first[2][l]},
-                        in.mass_first[l],
-                        in.inverse_inertia_first[l]};
-    const PairEnd second{
-        {in.velocity_second[0][l], in.velocity_second[1][l], in.velocity_second[2][l]},
-        {in.spin_second[0][l], in.spin_second[1][l], in.spin_second[2][l]},
-        in.mass_second[l],
-        in.inverse_inertia_second[l]};
-    const PairKinematics k =
-        pair_kinematics(d, in.radius_first[l], in.radius_second[l], first, second);
+    const PairKinematics k = lane_kinematics(in, l);
     ContactHistory history;
     for (int axis = 0; axis < 3; ++axis)
       history.tangential[axis] = in.spring[axis][l];
@@ -126,17 +130,7 @@ void expect_multicontact_scalar_bits(const MulticontactParameters& law, int lane
   multicontact_contact_block(*block, lanes, p, dt);
   int raised = 0;
   for (int l = 0; l < lanes; ++l) {
-    const double d[3] = {in.separation[0][l], in.separation[1][l], in.separation[2][l]};
-    const PairEnd first{{in.velocity_first[0][l], in.velocity_first[1][l], in.velocity_first[2][l]},
-                        {in.spin_first[0][l], in.spin_first[1][l], in.spin_first[2][l]},
-                        in.mass_first[l],
-                        in.inverse_inertia_first[l]};
-    const PairEnd second{
-        {in.velocity_second[0][l], in.velocity_second[1][l], in.velocity_second[2][l]},
-        {in.spin_second[0][l], in.spin_second[1][l], in.spin_second[2][l]},
-        in.mass_second[l],
-        in.inverse_inertia_second[l]};
-    PairKinematics k = pair_kinematics(d, in.radius_first[l], in.radius_second[l], first, second);
+    PairKinematics k = lane_kinematics(in, l);
     k.contact.pair_pressure = in.pair_pressure[l];
     ContactHistory history;
     for (int axis = 0; axis < 3; ++axis)
