@@ -278,13 +278,13 @@ void grow_seeds(std::vector<std::uint8_t>& level, const Grid& g) {
   };
   std::vector<std::int32_t> joining;
   for (int v = 254; v >= 1; --v) {
-    std::vector<std::int32_t>& todo = at[v];
+    std::vector<std::int32_t>& waiting = at[v];
     int idle = 0;
-    for (int k = 0; !todo.empty(); ++k) {
+    for (int k = 0; !waiting.empty(); ++k) {
       const int pass = passes[k % 8];
       joining.clear();
       std::size_t kept = 0;
-      for (const std::int32_t p : todo) {
+      for (const std::int32_t p : waiting) {
         const int x = p % g.width, y = p / g.width;
         int item = 0;
         for (int d = 0; d < 8; ++d)
@@ -292,19 +292,19 @@ void grow_seeds(std::vector<std::uint8_t>& level, const Grid& g) {
         if (table[item] & (1 << pass))
           joining.push_back(p);
         else
-          todo[kept++] = p;
+          waiting[kept++] = p;
       }
-      todo.resize(kept);
+      waiting.resize(kept);
       for (const std::int32_t p : joining)
         level[p] = 255;
       if (!joining.empty()) idle = 0;
       if (idle++ >= 8) break;
     }
-    if (todo.empty() || v == 1) continue;
+    if (waiting.empty() || v == 1) continue;
     int next = v - 1;
     while (next > 1 && at[next].empty())
       --next;
-    for (const std::int32_t p : todo) {
+    for (const std::int32_t p : waiting) {
       const int x = p % g.width, y = p / g.width;
       bool border = g.on_edge(x, y);
       for (int d = 0; d < 8 && !border; ++d)

@@ -173,27 +173,36 @@ inline constexpr std::int64_t parallel_min_bonds = 4096;
 void compute_bond_forces(BondSet& bonds, const SphereState& state, const double* motion,
                          const Box& box, double dt, bool first_evaluation);
 
+// What the gather reads of a BondSet's results, its arrays' addresses taken once per gather
+// rather than once per sphere.
+struct BondGather {
+  const std::int32_t* offset;
+  const std::int32_t* entries;
+  const double* force[3];
+  const double* torque[2][3];  // [end][axis], end 0 first, 1 second
+  explicit BondGather(const BondSet& bonds)
+      : offset(bonds.gather_offset.data()),
+        entries(bonds.gather.data()),
+        force{bonds.result.force.x.data(), bonds.result.force.y.data(),
+              bonds.result.force.z.data()},
+        torque{{bonds.result.torque[0].x.data(), bonds.result.torque[0].y.data(),
+                bonds.result.torque[0].z.data()},
+               {bonds.result.torque[1].x.data(), bonds.result.torque[1].y.data(),
+                bonds.result.torque[1].z.data()}} {}
+};
+
 // Adds the bond forces and torques of sphere i (its bonds in fixed order). A broken bond's
 // result is zero (compute_bond_forces clears it), so it adds nothing and needs no test. The end
 // picks the force's sign (-F on `first`; a product by -1 is exact, so f + (-1)·F is f - F) and
 // the torque's array, without a branch: which end a sphere is flips from bond to bond.
-inline void gather_bond_forces(const BondSet& bonds, std::int64_t i, double f[3], double t[3]) {
-  const std::int32_t* __restrict gather = bonds.gather.data();
-  const double* __restrict fx = bonds.result.force.x.data();
-  const double* __restrict fy = bonds.result.force.y.data();
-  const double* __restrict fz = bonds.result.force.z.data();
-  const double* const torque[2][3] = {
-      {bonds.result.torque[0].x.data(), bonds.result.torque[0].y.data(),
-       bonds.result.torque[0].z.data()},
-      {bonds.result.torque[1].x.data(), bonds.result.torque[1].y.data(),
-       bonds.result.torque[1].z.data()}};
+inline void gather_bond_forces(const BondGather& g, std::int64_t i, double f[3], double t[3]) {
   constexpr double sign_of_end[2] = {-1.0, 1.0};
-  for (std::int32_t e = bonds.gather_offset[i]; e < bonds.gather_offset[i + 1]; ++e) {
-    const std::int32_t entry = gather[e];
+  for (std::int32_t e = g.offset[i]; e < g.offset[i + 1]; ++e) {
+    const std::int32_t entry = g.entries[e];
     const std::int32_t b = entry >> 1, end = entry & 1;
     const double sign = sign_of_end[end];
-    f[0] += sign * fx[b], f[1] += sign * fy[b], f[2] += sign * fz[b];
-    t[0] += torque[end][0][b], t[1] += torque[end][1][b], t[2] += torque[end][2][b];
+    f[0] += sign * g.force[0][b], f[1] += sign * g.force[1][b], f[2] += sign * g.force[2][b];
+    t[0] += g.torque[end][0][b], t[1] += g.torque[end][1][b], t[2] += g.torque[end][2][b];
   }
 }
 

@@ -453,10 +453,11 @@ void Engine::bond_substep_forces(double dt, double kick) {
   const std::int64_t n = static_cast<std::int64_t>(s.size());
   double* fast = bond_force_.data();
   // Each sphere sums its own bonds in fixed order: the same bits on any number of threads.
+  const BondGather bond_gather(bonds_);
 #pragma omp parallel for schedule(static) if (n >= parallel_min_spheres)
   for (std::int64_t i = 0; i < n; ++i) {
     double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
-    gather_bond_forces(bonds_, i, f, t);
+    gather_bond_forces(bond_gather, i, f, t);
     for (int c = 0; c < 3; ++c)
       fast[c * n + i] = f[c], fast[(3 + c) * n + i] = t[c];
     if (kick > 0.0) {

@@ -242,9 +242,8 @@ void Engine::pair_forces_with() {
               block.inverse_inertia_first[l] = mi[7];
               block.inverse_inertia_second[l] = mj[7];
               if constexpr (std::is_same_v<Law, MulticontactLaw>) {
-                block.pair_pressure[l] = 0.0;
-                if constexpr (stress_on)
-                  block.pair_pressure[l] = 0.5 * (pressure[first[p]] + pressure[second[p]]);
+                block.pair_pressure[l] =
+                    stress_on ? 0.5 * (pressure[first[p]] + pressure[second[p]]) : 0.0;
                 block.plastic_force[l] = plastic_force(history_[p]);
               }
             }
@@ -376,6 +375,7 @@ void Engine::gather_forces_with(double kick, bool with_bonds) {
   double* __restrict chunk_force = wall_chunk_force_.data();
   std::int64_t* __restrict chunk_contacts = wall_chunk_contacts_.data();
   const bool has_bonds = !bonds_.empty();
+  const BondGather bond_gather(bonds_);
   const int threads = n >= parallel_min_spheres ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads)
   {
@@ -429,7 +429,7 @@ void Engine::gather_forces_with(double kick, bool with_bonds) {
           }
         }
         if (has_bonds) {
-          if (with_bonds) gather_bond_forces(bonds_, i, f, t);
+          if (with_bonds) gather_bond_forces(bond_gather, i, f, t);
           // A bonded sub-sphere's stress includes its bonds (models.md, "Stress of a bonded
           // sub-sphere"): summed over a body's sub-spheres the bond terms leave the body's stress
           // from its external contacts.
