@@ -180,6 +180,8 @@ struct BondGather {
   const std::int32_t* entries;
   const double* force[3];
   const double* torque[2][3];  // [end][axis], end 0 first, 1 second
+  const double* arm[2];        // [end]: the end's share of the separation (Love–Weber)
+  const double* separation_force;
   explicit BondGather(const BondSet& bonds)
       : offset(bonds.gather_offset.data()),
         entries(bonds.gather.data()),
@@ -188,22 +190,31 @@ struct BondGather {
         torque{{bonds.result.torque[0].x.data(), bonds.result.torque[0].y.data(),
                 bonds.result.torque[0].z.data()},
                {bonds.result.torque[1].x.data(), bonds.result.torque[1].y.data(),
-                bonds.result.torque[1].z.data()}} {}
+                bonds.result.torque[1].z.data()}},
+        arm{bonds.constants.arm[0].data(), bonds.constants.arm[1].data()},
+        separation_force(bonds.result.separation_force.data()) {}
 };
 
 // Adds the bond forces and torques of sphere i (its bonds in fixed order). A broken bond's
 // result is zero (compute_bond_forces clears it), so it adds nothing and needs no test. The end
 // picks the force's sign (-F on `first`; a product by -1 is exact, so f + (-1)·F is f - F) and
 // the torque's array, without a branch: which end a sphere is flips from bond to bond.
-inline void gather_bond_forces(const BondGather& g, std::int64_t i, double f[3], double t[3]) {
+// With `with_arm`, also adds Σ share × Fsep to `arm_force`: the bonds' part of the sub-sphere's
+// Love–Weber stress (bond_arm_force's sum, in the same order).
+template <bool with_arm = false>
+inline void gather_bond_forces(const BondGather& g, std::int64_t i, double f[3], double t[3],
+                               double* arm_force = nullptr) {
   constexpr double sign_of_end[2] = {-1.0, 1.0};
+  double arm_sum = 0.0;
   for (std::int32_t e = g.offset[i]; e < g.offset[i + 1]; ++e) {
     const std::int32_t entry = g.entries[e];
     const std::int32_t b = entry >> 1, end = entry & 1;
     const double sign = sign_of_end[end];
     f[0] += sign * g.force[0][b], f[1] += sign * g.force[1][b], f[2] += sign * g.force[2][b];
     t[0] += g.torque[end][0][b], t[1] += g.torque[end][1][b], t[2] += g.torque[end][2][b];
+    if constexpr (with_arm) arm_sum += g.arm[end][b] * g.separation_force[b];
   }
+  if constexpr (with_arm) *arm_force += arm_sum;
 }
 
 // Elastic energy held by the intact bonds, Σ Fn²/2kn + |Fs|²/2ks + Mt²/2kt + |Mb|²/2kb [J].

@@ -245,8 +245,8 @@ class Engine {
   std::vector<double> geometry_;         // per sphere x, y, z, r (pair_forces)
   std::vector<double> motion_;           // per sphere predicted v, ω, then m, 1/I
   int sphere_material_ = -1;             // the spheres' one material, or -1 (pack_spheres)
-  // One byte per pair: the gather skips non-touching pairs without reading their 72-byte
-  // result, and the pair loop writes nothing for them (most list pairs are within the skin only).
+  // One byte per pair: whether it touched at the last pair loop, so that a contact that opens
+  // has its spring released; the pair loop writes no result for the others.
   std::vector<std::uint8_t> pair_touching_;
   std::vector<std::int32_t> touching_index_;  // per thread chunk: its touching pairs (pair loop)
   // The pair loop adds each contact's force and torques to both spheres directly when both lie
@@ -254,10 +254,12 @@ class Engine {
   // the thread count, so every sum runs in the same order on any number of threads); a thread
   // owns whole chunks. A partner in a later chunk reads the pair's result in the gather:
   // cross_second_end_[i] ends the prefix of i's "second" pairs whose first lies in an earlier
-  // chunk. Without particle stress only: the Love–Weber gather reads every pair's result.
+  // chunk. With Love–Weber every touching pair's result is kept too, for the stress tensor on
+  // demand (diagnostics.cpp).
   struct alignas(64) SphereSums {
     double force[3] = {0.0, 0.0, 0.0};
     double torque[3] = {0.0, 0.0, 0.0};
+    double arm_force = 0.0;  // Σ rc Fn over the contacts (Love–Weber only)
   };
   // Chunk c holds spheres [chunk_start(c), chunk_start(c + 1)); thread `rank` of `team` takes
   // chunks [thread_chunk_start(rank, team), thread_chunk_start(rank + 1, team)) in both force

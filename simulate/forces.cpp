@@ -1,6 +1,7 @@
 // The force evaluation, the engine's hot path: one pass over the pair list computing each
-// contact once into pair_results_, then one pass over the spheres gathering their contacts in
-// list order plus their wall contacts and gravity. Both passes are written out long on purpose:
+// contact once and adding it to both spheres' sums (a partner in another thread's chunk reads it
+// from pair_results_ instead), then one pass over the spheres gathering those sums, the
+// cross-chunk contacts, the bonds, the wall contacts and gravity. Both passes are written out long on purpose:
 // splitting them into helpers that pass arrays around costs measurable speed. The Love–Weber
 // pressure (engine.hpp) and the normal law are template switches: the Hertz path compiles without
 // the other laws' branches.
@@ -177,29 +178,31 @@ void Engine::pair_forces_with() {
         k += now;
       }
       touching += k - begin;
-      if constexpr (!stress_on)
-        for (std::int64_t i = sphere_begin; i < sphere_end; ++i)
-          sums[i] = SphereSums{};
-      // Touching pair q's force on second and torques to their spheres. Without Love–Weber they
-      // are added to both ends here, in list order: a sphere of the chunk receives its partners
-      // below it (i second) in increasing order, then those above (i first). A partner in a
-      // later chunk belongs to another thread: it reads the result in the gather instead.
+      for (std::int64_t i = sphere_begin; i < sphere_end; ++i)
+        sums[i] = SphereSums{};
+      // Touching pair q's force on second and torques to their spheres, added to both ends here
+      // in list order: a sphere of the chunk receives its partners below it (i second) in
+      // increasing order, then those above (i first). A partner in a later chunk belongs to
+      // another thread: it reads the result in the gather instead. With Love–Weber each end also
+      // sums its rc Fn (`arm_first`, `arm_second`), and every touching pair keeps its result for
+      // the stress tensor on demand (diagnostics.cpp).
       const auto deliver = [&](std::int64_t q, int i, int j, const double force[3],
-                               const double torque_first[3], const double torque_second[3])
-          __attribute__((always_inline)) {
-        if constexpr (!stress_on) {
-          SphereSums& a = sums[i];
-          a.force[0] -= force[0], a.force[1] -= force[1], a.force[2] -= force[2];
-          a.torque[0] += torque_first[0], a.torque[1] += torque_first[1];
-          a.torque[2] += torque_first[2];
-          if (j < sphere_end) {
-            SphereSums& b = sums[j];
-            b.force[0] += force[0], b.force[1] += force[1], b.force[2] += force[2];
-            b.torque[0] += torque_second[0], b.torque[1] += torque_second[1];
-            b.torque[2] += torque_second[2];
-            return;
-          }
+                               const double torque_first[3], const double torque_second[3],
+                               double arm_first, double arm_second) __attribute__((always_inline)) {
+        SphereSums& a = sums[i];
+        a.force[0] -= force[0], a.force[1] -= force[1], a.force[2] -= force[2];
+        a.torque[0] += torque_first[0], a.torque[1] += torque_first[1];
+        a.torque[2] += torque_first[2];
+        if constexpr (stress_on) a.arm_force += arm_first;
+        const bool same_chunk = j < sphere_end;
+        if (same_chunk) {
+          SphereSums& b = sums[j];
+          b.force[0] += force[0], b.force[1] += force[1], b.force[2] += force[2];
+          b.torque[0] += torque_second[0], b.torque[1] += torque_second[1];
+          b.torque[2] += torque_second[2];
+          if constexpr (stress_on) b.arm_force += arm_second;
         }
+        if (!stress_on && same_chunk) return;
         PairResult& out = results[q + 1];
         for (int axis = 0; axis < 3; ++axis) {
           out.force[axis] = force[axis];
@@ -262,11 +265,16 @@ void Engine::pair_forces_with() {
                 history_[p].tangential[axis] = block.spring[axis][l];
               if constexpr (std::is_same_v<Law, MulticontactLaw>)
                 plastic_force(history_[p]) = block.plastic_force[l];
+              double arm_first = 0.0, arm_second = 0.0;
               if constexpr (stress_on) {
-                virial[2 * p] = block.normal_force[l];
-                virial[2 * p + 1] = 0.5 * block.overlap[l];
+                const double fn = block.normal_force[l], half_overlap = 0.5 * block.overlap[l];
+                virial[2 * p] = fn;
+                virial[2 * p + 1] = half_overlap;
+                arm_first = (block.radius_first[l] - half_overlap) * fn;
+                arm_second = (block.radius_second[l] - half_overlap) * fn;
               }
-              deliver(q0 + l, first[p], second[p], force, torque_first, torque_second);
+              deliver(q0 + l, first[p], second[p], force, torque_first, torque_second, arm_first,
+                      arm_second);
             }
           }
           continue;
@@ -288,14 +296,18 @@ void Engine::pair_forces_with() {
         if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
         const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
         const ContactForce f = contact_force<Law>(c, pc, history_[p], dt);
+        double arm_first = 0.0, arm_second = 0.0;
         if constexpr (stress_on) {  // for this step's gather of p = Σ rc Fn / (3V)
+          const double half_overlap = 0.5 * c.overlap;
           virial[2 * p] = f.normal_force;
-          virial[2 * p + 1] = 0.5 * c.overlap;
+          virial[2 * p + 1] = half_overlap;
+          arm_first = (gi[3] - half_overlap) * f.normal_force;
+          arm_second = (gj[3] - half_overlap) * f.normal_force;
         }
         double torque_first[3], torque_second[3];
         contact_torques(c.normal, f, kinematics.arm_first, kinematics.arm_second, torque_first,
                         torque_second);
-        deliver(q, i, j, f.force, torque_first, torque_second);
+        deliver(q, i, j, f.force, torque_first, torque_second, arm_first, arm_second);
       }
     }
   }
@@ -316,7 +328,6 @@ void Engine::gather_forces_with(double kick, bool with_bonds) {
   const double dt = settings_.time_step;
   const double alpha = settings_.local_damping;
   const auto& g = settings_.gravity;
-  const std::int32_t* __restrict first_offset = pairs_.first_offset.data();
   const std::int32_t* __restrict second_offset = pairs_.second_offset.data();
   const std::int32_t* __restrict second_pairs = pairs_.second_pairs.data();
   const PairResult* __restrict results = pair_results_.data();
@@ -399,41 +410,29 @@ void Engine::gather_forces_with(double kick, bool with_bonds) {
         double f[3] = {0.0, 0.0, 0.0}, t[3] = {0.0, 0.0, 0.0};
         double arm_force = 0.0;  // Σ rc Fn
         const double zi = geometry[4 * i + 2], ri = geometry[4 * i + 3];
-        if constexpr (stress_on) {
-          // Partners below i (i is second), then above (i is first): increasing partner order.
-          // Non-touching pairs point at the zero result, so every pair is summed without a test.
-          for (std::int32_t e = second_offset[i]; e < second_offset[i + 1]; ++e) {
-            const PairResult& r = results[slot[second_pairs[e]]];
+        // The pair loop's sums over the contacts within i's chunk, then the partners in earlier
+        // chunks (a prefix of i's "second" pairs, in increasing partner order).
+        const SphereSums& own = sums[i];
+        f[0] = own.force[0], f[1] = own.force[1], f[2] = own.force[2];
+        t[0] = own.torque[0], t[1] = own.torque[1], t[2] = own.torque[2];
+        if constexpr (stress_on) arm_force = own.arm_force;
+        for (std::int32_t e = second_offset[i]; e < cross_second_end[i]; ++e) {
+          const PairResult& r = results[slot[second_pairs[e]]];
+          f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
+          t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
+          if constexpr (stress_on) {
             const double* v = virial + 2 * second_pairs[e];
             arm_force += (ri - v[1]) * v[0];
-            f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
-            t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
-          }
-          for (std::int32_t p = first_offset[i]; p < first_offset[i + 1]; ++p) {
-            const PairResult& r = results[slot[p]];
-            const double* v = virial + 2 * p;
-            arm_force += (ri - v[1]) * v[0];
-            f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
-            t[0] += r.torque_first[0], t[1] += r.torque_first[1], t[2] += r.torque_first[2];
-          }
-        } else {
-          // The pair loop's sums over the contacts within i's chunk, then the partners in earlier
-          // chunks (a prefix of i's "second" pairs, in increasing partner order).
-          const SphereSums& own = sums[i];
-          f[0] = own.force[0], f[1] = own.force[1], f[2] = own.force[2];
-          t[0] = own.torque[0], t[1] = own.torque[1], t[2] = own.torque[2];
-          for (std::int32_t e = second_offset[i]; e < cross_second_end[i]; ++e) {
-            const PairResult& r = results[slot[second_pairs[e]]];
-            f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
-            t[0] += r.torque_second[0], t[1] += r.torque_second[1], t[2] += r.torque_second[2];
           }
         }
         if (has_bonds) {
-          if (with_bonds) gather_bond_forces(bond_gather, i, f, t);
           // A bonded sub-sphere's stress includes its bonds (models.md, "Stress of a bonded
           // sub-sphere"): summed over a body's sub-spheres the bond terms leave the body's stress
           // from its external contacts.
-          if constexpr (stress_on) arm_force += bond_arm_force(bonds_, i);
+          if (with_bonds)
+            gather_bond_forces<stress_on>(bond_gather, i, f, t, &arm_force);
+          else if constexpr (stress_on)
+            arm_force += bond_arm_force(bonds_, i);
         }
         // Walls: the same law with the wall as partner j (infinite radius and mass, no rotation).
         // Only the spheres near a wall at the last list build can touch it (build_list), and
