@@ -256,9 +256,10 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
                                   PlaneWall{punch, -1, 0.0, wall}};
   PreparedCompaction out;
-  const TimeStepChoice step = select_time_step(
-      bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
-      expected_speed(c, bed.state), bed.bonds, bed.clumps, c.run.engine.bond_substeps);
+  const TimeStepChoice step =
+      select_time_step(bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
+                       expected_speed(c, bed.state), bed.bonds, bed.clumps,
+                       c.run.engine.bond_substeps, c.run.bond_time_step_fraction);
   const EngineSettings settings = compaction_settings(c, bed.state, step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
@@ -284,7 +285,7 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   TimeStepChoice step = select_time_step(
       snapshot.state, table, wall_materials, c.run.time_step, c.run.time_step_fraction,
       expected_speed(c, snapshot.state), snapshot.checkpoint.bonds, snapshot.checkpoint.clumps,
-      c.run.engine.bond_substeps);
+      c.run.engine.bond_substeps, c.run.bond_time_step_fraction);
   // The uninterrupted run's step, where the snapshot keeps it (compaction_scenario_state): the
   // bound just computed reads the bonds' lengths now, not at the start.
   for (const auto& [name, value] : snapshot.scenario) {

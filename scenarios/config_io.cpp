@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include "scenarios/bms_particle.hpp"
 
 #include <fmt/format.h>
@@ -121,6 +122,14 @@ void add_run_rows(OptionTable<S>& t, Run run, std::string skin_default) {
           Range::open_closed(0.0, 1.0),
           "time step as a fraction of the Rayleigh time (and of the bond and clump period "
           "bounds)")
+      .number(
+          "bond_time_step_fraction",
+          [run](auto& c) -> auto& { return run(c).bond_time_step_fraction; },
+          Range::open_closed(0.0, 1.0 / std::numbers::pi),
+          "the bonds' bound on the step as a fraction of their period bound, at most 1/pi "
+          "(velocity Verlet's stability limit); their fastest modes need stability, not "
+          "resolution")
+      .default_text("time_step_fraction")
       .quantity(
           "skin", [run](auto& c) -> auto& { return run(c).skin; }, dim::length,
           Range::non_negative(), "Verlet list skin")

@@ -44,6 +44,8 @@ MaterialConfig read_materials(const ConfigTable& root,
 struct RunSettings {
   std::optional<double> time_step;  // fixed; else time_step_fraction of the critical step
   double time_step_fraction = 0.2;
+  // The bonds' bound as a fraction of their period bound; absent: time_step_fraction.
+  std::optional<double> bond_time_step_fraction;
   std::optional<double> skin;  // Verlet skin; absent: the stage's default from the radii
   EngineSettings engine;       // gravity, max_overlap_fraction, local_damping
   EngineSettings engine_settings(double time_step, double default_skin) const;

@@ -65,9 +65,9 @@ TimeStepChoice plate_time_step(const PlateParticle& particle, const MaterialTabl
   // ramp), not final_speed: what the plates meet later they press at a speed that rises slowly,
   // they do not strike it (the one Hertz sphere, at 0.2 of its Rayleigh time, would be refused:
   // fewer than 10 steps per collision at 1.6 m/s).
-  TimeStepChoice dt =
-      select_time_step(particle.spheres, table, {setup.plate_material}, run.time_step,
-                       run.time_step_fraction, setup.speed, particle.bonds, particle.clumps);
+  TimeStepChoice dt = select_time_step(
+      particle.spheres, table, {setup.plate_material}, run.time_step, run.time_step_fraction,
+      setup.speed, particle.bonds, particle.clumps, 1, run.bond_time_step_fraction);
   if (!particle.clumps.empty()) tighten_for_plates(dt, particle, table, setup, run);
   return dt;
 }

@@ -128,13 +128,15 @@ namespace {
 // fraction × the bonded network's period bound when that is shorter; a fixed step above the
 // stability limit T_b/π is an InputError.
 TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fixed, double fraction,
-                                const BondSet& bonds, const SphereState& state, int bond_substeps) {
+                                const BondSet& bonds, const SphereState& state, int bond_substeps,
+                                std::optional<double> bond_fraction) {
   if (bond_substeps < 0)
     throw InputError(fmt::format("bond_substeps must be >= 0, got {}", bond_substeps));
   choice.bond_period = bond_oscillation_period(bonds, state);
   if (!std::isfinite(choice.bond_period)) return choice;
+  const double bonds_fraction = bond_fraction.value_or(fraction);
   if (bond_substeps != 1) {
-    const double bond_step = fraction * choice.bond_period;
+    const double bond_step = bonds_fraction * choice.bond_period;
     const double contacts = fixed ? *fixed : choice.time_step;
     const int n =
         bond_substeps > 0
@@ -159,15 +161,15 @@ TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fix
           *fixed, choice.bond_period / std::numbers::pi, choice.bond_period));
     return choice;
   }
-  choice.time_step = std::min(choice.time_step, fraction * choice.bond_period);
+  choice.time_step = std::min(choice.time_step, bonds_fraction * choice.bond_period);
   // Velocity Verlet is stable below 2/ω_max = T_b/π: a fraction above 1/π of the bond period
   // is refused where the bonds set the step (a shorter Rayleigh step keeps it stable).
   if (choice.time_step > choice.bond_period / std::numbers::pi)
     throw InputError(fmt::format(
-        "time_step_fraction {:.3g} is above {:.3g} (1/π), the stability limit of the stiffest "
-        "bonds (period bound {:.3g} s, step {:.3g} s above T_b/π = {:.3g} s): lower "
-        "time_step_fraction",
-        fraction, 1.0 / std::numbers::pi, choice.bond_period, choice.time_step,
+        "{} {:.3g} is above {:.3g} (1/π), the stability limit of the stiffest bonds (period "
+        "bound {:.3g} s, step {:.3g} s above T_b/π = {:.3g} s): lower it",
+        bond_fraction ? "bond_time_step_fraction" : "time_step_fraction", bonds_fraction,
+        1.0 / std::numbers::pi, choice.bond_period, choice.time_step,
         choice.bond_period / std::numbers::pi));
   return choice;
 }
@@ -179,13 +181,14 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 double fraction, double speed, const BondSet& bonds) {
   return checked(with_bond_period(
       select_with_masses(state, materials, wall_materials, fixed, fraction, speed, state.mass),
-      fixed, fraction, bonds, state, 1));
+      fixed, fraction, bonds, state, 1, std::nullopt));
 }
 
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds,
-                                const ClumpSet& clumps, int bond_substeps) {
+                                const ClumpSet& clumps, int bond_substeps,
+                                std::optional<double> bond_fraction) {
   std::vector<double> mass(state.mass.begin(), state.mass.end());
   std::vector<double> overlap(state.size(), 0.0);
   std::vector<int> partners = wall_materials;
@@ -200,7 +203,7 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
   partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
   TimeStepChoice choice = with_bond_period(
       select_with_masses(state, materials, wall_materials, fixed, fraction, speed, mass), fixed,
-      fraction, bonds, state, bond_substeps);
+      fraction, bonds, state, bond_substeps, bond_fraction);
   choice.clump_period = clump_contact_period(clumps, state, materials, partners, overlap);
   if (choice.bond_substeps > 1 && !clumps.empty())
     throw InputError("bond_substeps > 1 does not take rigid clumps");

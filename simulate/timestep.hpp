@@ -79,6 +79,10 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds);
 
+// `bond_fraction`, when given, replaces `fraction` for the bonds' bound: the bonds' step is
+// bond_fraction × T_b, at most T_b/π. The bonds' fastest modes (a sub-sphere turning against its
+// bonds) carry little of a pressed bed's energy, so their step needs stability rather than the
+// contacts' resolution (docs/measurements.md, "A longer step for the bonds").
 // With bond sub-steps (`bond_substeps` n > 1, EngineSettings::bond_substeps): the bonds take
 // fraction × T_b per sub-step and the step is fraction × the contacts' bound (Rayleigh time,
 // clumps), at most n sub-steps long; n = 0 takes as many sub-steps as that bound needs
@@ -91,6 +95,7 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds,
-                                const ClumpSet& clumps, int bond_substeps = 1);
+                                const ClumpSet& clumps, int bond_substeps = 1,
+                                std::optional<double> bond_fraction = std::nullopt);
 
 }  // namespace shapepress::simulate

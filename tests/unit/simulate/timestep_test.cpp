@@ -82,5 +82,41 @@ TEST(TimeStep, FractionAboveTheBondLimitIsRefusedByName) {
   }
 }
 
+// The bonds' own fraction: the step where the bonds bind follows it, the contacts keep theirs,
+// and above 1/π it is refused by its own name.
+TEST(TimeStep, TheBondsTakeTheirOwnFractionOfTheirPeriodBound) {
+  constexpr double r = 1e-3;
+  SphereState s;
+  s.add_sphere(0.0, 0.0, 0.0, r, 2000.0, 0);
+  s.add_sphere(2 * r, 0.0, 0.0, r, 2000.0, 0);
+  s.body = {0, 0};
+  BondParameters stiff;
+  stiff.normal_stiffness = 1e10;
+  stiff.shear_stiffness = 0.5e10;
+  const BondSet bonds = create_bonds(s, 1.15, stiff);
+  const MaterialTable table({{"m", 1e5, 0.3, 2000.0}}, {{"m", "m", 0.7, 0.5}});
+  const double period = bond_oscillation_period(bonds, s);
+  const TimeStepChoice shared =
+      select_time_step(s, table, {}, std::nullopt, 0.1, 0.1, bonds, ClumpSet{}, 1, std::nullopt);
+  EXPECT_NEAR(shared.time_step, 0.1 * period, 1e-15 * period);
+  const TimeStepChoice own =
+      select_time_step(s, table, {}, std::nullopt, 0.1, 0.1, bonds, ClumpSet{}, 1, 0.3);
+  EXPECT_NEAR(own.time_step, 0.3 * period, 1e-15 * period);
+  ASSERT_LT(0.3 * period, 0.1 * own.rayleigh_time);  // soft contacts: the bonds still bind
+  // Stiff contacts bind first whatever the bonds' fraction.
+  const MaterialTable stiff_contacts({{"m", 1e13, 0.3, 2000.0}}, {{"m", "m", 0.7, 0.5}});
+  const TimeStepChoice contacts =
+      select_time_step(s, stiff_contacts, {}, std::nullopt, 0.1, 0.1, bonds, ClumpSet{}, 1, 0.3);
+  EXPECT_NEAR(contacts.time_step, 0.1 * contacts.rayleigh_time, 1e-15 * contacts.time_step);
+  EXPECT_LT(contacts.time_step, 0.3 * period);
+  try {
+    select_time_step(s, table, {}, std::nullopt, 0.1, 0.1, bonds, ClumpSet{}, 1, 0.4);
+    ADD_FAILURE() << "a bond fraction of 0.4 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("bond_time_step_fraction 0.4"));
+    EXPECT_THAT(e.what(), HasSubstr("0.318"));
+  }
+}
+
 }  // namespace
 }  // namespace shapepress::simulate
