@@ -1,10 +1,10 @@
 // The force evaluation, the engine's hot path: one pass over the pair list computing each
 // contact once and adding it to both spheres' sums (a partner in another thread's chunk reads it
 // from pair_results_ instead), then one pass over the spheres gathering those sums, the
-// cross-chunk contacts, the bonds, the wall contacts and gravity. Both passes are written out long on purpose:
-// splitting them into helpers that pass arrays around costs measurable speed. The Love–Weber
-// pressure (engine.hpp) and the normal law are template switches: the Hertz path compiles without
-// the other laws' branches.
+// cross-chunk contacts, the bonds, the wall contacts and gravity. Both passes are written out long
+// on purpose: splitting them into helpers that pass arrays around costs measurable speed. The
+// Love–Weber pressure (engine.hpp) and the normal law are template switches: the Hertz path
+// compiles without the other laws' branches.
 #include <omp.h>
 
 #include <algorithm>
