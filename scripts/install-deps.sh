@@ -12,6 +12,7 @@ packages=(
   nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox clang-format
 )
 packages+=(libssl-dev)  # common: SHA-256 of a run's inputs (libcrypto)
+packages+=(libtiff-dev)  # imaging: the SEM metadata tags of TIFF images
 packages+=(libgif-dev)  # imaging: GIF input (ImageJ's samples; OpenCV 4.6 reads no GIF)
 packages+=(clang libclang-rt-dev)  # CI's fuzzers (scripts/fuzz.sh): clang and its libFuzzer
 packages+=(calculix-ccx)  # fem-plate: the finite element solver, run as a child process
