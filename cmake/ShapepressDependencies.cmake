@@ -13,6 +13,7 @@ find_package(Threads REQUIRED)
 find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 find_package(CGAL REQUIRED)
+find_package(NLopt 2.7 REQUIRED)
 # OpenVDB installs a find module (FindOpenVDB.cmake), not a package config, in its own folder
 # beside the libraries: look for it under the install prefixes, in this compiler's multiarch
 # folder (Debian's lib/x86_64-linux-gnu, lib/aarch64-linux-gnu, …) or a plain lib/. A user's
