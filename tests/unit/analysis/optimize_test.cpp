@@ -42,22 +42,31 @@ TEST(NelderMead, QuadraticInFourDimensions) {
     EXPECT_NEAR(r.parameters[i], centre[i], 1e-4);  // parameter tolerance 1e-10, value 1e-10
 }
 
-TEST(NelderMead, BoundsHoldTheOptimumOnTheBoxEdge) {
+TEST(BothSearches, HoldTheOptimumOnTheBoxEdgeWithoutLeavingTheBox) {
   // Unconstrained minimum at (1, 1) lies outside the box x ≤ 0.5: the answer is x = 0.5, and the
   // objective is never called outside the box.
-  SearchOptions options;
-  options.lower = {-2.0, -2.0};
-  options.upper = {0.5, 2.0};
-  options.max_evaluations = 5000;
-  bool left_box = false;
-  auto watched = [&](const std::vector<double>& p) {
-    if (p[0] > 0.5 || p[0] < -2.0 || p[1] > 2.0 || p[1] < -2.0) left_box = true;
-    return rosenbrock(p);
-  };
-  const MinimumResult r = minimize_nelder_mead(watched, {-1.0, 1.0}, options);
-  EXPECT_FALSE(left_box);
-  EXPECT_NEAR(r.parameters[0], 0.5, 1e-4);
-  EXPECT_NEAR(r.parameters[1], 0.25, 1e-3);  // on x = 0.5 the minimum is y = x²
+  for (SearchMethod method : {SearchMethod::nelder_mead, SearchMethod::bobyqa}) {
+    SCOPED_TRACE(search_method_name(method));
+    SearchOptions options;
+    options.lower = {-2.0, -2.0};
+    options.upper = {0.5, 2.0};
+    options.max_evaluations = 5000;
+    // Nelder–Mead's default 1e-10 on values and parameters; BOBYQA's trust region to 1e-8.
+    if (method == SearchMethod::bobyqa) options.parameter_tolerance = 1e-8;
+    bool left_box = false;
+    auto watched = [&](const std::vector<double>& p) {
+      if (p[0] > 0.5 || p[0] < -2.0 || p[1] > 2.0 || p[1] < -2.0) left_box = true;
+      return rosenbrock(p);
+    };
+    const MinimumResult r = method == SearchMethod::bobyqa
+                                ? minimize_bobyqa(watched, {-1.0, 1.0}, options)
+                                : minimize_nelder_mead(watched, {-1.0, 1.0}, options);
+    EXPECT_TRUE(r.converged);
+    EXPECT_FALSE(left_box);
+    EXPECT_NEAR(r.parameters[0], 0.5, 1e-4);
+    EXPECT_NEAR(r.parameters[1], 0.25, 1e-3);  // on x = 0.5 the minimum is y = x²
+    EXPECT_DOUBLE_EQ(r.value, rosenbrock(r.parameters));
+  }
 }
 
 TEST(NelderMead, ProgressCanStopTheSearchAndBudgetIsHonoured) {
@@ -114,25 +123,6 @@ TEST(NelderMead, BatchedSearchAsksTheSamePointsAndGroupsTheIndependentOnes) {
 
 // BOBYQA (NLopt) under the options calibrate gives it: box bounds, a first step per parameter,
 // the tolerances, the budget, the progress callback.
-TEST(Bobyqa, HoldsTheOptimumOnTheBoxEdgeWithoutLeavingTheBox) {
-  SearchOptions options;
-  options.lower = {-2.0, -2.0};
-  options.upper = {0.5, 2.0};
-  options.parameter_tolerance = 1e-8;
-  options.max_evaluations = 2000;
-  bool left_box = false;
-  auto watched = [&](const std::vector<double>& p) {
-    if (p[0] > 0.5 || p[0] < -2.0 || p[1] > 2.0 || p[1] < -2.0) left_box = true;
-    return rosenbrock(p);
-  };
-  const MinimumResult r = minimize_bobyqa(watched, {-1.0, 1.0}, options);
-  EXPECT_TRUE(r.converged);
-  EXPECT_FALSE(left_box);
-  EXPECT_NEAR(r.parameters[0], 0.5, 1e-6);
-  EXPECT_NEAR(r.parameters[1], 0.25, 1e-5);  // on x = 0.5 the minimum is y = x²
-  EXPECT_DOUBLE_EQ(r.value, rosenbrock(r.parameters));
-}
-
 TEST(Bobyqa, NeedsFewerEvaluationsThanNelderMeadOnASmoothBowl) {
   // A quadratic is BOBYQA's own model: it needs about its 2n + 1 first points and a few steps,
   // where the simplex crawls; both to the same parameter tolerance.
