@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <memory>
 #include <numeric>
 #include <utility>
 
 #include <fmt/format.h>
+#include <nlopt.h>
 
 #include "common/error.hpp"
 
@@ -30,28 +33,32 @@ Point combine(const Point& a, const Point& b, double t) {  // a + t (b − a)
   return r;
 }
 
-void check_options(const NelderMeadOptions& options, std::size_t n) {
+void check_options(std::string_view search, const SearchOptions& options, std::size_t n) {
+  if (n == 0) throw InputError(fmt::format("{}: no parameters to optimise", search));
   const bool bounded = !options.lower.empty() || !options.upper.empty();
   if (bounded && (options.lower.size() != n || options.upper.size() != n))
-    throw InputError(fmt::format("Nelder-Mead: {} parameters but {} lower and {} upper bounds", n,
+    throw InputError(fmt::format("{}: {} parameters but {} lower and {} upper bounds", search, n,
                                  options.lower.size(), options.upper.size()));
   for (std::size_t i = 0; i < options.lower.size(); ++i)
     if (!(options.lower[i] < options.upper[i]))
-      throw InputError(fmt::format("Nelder-Mead: parameter {} has lower bound {} >= upper {}", i,
+      throw InputError(fmt::format("{}: parameter {} has lower bound {} >= upper {}", search, i,
                                    options.lower[i], options.upper[i]));
   if (!options.initial_step.empty() && options.initial_step.size() != n)
-    throw InputError(fmt::format("Nelder-Mead: {} parameters but {} initial steps", n,
+    throw InputError(fmt::format("{}: {} parameters but {} initial steps", search, n,
                                  options.initial_step.size()));
+}
+
+double default_step(double x) {
+  return x != 0.0 ? 0.1 * std::abs(x) : 0.1;
 }
 
 // The first simplex: the start and one step along each axis (stepping backwards when the
 // forward step would leave the box).
-std::vector<Point> initial_simplex(const Point& start, const NelderMeadOptions& options) {
+std::vector<Point> initial_simplex(const Point& start, const SearchOptions& options) {
   const std::size_t n = start.size();
   std::vector<Point> simplex(n + 1, start);
   for (std::size_t i = 0; i < n; ++i) {
-    double step = options.initial_step.empty() ? (start[i] != 0.0 ? 0.1 * std::abs(start[i]) : 0.1)
-                                               : options.initial_step[i];
+    double step = options.initial_step.empty() ? default_step(start[i]) : options.initial_step[i];
     if (!options.upper.empty() && start[i] + step > options.upper[i]) step = -step;
     simplex[i + 1][i] += step;
   }
@@ -61,7 +68,7 @@ std::vector<Point> initial_simplex(const Point& start, const NelderMeadOptions& 
 }  // namespace
 
 MinimumResult minimize_nelder_mead(const Objective& objective, Point start,
-                                   const NelderMeadOptions& options) {
+                                   const SearchOptions& options) {
   const BatchObjective one_by_one = [&](const std::vector<Point>& points) {
     std::vector<double> values;
     for (const Point& x : points)
@@ -72,10 +79,9 @@ MinimumResult minimize_nelder_mead(const Objective& objective, Point start,
 }
 
 MinimumResult minimize_nelder_mead_batched(const BatchObjective& objective, Point start,
-                                           const NelderMeadOptions& options) {
+                                           const SearchOptions& options) {
   const std::size_t n = start.size();
-  if (n == 0) throw InputError("Nelder-Mead: no parameters to optimise");
-  check_options(options, n);
+  check_options("Nelder-Mead", options, n);
   const Box box{options.lower, options.upper};
   box.clamp(start);
   MinimumResult result;
@@ -160,6 +166,108 @@ MinimumResult minimize_nelder_mead_batched(const BatchObjective& objective, Poin
   result.parameters = simplex[best];
   result.value = values[best];
   return result;
+}
+
+namespace {
+
+// NLopt calls back through C: the state of one search, and any exception the objective threw,
+// carried across it.
+struct BobyqaSearch {
+  const Objective& objective;
+  const SearchOptions& options;
+  nlopt_opt opt = nullptr;
+  MinimumResult result;
+  bool stopped = false;  // by the progress callback
+  std::exception_ptr error;
+};
+
+double bobyqa_value(unsigned n, const double* x, double* /*gradient*/, void* data) {
+  auto& search = *static_cast<BobyqaSearch*>(data);
+  try {
+    Point point(x, x + n);
+    Box{search.options.lower, search.options.upper}.clamp(point);  // rounding at a bound
+    double value = search.objective(point);
+    if (std::isnan(value)) value = HUGE_VAL;
+    MinimumResult& result = search.result;
+    ++result.evaluations;
+    if (result.parameters.empty() || value < result.value)
+      result.parameters = point, result.value = value;
+    if (search.options.progress && !search.options.progress(result.evaluations, result.value)) {
+      search.stopped = true;
+      nlopt_force_stop(search.opt);
+    }
+    return value;
+  } catch (...) {
+    search.error = std::current_exception();
+    nlopt_force_stop(search.opt);
+    return HUGE_VAL;
+  }
+}
+
+}  // namespace
+
+std::string_view search_method_name(SearchMethod method) {
+  return method == SearchMethod::bobyqa ? "bobyqa" : "nelder-mead";
+}
+
+SearchMethod search_method_named(std::string_view name) {
+  for (SearchMethod method : {SearchMethod::bobyqa, SearchMethod::nelder_mead})
+    if (name == search_method_name(method)) return method;
+  throw InputError(fmt::format("search method '{}': expected bobyqa or nelder-mead", name));
+}
+
+MinimumResult minimize_bobyqa(const Objective& objective, Point start,
+                              const SearchOptions& options) {
+  const std::size_t n = start.size();
+  check_options("BOBYQA", options, n);
+  if (options.lower.empty()) throw InputError("BOBYQA: needs lower and upper bounds");
+  Box{options.lower, options.upper}.clamp(start);
+  Point step = options.initial_step;
+  if (step.empty())
+    for (double x : start)
+      step.push_back(default_step(x));
+  const auto unsigned_n = static_cast<unsigned>(n);
+  std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(
+      nlopt_create(NLOPT_LN_BOBYQA, unsigned_n), &nlopt_destroy);
+  if (!opt) throw ComputationError("BOBYQA: NLopt could not create the search");
+  BobyqaSearch search{objective, options, opt.get(), {}, false, nullptr};
+  const Point parameter_tolerance(n, options.parameter_tolerance);
+  if (nlopt_set_lower_bounds(opt.get(), options.lower.data()) < 0 ||
+      nlopt_set_upper_bounds(opt.get(), options.upper.data()) < 0 ||
+      nlopt_set_min_objective(opt.get(), bobyqa_value, &search) < 0 ||
+      nlopt_set_initial_step(opt.get(), step.data()) < 0 ||
+      nlopt_set_xtol_abs(opt.get(), parameter_tolerance.data()) < 0 ||
+      nlopt_set_maxeval(opt.get(), options.max_evaluations) < 0)
+    throw InputError(fmt::format("BOBYQA: NLopt refused the options ({})",
+                                 nlopt_get_errmsg(opt.get()) ? nlopt_get_errmsg(opt.get()) : "?"));
+  double value = 0.0;
+  const nlopt_result outcome = nlopt_optimize(opt.get(), start.data(), &value);
+  if (search.error) std::rethrow_exception(search.error);
+  if (outcome == NLOPT_INVALID_ARGS || outcome == NLOPT_OUT_OF_MEMORY ||
+      (outcome == NLOPT_FAILURE && search.result.parameters.empty()))
+    throw ComputationError(
+        fmt::format("BOBYQA: NLopt failed ({}{}{})", nlopt_result_to_string(outcome),
+                    nlopt_get_errmsg(opt.get()) ? ": " : "",
+                    nlopt_get_errmsg(opt.get()) ? nlopt_get_errmsg(opt.get()) : ""));
+  // The best point evaluated (NLopt's answer is one of them); converged when a tolerance ended
+  // the search, not the budget, the progress callback or round-off.
+  search.result.converged =
+      !search.stopped &&
+      (outcome == NLOPT_SUCCESS || outcome == NLOPT_FTOL_REACHED || outcome == NLOPT_XTOL_REACHED);
+  return search.result;
+}
+
+MinimumResult minimize(SearchMethod method, const BatchObjective& objective, Point start,
+                       const SearchOptions& options) {
+  if (method == SearchMethod::nelder_mead)
+    return minimize_nelder_mead_batched(objective, std::move(start), options);
+  const Objective one = [&](const Point& x) {
+    const std::vector<double> values = objective({x});
+    if (values.size() != 1)
+      throw ComputationError(fmt::format("BOBYQA: {} values for one point", values.size()));
+    return values.front();
+  };
+  return minimize_bobyqa(one, std::move(start), options);
 }
 
 ScalarMinimum minimize_brent(const std::function<double(double)>& f, double lower, double upper,

@@ -1,9 +1,11 @@
 #pragma once
 // Small derivative-free optimisers for calibration (fit model parameters so a run matches a
-// reference curve): Nelder–Mead in n dimensions with box bounds, golden/Brent minimisation and
-// Brent root finding in one dimension. Free functions, plain inputs and outputs, an optional
-// progress callback, so the caller owns logging and stopping.
+// reference curve): in n dimensions with box bounds, Powell's BOBYQA (NLopt's) and Nelder–Mead
+// (ours, which hands independent points over together); golden/Brent minimisation and Brent root
+// finding in one dimension. Free functions, plain inputs and outputs, an optional progress
+// callback, so the caller owns logging and stopping.
 #include <functional>
+#include <string_view>
 #include <vector>
 
 namespace shapepress::analysis {
@@ -13,14 +15,33 @@ using Objective = std::function<double(const std::vector<double>&)>;
 // by side (a calibration runs one simulation per point on its own thread).
 using BatchObjective = std::function<std::vector<double>(const std::vector<std::vector<double>>&)>;
 
-struct NelderMeadOptions {
-  std::vector<double> lower;           // bounds, empty = unbounded; else one per parameter
-  std::vector<double> upper;           //
-  std::vector<double> initial_step;    // simplex edge per parameter; empty = 10 % of |x0| (or 0.1)
-  double value_tolerance = 1e-10;      // stop when the simplex values span less than this
-  double parameter_tolerance = 1e-10;  // ... and the simplex is smaller than this (per axis)
+// How a bounded search in n dimensions is run.
+//   bobyqa       Powell's BOBYQA (2009), NLopt's NLOPT_LN_BOBYQA: a quadratic model of the
+//                objective from 2n + 1 points, minimised in a trust region that shrinks to the
+//                parameter tolerance. Needs bounds. One point at a time.
+//   nelder_mead  the simplex search below; its independent points (first simplex, shrinks) go
+//                to a BatchObjective together.
+enum class SearchMethod { bobyqa, nelder_mead };
+// "bobyqa" or "nelder-mead", as the options and the config say them.
+std::string_view search_method_name(SearchMethod method);
+// InputError naming the text and the two names otherwise.
+SearchMethod search_method_named(std::string_view name);
+
+struct SearchOptions {
+  std::vector<double> lower;         // bounds, empty = unbounded; else one per parameter
+  std::vector<double> upper;         //
+  std::vector<double> initial_step;  // first simplex edge / trust-region radius per parameter;
+                                     // empty = 10 % of |x0| (or 0.1)
+  // Nelder–Mead stops when the simplex values span less than value_tolerance and the simplex is
+  // smaller than parameter_tolerance along every axis; BOBYQA when its trust region has shrunk
+  // below parameter_tolerance along every axis (NLopt's value test would stop it at the first
+  // trial within value_tolerance of the best, long before the model has settled on a rough
+  // objective such as a DEM run's).
+  double value_tolerance = 1e-10;
+  double parameter_tolerance = 1e-10;
   int max_evaluations = 2000;
-  // Called after each iteration with (evaluations so far, best value); return false to stop.
+  // Called after each iteration (BOBYQA: each evaluation) with (evaluations so far, best value);
+  // return false to stop.
   std::function<bool(int, double)> progress;
 };
 
@@ -35,14 +56,23 @@ struct MinimumResult {
 // shrink ½). Bounds are honoured by clamping every trial point into the box, so the objective is
 // never called outside it.
 MinimumResult minimize_nelder_mead(const Objective& objective, std::vector<double> start,
-                                   const NelderMeadOptions& options = {});
+                                   const SearchOptions& options = {});
 // The same search, handing the points that do not depend on each other to `objective` together:
 // the first simplex (n + 1 points) and a shrink (n points); a reflection, expansion or
 // contraction depends on the last value and goes alone. The trial points and the result are
 // those of minimize_nelder_mead.
 MinimumResult minimize_nelder_mead_batched(const BatchObjective& objective,
                                            std::vector<double> start,
-                                           const NelderMeadOptions& options = {});
+                                           const SearchOptions& options = {});
+
+// BOBYQA through NLopt (bounds required). The objective is never called outside the box; a NaN
+// value counts as +inf, as for Nelder–Mead.
+MinimumResult minimize_bobyqa(const Objective& objective, std::vector<double> start,
+                              const SearchOptions& options);
+
+// The search `method` names; BOBYQA hands the batch objective one point at a time.
+MinimumResult minimize(SearchMethod method, const BatchObjective& objective,
+                       std::vector<double> start, const SearchOptions& options);
 
 struct ScalarMinimum {
   double x = 0.0;

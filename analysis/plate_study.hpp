@@ -1,6 +1,6 @@
 #pragma once
-// The single-particle accuracy-against-cost study (paper §3.2, Fig. 2; issue "BMS and the
-// rubber-sphere study"): several plate runs of one sphere, as BMS agglomerates of N sub-spheres
+// The single-particle accuracy-against-cost study (paper §3.2, Fig. 2; the rubber-sphere study,
+// pipelines/rubber-sphere): several plate runs of one sphere, as BMS agglomerates of N sub-spheres
 // and as one Hertz sphere, compared with the finest agglomerate (convergence) and with Tatara's
 // large-deformation curve (accuracy), against the CPU seconds each run took.
 #include <filesystem>

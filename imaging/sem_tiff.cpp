@@ -1,13 +1,16 @@
 #include "imaging/sem_tiff.hpp"
 
 #include <fmt/format.h>
+#include <tiffio.h>
 
 #include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <fstream>
-#include <iterator>
+#include <memory>
 #include <vector>
 
 #include "common/atomic_file.hpp"
@@ -20,31 +23,52 @@ constexpr std::uint16_t tiff_type_ascii = 2;
 constexpr std::uint16_t tiff_type_short = 3;
 constexpr std::uint16_t tiff_type_long = 4;
 
-// Reads integers in the byte order the TIFF header declared.
-class TiffBytes {
- public:
-  TiffBytes(std::vector<char> bytes, bool little_endian)
-      : bytes_(std::move(bytes)), little_endian_(little_endian) {}
-  bool has(std::uint64_t offset, std::uint64_t size) const {
-    return offset <= bytes_.size() && size <= bytes_.size() - offset;
-  }
-  std::uint32_t read(std::uint64_t offset, int size) const {
-    std::uint32_t value = 0;
-    for (int i = 0; i < size; ++i) {
-      auto byte = static_cast<std::uint8_t>(bytes_[offset + (little_endian_ ? size - 1 - i : i)]);
-      value = (value << 8) | byte;
-    }
-    return value;
-  }
-  std::string text(std::uint64_t offset, std::uint64_t size) const {
-    std::string s(bytes_.data() + offset, bytes_.data() + offset + size);
-    return s.substr(0, s.find('\0'));
-  }
+// "II*\0" or "MM\0*": a classic TIFF. Anything else (a PNG, a BigTIFF, an unreadable file) has no
+// FEI tag, and is not handed to libtiff, whose failure to open it would read as a damaged TIFF.
+bool is_classic_tiff(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::array<char, 4> magic{};
+  if (!in.read(magic.data(), magic.size())) return false;
+  return std::string_view(magic.data(), 4) == std::string_view("II*\0", 4) ||
+         std::string_view(magic.data(), 4) == std::string_view("MM\0*", 4);
+}
 
- private:
-  std::vector<char> bytes_;
-  bool little_endian_;
+// libtiff's messages about one file, kept for the InputError instead of printed on stderr.
+struct TiffMessages {
+  std::string error;  // the first
+  std::vector<std::string> warnings;
 };
+
+std::string formatted(const char* module, const char* format, va_list args) {
+  std::array<char, 512> text{};
+  std::vsnprintf(text.data(), text.size(), format, args);
+  return fmt::format("{}: {}", module ? module : "libtiff", text.data());
+}
+
+int keep_error(TIFF*, void* user_data, const char* module, const char* format, va_list args) {
+  auto& messages = *static_cast<TiffMessages*>(user_data);
+  if (messages.error.empty()) messages.error = formatted(module, format, args);
+  return 1;  // handled: libtiff's global handler stays silent
+}
+
+int keep_warning(TIFF*, void* user_data, const char* module, const char* format, va_list args) {
+  static_cast<TiffMessages*>(user_data)->warnings.push_back(formatted(module, format, args));
+  return 1;
+}
+
+struct TiffCloser {
+  void operator()(TIFF* tiff) const noexcept { TIFFClose(tiff); }
+};
+
+// The first IFD of a classic TIFF, opened by libtiff with its messages collected.
+std::unique_ptr<TIFF, TiffCloser> open_tiff(const std::filesystem::path& path,
+                                            TiffMessages& messages) {
+  std::unique_ptr<TIFFOpenOptions, decltype(&TIFFOpenOptionsFree)> options(TIFFOpenOptionsAlloc(),
+                                                                           &TIFFOpenOptionsFree);
+  TIFFOpenOptionsSetErrorHandlerExtR(options.get(), keep_error, &messages);
+  TIFFOpenOptionsSetWarningHandlerExtR(options.get(), keep_warning, &messages);
+  return std::unique_ptr<TIFF, TiffCloser>(TIFFOpenExt(path.c_str(), "r", options.get()));
+}
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
@@ -71,34 +95,47 @@ void put(std::string& out, std::uint32_t value, int size) {
 
 std::optional<std::string> read_tiff_ascii_tag(const std::filesystem::path& path,
                                                std::uint16_t tag) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 8) return std::nullopt;
-  bool little = bytes[0] == 'I' && bytes[1] == 'I';
-  bool big = bytes[0] == 'M' && bytes[1] == 'M';
-  if (!little && !big) return std::nullopt;
-  TiffBytes tiff(std::move(bytes), little);
-  if (tiff.read(2, 2) != 42) return std::nullopt;  // not classic TIFF (BigTIFF has 43)
+  if (!is_classic_tiff(path)) return std::nullopt;
   auto malformed = [&](std::string_view what) {
     return InputError(fmt::format("{}: malformed TIFF ({})", path.string(), what));
   };
-  std::uint64_t ifd = tiff.read(4, 4);
-  if (!tiff.has(ifd, 2)) throw malformed("first IFD offset beyond the end of the file");
-  std::uint32_t entries = tiff.read(ifd, 2);
-  if (!tiff.has(ifd + 2, 12ull * entries)) throw malformed("IFD entries truncated");
-  for (std::uint32_t i = 0; i < entries; ++i) {
-    std::uint64_t entry = ifd + 2 + 12ull * i;
-    if (tiff.read(entry, 2) != tag) continue;
-    std::uint32_t type = tiff.read(entry + 2, 2);
-    std::uint64_t count = tiff.read(entry + 4, 4);
-    if (type != tiff_type_ascii && type != 1 && type != 7)  // ASCII, BYTE or UNDEFINED text
-      throw malformed(fmt::format("tag {} has type {}, expected text", tag, type));
-    std::uint64_t offset = count <= 4 ? entry + 8 : tiff.read(entry + 8, 4);
-    if (!tiff.has(offset, count)) throw malformed(fmt::format("tag {} data truncated", tag));
-    return tiff.text(offset, count);
+  TiffMessages messages;
+  const auto tiff = open_tiff(path, messages);
+  if (!tiff || !messages.error.empty())
+    throw malformed(messages.error.empty() ? "libtiff cannot read its first directory"
+                                           : messages.error);
+  // A private tag libtiff does not know becomes an anonymous field of the file's own type when
+  // the directory has it.
+  const TIFFField* field = TIFFFindField(tiff.get(), tag, TIFF_ANY);
+  if (!field) return std::nullopt;
+  const TIFFDataType type = TIFFFieldDataType(field);
+  if (type != TIFF_ASCII && type != TIFF_BYTE && type != TIFF_UNDEFINED)
+    throw malformed(fmt::format("tag {} has type {}, expected text", tag, static_cast<int>(type)));
+  const char* data = nullptr;
+  std::uint32_t size = 0;
+  bool read = false;
+  if (TIFFFieldPassCount(field) && TIFFFieldReadCount(field) == TIFF_VARIABLE2) {
+    read = TIFFGetField(tiff.get(), tag, &size, &data) == 1;
+  } else if (TIFFFieldPassCount(field)) {
+    std::uint16_t count = 0;
+    read = TIFFGetField(tiff.get(), tag, &count, &data) == 1;
+    size = count;
+  } else {
+    read = TIFFGetField(tiff.get(), tag, &data) == 1;
+    size = data ? static_cast<std::uint32_t>(std::char_traits<char>::length(data)) : 0;
   }
-  return std::nullopt;
+  if (!read) {
+    // In the directory but not read: libtiff ignored it with a warning (its data lies beyond
+    // the end of the file).
+    if (!TIFFFieldIsAnonymous(field)) return std::nullopt;
+    const std::string named = fmt::format("\"Tag {}\"", tag);
+    const auto said = std::find_if(messages.warnings.begin(), messages.warnings.end(),
+                                   [&](const std::string& w) { return w.find(named) != w.npos; });
+    throw malformed(said != messages.warnings.end() ? *said
+                                                    : fmt::format("tag {} data unreadable", tag));
+  }
+  const std::string text(data, size);
+  return text.substr(0, text.find('\0'));
 }
 
 SemMetadata parse_fei_metadata(std::string_view ini_text) {

@@ -1,7 +1,7 @@
 #pragma once
 // Thermo Fisher / FEI SEM TIFF metadata. The instrument stores an INI-like text block
-// ("[Scan]\nPixelWidth=2.5e-08\n...") in a private TIFF tag; we read the IFD ourselves so no
-// TIFF library is needed, and write the same layout for the synthetic SEM images.
+// ("[Scan]\nPixelWidth=2.5e-08\n...") in a private TIFF tag; libtiff reads it, and the
+// synthetic SEM images are written in the same layout.
 #include <cstdint>
 #include <filesystem>
 #include <optional>

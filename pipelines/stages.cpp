@@ -32,7 +32,7 @@ std::span<const Stage> registered_stages() {
             fem::setup_fem_plate_cli, fem::fem_plate_options},
       Stage{"advise",
             "the cheapest sub-sphere count and time step within a tolerance of the finest "
-            "(a ladder of plate runs; the stability map)",
+            "(a ladder of plate runs, or of compactions of a bed; the stability map)",
             scenarios::setup_advise_cli},
       Stage{"calibrate",
             "fit contact or bond parameters so a plate or compaction run matches a curve",
@@ -41,7 +41,8 @@ std::span<const Stage> registered_stages() {
       Stage{"pack", "pack bodies (spheres, BMS, CMS) into a die: settle and pre-compress",
             packing::setup_pack_cli, packing::pack_options, RunOutput::file,
             packing::pack_command_options},
-      Stage{"compact", "compact a sphere packing with a punch program",
+      Stage{"compact",
+            "press a bed (pack's bodies, spheres, or poured from the config) with a punch program",
             scenarios::setup_compact_cli, scenarios::compact_options, RunOutput::folder,
             scenarios::compact_command_options},
       Stage{"report", "charts, metrics.json and report.html of compaction and plate runs",

@@ -196,16 +196,16 @@ CalibrationResult calibrate_plate(
   // All parameters are positive scales spanning decades: search their logarithms, within six
   // decades of the start.
   std::vector<double> start_log;
-  analysis::NelderMeadOptions nm;
+  analysis::SearchOptions search;
   for (double v : result.start) {
     start_log.push_back(std::log(v));
-    nm.lower.push_back(std::log(v) - std::log(1e6));
-    nm.upper.push_back(std::log(v) + std::log(1e6));
-    nm.initial_step.push_back(std::log(options.initial_factor));
+    search.lower.push_back(std::log(v) - std::log(1e6));
+    search.upper.push_back(std::log(v) + std::log(1e6));
+    search.initial_step.push_back(std::log(options.initial_factor));
   }
-  nm.max_evaluations = options.max_evaluations;
-  nm.value_tolerance = 1e-4;      // 0.01 % RMS: below the run-to-run resolution of the curve
-  nm.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
+  search.max_evaluations = options.max_evaluations;
+  search.value_tolerance = 1e-4;      // 0.01 % RMS: below the run-to-run resolution of the curve
+  search.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
   // Every evaluation presses the same fills; only the bonds (and contacts) change.
   BmsFillCache fills;
   const auto objective = [&](const std::vector<double>& x) {
@@ -235,7 +235,10 @@ CalibrationResult calibrate_plate(
     if (progress) progress(e);
     return std::isfinite(e.rms_relative) ? e.rms_relative : 1e6;
   };
-  const analysis::MinimumResult best = analysis::minimize_nelder_mead(objective, start_log, nm);
+  const analysis::MinimumResult best =
+      options.method == analysis::SearchMethod::bobyqa
+          ? analysis::minimize_bobyqa(objective, start_log, search)
+          : analysis::minimize_nelder_mead(objective, start_log, search);
   for (double v : best.parameters)
     result.values.push_back(std::exp(v));
   result.converged = best.converged;

@@ -1,14 +1,15 @@
 #pragma once
 // Calibration of a BMS particle in the plate rig (docs/stages.md): the bond stiffnesses
 // (and, if asked, the sub-spheres' contact modulus) that make the force–deformation curve match
-// a reference curve, by bounded Nelder–Mead (analysis/optimize.hpp) on the logarithms of the
-// parameters. The objective is the RMS relative force error over a deformation window, the
-// number the acceptance criteria are stated in.
+// a reference curve, by a bounded search (BOBYQA or Nelder–Mead, analysis/optimize.hpp) on the
+// logarithms of the parameters. The objective is the RMS relative force error over a deformation
+// window, the number the acceptance criteria are stated in.
 #include <functional>
 #include <string>
 #include <vector>
 #include "scenarios/namespaces.hpp"
 
+#include "analysis/optimize.hpp"
 #include "scenarios/config_io.hpp"
 #include "scenarios/plate_run.hpp"
 
@@ -38,7 +39,8 @@ struct CalibrationOptions {
   double from = 0.05;                         // deformation window of the objective
   double to = 0.40;
   int max_evaluations = 40;
-  double initial_factor = 4.0;  // first simplex: each parameter × this factor
+  analysis::SearchMethod method = analysis::SearchMethod::bobyqa;
+  double initial_factor = 4.0;  // first step: each parameter × this factor
   // Start values that replace the config's (name, value); the fitted parameters start from the
   // config's values otherwise.
   std::vector<std::pair<std::string, double>> start;

@@ -230,7 +230,7 @@ CompactionCalibrationResult calibrate_compaction(
       throw InputError(fmt::format("calibrate: start value of {} = {} must be > 0", name, value));
     set_parameter(base, name, value);
   }
-  analysis::NelderMeadOptions nm;
+  analysis::SearchOptions search;
   std::vector<double> start_log;
   for (const std::string& name : options.parameters) {
     const double v = get_parameter(base, name);
@@ -240,13 +240,13 @@ CompactionCalibrationResult calibrate_compaction(
     set_parameter(base, name, v);  // a k1 taken from E becomes the stated start
     start_log.push_back(std::log(v));
     const auto [lower, upper] = log_bounds(name, v);
-    nm.lower.push_back(lower);
-    nm.upper.push_back(upper);
-    nm.initial_step.push_back(std::log(options.initial_factor));
+    search.lower.push_back(lower);
+    search.upper.push_back(upper);
+    search.initial_step.push_back(std::log(options.initial_factor));
   }
-  nm.max_evaluations = options.max_evaluations;
-  nm.value_tolerance = 1e-4;      // 0.01 % RMS, below the curve's resolution
-  nm.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
+  search.max_evaluations = options.max_evaluations;
+  search.value_tolerance = 1e-4;      // 0.01 % RMS, below the curve's resolution
+  search.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
   // The bed is the config's: poured and settled with its own values (the start values are the
   // search's, not the powder's), so a `compact` run of the config presses the same bed.
   CompactConfig pour = config;
@@ -341,7 +341,7 @@ CompactionCalibrationResult calibrate_compaction(
     return values;
   };
   const analysis::MinimumResult found =
-      analysis::minimize_nelder_mead_batched(objective, start_log, nm);
+      analysis::minimize(options.method, objective, start_log, search);
   for (double v : found.parameters)
     result.values.push_back(std::exp(v));
   result.converged = found.converged;

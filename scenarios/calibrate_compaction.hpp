@@ -2,7 +2,8 @@
 // Calibration on a compaction curve (docs/stages.md, "calibrate"), as Giannis et al. 2023
 // calibrated k1 to their experiment: the named contact or bond parameters that make a
 // compaction run match a measured curve (stress against strain, or solid fraction against
-// stress) over a window, by bounded Nelder–Mead on the parameters' logarithms. Every evaluation
+// stress) over a window, by a bounded search (BOBYQA or Nelder–Mead) on the parameters'
+// logarithms. Every evaluation
 // presses the same bed (the config's, settled once with its own values, or the packing given),
 // so the objective changes with the parameters only, not with a new pour.
 #include <filesystem>
@@ -75,6 +76,7 @@ struct CompactionCalibrationOptions {
   analysis::MeasuredCurve reference;
   double from = 0.0, to = 1.0;  // window in the reference's x (strain, or stress in Pa)
   int max_evaluations = 40;
+  analysis::SearchMethod method = analysis::SearchMethod::bobyqa;
   double initial_factor = 2.0;
   std::vector<std::pair<std::string, double>> start;
   // Evaluations already made (a resumed calibration): a trial point equal to one of them takes
@@ -97,9 +99,9 @@ struct CompactionCalibrationResult {
 
 // `packing` empty: the config's [generate] bed, settled once with the config's values (and the
 // evaluations' density_scale). `progress` is called after each evaluation, in the search's order
-// (a resumed one's known evaluations included); up to `threads` evaluations of a batch (the
-// first simplex, a shrink) run side by side, one engine thread each: the result does not depend
-// on it.
+// (a resumed one's known evaluations included); up to `threads` evaluations of a batch
+// (Nelder–Mead's first simplex, a shrink; BOBYQA asks one point at a time) run side by side, one
+// engine thread each: the result does not depend on it.
 CompactionCalibrationResult calibrate_compaction(
     const CompactConfig& config, const std::filesystem::path& packing,
     const CompactionCalibrationOptions& options, int threads,

@@ -39,6 +39,7 @@ struct CalibrateCli {
   std::string from;  // plate: 0.05; compaction: the whole reference
   std::string to;    // plate: 0.40
   int max_evaluations = 40;
+  std::string method = "bobyqa";
   double initial_factor = 0.0;  // plate: 4; compaction: 2
   std::string packing;
   double density_scale = 0.0;  // 0: the config's
@@ -96,9 +97,16 @@ CommandOptions calibrate_command(CalibrateCli& cli) {
       .text("--to", &cli.to, "objective window, highest x (plate: 0.40)")
       .whole("--max-evaluations", &cli.max_evaluations, "runs at most")
       .show_default()
+      .text("--method", &cli.method,
+            "the search: bobyqa (NLopt's BOBYQA, a quadratic model: fewer runs for one or two "
+            "parameters) or nelder-mead (went further with three; runs its first simplex and "
+            "shrinks side by side); docs/stages.md, \"Search method\"")
+      .choices({"bobyqa", "nelder-mead"})
+      .show_default()
       .number("--initial-factor", &cli.initial_factor,
-              "first simplex: each parameter times this factor (plate 4, compaction 2; smaller "
-              "when the start is already close)")
+              "first step: each parameter times this factor (Nelder-Mead's simplex edge, "
+              "BOBYQA's trust region; plate 4, compaction 2; smaller when the start is already "
+              "close)")
       .range(Range::closed(1.01, 100.0))
       .text("--packing", &cli.packing,
             "compaction: the bed every evaluation presses (pack's packed.h5, or spheres); "
@@ -266,6 +274,7 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   options.from = cli.from.empty() ? -HUGE_VAL : window_bound(cli.from, x_dimension, "--from");
   options.to = cli.to.empty() ? HUGE_VAL : window_bound(cli.to, x_dimension, "--to");
   options.max_evaluations = cli.max_evaluations;
+  options.method = analysis::search_method_named(cli.method);
   options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 2.0;
   if (cli.density_scale > 0.0) options.density_scale = cli.density_scale;
   const std::filesystem::path out(cli.out);
@@ -497,6 +506,7 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   options.from = from;
   options.to = to;
   options.max_evaluations = cli.max_evaluations;
+  options.method = analysis::search_method_named(cli.method);
   options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 4.0;
   const std::filesystem::path out(cli.out);
   ensure_output_folder(out);

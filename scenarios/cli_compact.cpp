@@ -39,8 +39,9 @@ CommandOptions compact_command(CompactCli& cli) {
   options.text("--config", &cli.config, "compact config TOML (materials, box, punch, run)")
       .config()
       .text("--packing", &cli.packing,
-            "spheres: 'x y z r' text (m) or HDF5 /particles/{position,radius}; without it the "
-            "config's [generate] makes a bed")
+            "the bed: pack's packed.h5 (spheres, BMS or CMS bodies), or spheres as 'x y z r' "
+            "text (m) or HDF5 /particles/{position,radius} (a compact snapshot of plain "
+            "spheres); without it the config's [generate] and [clumps] pour one")
       .text("--restart", &cli.restart, "continue from a snapshot written by compact")
       .excludes("--packing")
       .whole("--steps", &cli.steps, "stop at this total step count (overrides run.steps)")

@@ -11,6 +11,9 @@ packages=(
   libboost-iostreams-dev libtomlplusplus-dev libcli11-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox clang-format
 )
+packages+=(libnlopt-dev)  # calibrate: BOBYQA (NLopt)
+packages+=(libssl-dev)  # common: SHA-256 of a run's inputs (libcrypto)
+packages+=(libtiff-dev)  # imaging: the SEM metadata tags of TIFF images
 packages+=(libgif-dev)  # imaging: GIF input (ImageJ's samples; OpenCV 4.6 reads no GIF)
 packages+=(clang libclang-rt-dev)  # CI's fuzzers (scripts/fuzz.sh): clang and its libFuzzer
 packages+=(calculix-ccx)  # fem-plate: the finite element solver, run as a child process

@@ -16,7 +16,7 @@ double rosenbrock(const std::vector<double>& p) {
 }
 
 TEST(NelderMead, FindsTheRosenbrockMinimum) {
-  NelderMeadOptions options;
+  SearchOptions options;
   options.max_evaluations = 5000;
   const MinimumResult r = minimize_nelder_mead(rosenbrock, {-1.2, 1.0}, options);
   EXPECT_TRUE(r.converged);
@@ -42,27 +42,36 @@ TEST(NelderMead, QuadraticInFourDimensions) {
     EXPECT_NEAR(r.parameters[i], centre[i], 1e-4);  // parameter tolerance 1e-10, value 1e-10
 }
 
-TEST(NelderMead, BoundsHoldTheOptimumOnTheBoxEdge) {
+TEST(BothSearches, HoldTheOptimumOnTheBoxEdgeWithoutLeavingTheBox) {
   // Unconstrained minimum at (1, 1) lies outside the box x ≤ 0.5: the answer is x = 0.5, and the
   // objective is never called outside the box.
-  NelderMeadOptions options;
-  options.lower = {-2.0, -2.0};
-  options.upper = {0.5, 2.0};
-  options.max_evaluations = 5000;
-  bool left_box = false;
-  auto watched = [&](const std::vector<double>& p) {
-    if (p[0] > 0.5 || p[0] < -2.0 || p[1] > 2.0 || p[1] < -2.0) left_box = true;
-    return rosenbrock(p);
-  };
-  const MinimumResult r = minimize_nelder_mead(watched, {-1.0, 1.0}, options);
-  EXPECT_FALSE(left_box);
-  EXPECT_NEAR(r.parameters[0], 0.5, 1e-4);
-  EXPECT_NEAR(r.parameters[1], 0.25, 1e-3);  // on x = 0.5 the minimum is y = x²
+  for (SearchMethod method : {SearchMethod::nelder_mead, SearchMethod::bobyqa}) {
+    SCOPED_TRACE(search_method_name(method));
+    SearchOptions options;
+    options.lower = {-2.0, -2.0};
+    options.upper = {0.5, 2.0};
+    options.max_evaluations = 5000;
+    // Nelder–Mead's default 1e-10 on values and parameters; BOBYQA's trust region to 1e-8.
+    if (method == SearchMethod::bobyqa) options.parameter_tolerance = 1e-8;
+    bool left_box = false;
+    auto watched = [&](const std::vector<double>& p) {
+      if (p[0] > 0.5 || p[0] < -2.0 || p[1] > 2.0 || p[1] < -2.0) left_box = true;
+      return rosenbrock(p);
+    };
+    const MinimumResult r = method == SearchMethod::bobyqa
+                                ? minimize_bobyqa(watched, {-1.0, 1.0}, options)
+                                : minimize_nelder_mead(watched, {-1.0, 1.0}, options);
+    EXPECT_TRUE(r.converged);
+    EXPECT_FALSE(left_box);
+    EXPECT_NEAR(r.parameters[0], 0.5, 1e-4);
+    EXPECT_NEAR(r.parameters[1], 0.25, 1e-3);  // on x = 0.5 the minimum is y = x²
+    EXPECT_DOUBLE_EQ(r.value, rosenbrock(r.parameters));
+  }
 }
 
 TEST(NelderMead, ProgressCanStopTheSearchAndBudgetIsHonoured) {
   int calls = 0;
-  NelderMeadOptions options;
+  SearchOptions options;
   options.progress = [&](int, double) { return ++calls < 5; };
   MinimumResult r = minimize_nelder_mead(rosenbrock, {-1.2, 1.0}, options);
   EXPECT_EQ(calls, 5);
@@ -80,7 +89,7 @@ TEST(NelderMead, ProgressCanStopTheSearchAndBudgetIsHonoured) {
 TEST(NelderMead, BatchedSearchAsksTheSamePointsAndGroupsTheIndependentOnes) {
   // The batched search is the one search: the same trial points in the same order, the first
   // simplex (n + 1 points) handed over at once, and every batch but the shrinks one point.
-  NelderMeadOptions options;
+  SearchOptions options;
   options.lower = {-2.0, -2.0};
   options.upper = {2.0, 2.0};
   options.max_evaluations = 300;
@@ -110,6 +119,85 @@ TEST(NelderMead, BatchedSearchAsksTheSamePointsAndGroupsTheIndependentOnes) {
   EXPECT_EQ(batch_sizes.front(), 3u);
   for (std::size_t k = 1; k < batch_sizes.size(); ++k)
     EXPECT_TRUE(batch_sizes[k] == 1u || batch_sizes[k] == 2u) << k;  // one trial, or a shrink
+}
+
+// BOBYQA (NLopt) under the options calibrate gives it: box bounds, a first step per parameter,
+// the tolerances, the budget, the progress callback.
+TEST(Bobyqa, NeedsFewerEvaluationsThanNelderMeadOnASmoothBowl) {
+  // A quadratic is BOBYQA's own model: it needs about its 2n + 1 first points and a few steps,
+  // where the simplex crawls; both to the same parameter tolerance.
+  const std::vector<double> centre = {1.0, -2.0, 3.0, 0.5};
+  int calls = 0;
+  auto bowl = [&](const std::vector<double>& p) {
+    ++calls;
+    double s = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      s += (i + 1.0) * (p[i] - centre[i]) * (p[i] - centre[i]);
+    return s;
+  };
+  SearchOptions options;
+  options.lower = std::vector<double>(4, -10.0);
+  options.upper = std::vector<double>(4, 10.0);
+  options.initial_step = std::vector<double>(4, 1.0);
+  options.parameter_tolerance = 1e-6;
+  options.value_tolerance = 1e-12;
+  const MinimumResult quadratic = minimize_bobyqa(bowl, {0.0, 0.0, 0.0, 0.0}, options);
+  EXPECT_EQ(quadratic.evaluations, calls);
+  const MinimumResult simplex = minimize_nelder_mead(bowl, {0.0, 0.0, 0.0, 0.0}, options);
+  ASSERT_TRUE(quadratic.converged);
+  ASSERT_TRUE(simplex.converged);
+  for (std::size_t i = 0; i < centre.size(); ++i) {
+    EXPECT_NEAR(quadratic.parameters[i], centre[i], 1e-5);
+    EXPECT_NEAR(simplex.parameters[i], centre[i], 1e-5);
+  }
+  EXPECT_LT(2 * quadratic.evaluations, simplex.evaluations)
+      << "BOBYQA " << quadratic.evaluations << ", Nelder-Mead " << simplex.evaluations;
+}
+
+TEST(Bobyqa, BudgetProgressErrorsAndBadOptions) {
+  SearchOptions options;
+  options.lower = {-2.0, -2.0};
+  options.upper = {2.0, 2.0};
+  options.max_evaluations = 12;
+  MinimumResult r = minimize_bobyqa(rosenbrock, {-1.2, 1.0}, options);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.evaluations, 12);  // NLopt counts every call: the budget is exact
+  int calls = 0;
+  options.max_evaluations = 2000;
+  options.progress = [&](int, double) { return ++calls < 7; };
+  r = minimize_bobyqa(rosenbrock, {-1.2, 1.0}, options);
+  EXPECT_EQ(calls, 7);
+  EXPECT_EQ(r.evaluations, 7);
+  EXPECT_FALSE(r.converged);
+  options.progress = nullptr;
+  // An exception in the objective crosses NLopt's C code and reaches the caller.
+  EXPECT_THROW(minimize_bobyqa(
+                   [](const std::vector<double>&) -> double { throw ComputationError("diverged"); },
+                   {0.0, 0.0}, options),
+               ComputationError);
+  EXPECT_THROW(minimize_bobyqa(rosenbrock, {0.0, 0.0}, SearchOptions{}), InputError);  // no box
+  EXPECT_THROW(search_method_named("simplex"), InputError);
+  EXPECT_EQ(search_method_named("nelder-mead"), SearchMethod::nelder_mead);
+  EXPECT_EQ(search_method_name(search_method_named("bobyqa")), "bobyqa");
+}
+
+TEST(Bobyqa, TheBatchedEntryHandsItOnePointAtATime) {
+  SearchOptions options;
+  options.lower = {-2.0, -2.0};
+  options.upper = {2.0, 2.0};
+  options.max_evaluations = 60;
+  std::vector<std::size_t> batch_sizes;
+  const MinimumResult r = minimize(
+      SearchMethod::bobyqa,
+      [&](const std::vector<std::vector<double>>& points) {
+        batch_sizes.push_back(points.size());
+        std::vector<double> values;
+        for (const auto& p : points)
+          values.push_back(rosenbrock(p));
+        return values;
+      },
+      {-1.2, 1.0}, options);
+  EXPECT_EQ(batch_sizes, std::vector<std::size_t>(static_cast<std::size_t>(r.evaluations), 1u));
 }
 
 TEST(Brent, MinimisesAParabolaAndACosine) {

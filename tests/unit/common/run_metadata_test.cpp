@@ -1,5 +1,5 @@
-// run.json: the SHA-256 of known strings (FIPS 180-4 examples), and a written record read back
-// with its facts typed; a missing or mistyped fact is an error naming the file and the key.
+// run.json: the SHA-256 of known strings and files (FIPS 180-2 examples), and a written record
+// read back with its facts typed; a missing or mistyped fact is an error naming the file and key.
 #include "common/run_metadata.hpp"
 
 #include <gtest/gtest.h>
@@ -24,10 +24,11 @@ std::filesystem::path fresh_folder(const std::string& name) {
   return shapepress::testing::fresh_directory(name);
 }
 
+// FIPS 180-2, appendix B: the one-block, two-block and long-message examples, and the empty one.
 TEST(Sha256, KnownDigests) {
-  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  // 56 bytes: the padding needs a second block.
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  // The 448-bit message: its padding needs a second block.
   EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
   // A million 'a' fed in uneven pieces: the block boundaries fall everywhere.
@@ -43,7 +44,14 @@ TEST(Sha256, KnownDigests) {
 TEST(Sha256, OfAFileIsOfItsBytes) {
   const auto folder = fresh_folder("sha256_file");
   std::ofstream(folder / "abc.txt", std::ios::binary) << "abc";
-  EXPECT_EQ(sha256_file(folder / "abc.txt"), sha256_hex("abc"));
+  EXPECT_EQ(sha256_file(folder / "abc.txt"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  // Longer than the 64 KiB chunk the file is streamed in.
+  std::ofstream(folder / "million_a.txt", std::ios::binary) << std::string(1000000, 'a');
+  EXPECT_EQ(sha256_file(folder / "million_a.txt"),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  std::ofstream(folder / "empty.txt", std::ios::binary).flush();
+  EXPECT_EQ(sha256_file(folder / "empty.txt"), sha256_hex(""));
   EXPECT_NE(input_error_of([&] { sha256_file(folder / "none.txt"); }).find("none.txt"),
             std::string::npos);
   std::filesystem::remove_all(folder);

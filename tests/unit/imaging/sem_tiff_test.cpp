@@ -1,5 +1,5 @@
-// The FEI/Thermo Fisher SEM metadata reader on TIFFs built byte by byte here (both byte
-// orders), and the writer used by synth-images read back by OpenCV.
+// The FEI/Thermo Fisher SEM metadata reader (libtiff) on TIFFs built byte by byte here (both
+// byte orders, damaged ones), and the writer used by synth-images read back by OpenCV.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -107,6 +107,27 @@ TEST(SemTiff, TruncatedIfdIsAnInputErrorNamingTheFile) {
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("truncated.tif"), std::string::npos) << e.what();
+  }
+}
+
+// The text's bytes cut off by the end of the file (libtiff only warns and drops the tag), and the
+// tag stored as numbers: the file is damaged, not an image without metadata.
+TEST(SemTiff, UnreadableOrNumericTagIsAnInputErrorNamingTheFile) {
+  const std::string whole = handmade_tiff(fei_text, false);
+  fs::path cut = temp_path("text_cut.tif");
+  std::ofstream(cut, std::ios::binary) << whole.substr(0, 8 + 2 + 12 * 7 + 4 + 10);
+  fs::path numeric = temp_path("numeric_tag.tif");
+  std::string retyped = whole;
+  retyped[8 + 2 + 12 * 6 + 2] = 4;  // tag 34682's type ASCII (2) -> LONG (4)
+  std::ofstream(numeric, std::ios::binary) << retyped;
+  for (const fs::path& path : {cut, numeric}) {
+    try {
+      read_sem_metadata(path);
+      ADD_FAILURE() << "expected InputError for " << path;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path.filename().string()), std::string::npos)
+          << e.what();
+    }
   }
 }
 

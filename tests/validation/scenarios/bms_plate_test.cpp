@@ -280,6 +280,7 @@ TEST(RubberSphere, CalibratedBmsMatchesTataraAndConverges) {
   // The Makefile's fit, from the shipped config's values (themselves a calibration at N = 545).
   options.parameters = {"modulus", "contact_modulus", "shear_ratio"};
   options.initial_factor = 1.2;
+  options.method = analysis::SearchMethod::nelder_mead;  // the Makefile's METHOD
   options.reference_deformation = ref.deformation;
   options.reference_force = ref.tatara;
   options.max_evaluations = 40;
