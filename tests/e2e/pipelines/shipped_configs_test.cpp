@@ -121,10 +121,9 @@ const std::map<std::string, ShortRun>& short_runs() {
         "force.csv"}},
       {"demo/compact-bed-demo.toml", {compact_packed, {}, Input::bonded_bed, "punch.csv"}},
       {"demo/compact-demo.toml", {compact_steps, {short_settle}, Input::none, "punch.csv"}},
-      // Three bodies lie at 0.07 by body volume and jam there: pressed to that, not to 0.41.
       {"demo/pack-demo.toml",
        {pack_three + " --summary {dir}/summary.json",
-        {short_pack_settle, {"press", "solid_fraction", "0.06"}},
+        {short_pack_settle},
         Input::shapes,
         "packed.h5"}},
       {"demo/plate-demo.toml",
