@@ -233,6 +233,9 @@ CheckpointRecord read_checkpoint_record(const std::filesystem::path& file, std::
     throw InputError(fmt::format(
         "{}: not a checkpoint record: not JSON or cut short, at byte {} (a damaged checkpoint)",
         file.string(), e.byte));
+  } catch (const nlohmann::json::exception& e) {  // a number past a double's range
+    throw InputError(fmt::format("{}: not a checkpoint record: {} (a damaged checkpoint)",
+                                 file.string(), e.what()));
   }
   const CheckpointFields top(record.document, file, "");
   if (top.text("format") != checkpoint_format)

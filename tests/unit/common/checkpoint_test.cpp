@@ -125,6 +125,8 @@ TEST_F(CheckpointRefusal, ACutShortRecordNamesTheFile) {
   expect_refused("not JSON or cut short");
   testing::write_text(file, "shapepress compact checkpoint 1\nsteps 40\n");  // an older format
   expect_refused("not JSON or cut short");
+  replace("[1.5,", "[1e999,");  // past a double's range
+  expect_refused("not a checkpoint record");
 }
 
 TEST_F(CheckpointRefusal, AnotherStagesRecordNamesTheStage) {
