@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <limits>
+#include <string_view>
+#include <utility>
 
 #include "common/checkpoint.hpp"
 #include "simulate/checkpoint.hpp"
@@ -11,45 +13,43 @@
 namespace shapepress::scenarios {
 namespace {
 
+// A punch record's fields by their checkpoint keys: one table writes and reads them.
+constexpr std::pair<std::string_view, std::int64_t PunchRecord::*> record_wholes[] = {
+    {"step", &PunchRecord::step},
+    {"sphere_contacts", &PunchRecord::sphere_contacts},
+    {"wall_contacts", &PunchRecord::wall_contacts},
+    {"intact_bonds", &PunchRecord::intact_bonds}};
+constexpr std::pair<std::string_view, double PunchRecord::*> record_numbers[] = {
+    {"time", &PunchRecord::time},
+    {"gap", &PunchRecord::gap},
+    {"strain", &PunchRecord::strain},
+    {"top_force", &PunchRecord::top_force},
+    {"bottom_force", &PunchRecord::bottom_force},
+    {"stress", &PunchRecord::stress},
+    {"solid_fraction", &PunchRecord::solid_fraction},
+    {"solid_fraction_spheres", &PunchRecord::solid_fraction_spheres},
+    {"kinetic_energy", &PunchRecord::kinetic_energy},
+    {"punch_work", &PunchRecord::punch_work},
+    {"contacts_per_particle", &PunchRecord::contacts_per_particle}};
+
 CheckpointState record_state(const PunchRecord& r) {
   CheckpointState s;
-  s.whole("step", r.step)
-      .number("time", r.time)
-      .number("gap", r.gap)
-      .number("strain", r.strain)
-      .number("top_force", r.top_force)
-      .number("bottom_force", r.bottom_force)
-      .number("stress", r.stress)
-      .number("solid_fraction", r.solid_fraction)
-      .number("solid_fraction_spheres", r.solid_fraction_spheres)
-      .whole("phase", static_cast<std::int64_t>(r.phase))
-      .number("kinetic_energy", r.kinetic_energy)
-      .number("punch_work", r.punch_work)
-      .whole("sphere_contacts", r.sphere_contacts)
-      .whole("wall_contacts", r.wall_contacts)
-      .number("contacts_per_particle", r.contacts_per_particle)
-      .whole("intact_bonds", r.intact_bonds);
+  for (const auto& [key, field] : record_wholes)
+    s.whole(key, r.*field);
+  for (const auto& [key, field] : record_numbers)
+    s.number(key, r.*field);
+  s.whole("phase", static_cast<std::int64_t>(r.phase));
   return s;
 }
 
+// (solid_fraction_shape follows from the gap: the caller sets it.)
 PunchRecord read_record(const CheckpointFields& f) {
   PunchRecord r;
-  r.step = f.whole("step");
-  r.time = f.number("time");
-  r.gap = f.number("gap");
-  r.strain = f.number("strain");
-  r.top_force = f.number("top_force");
-  r.bottom_force = f.number("bottom_force");
-  r.stress = f.number("stress");
-  r.solid_fraction = f.number("solid_fraction");
-  r.solid_fraction_spheres = f.number("solid_fraction_spheres");
+  for (const auto& [key, field] : record_wholes)
+    r.*field = f.whole(key);
+  for (const auto& [key, field] : record_numbers)
+    r.*field = f.number(key);
   r.phase = static_cast<PunchPhase>(f.whole("phase", 0, static_cast<int>(PunchPhase::relax)));
-  r.kinetic_energy = f.number("kinetic_energy");
-  r.punch_work = f.number("punch_work");
-  r.sphere_contacts = f.whole("sphere_contacts");
-  r.wall_contacts = f.whole("wall_contacts");
-  r.contacts_per_particle = f.number("contacts_per_particle");
-  r.intact_bonds = f.whole("intact_bonds");
   return r;
 }
 

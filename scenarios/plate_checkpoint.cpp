@@ -4,6 +4,8 @@
 
 #include <limits>
 #include <mutex>
+#include <string_view>
+#include <utility>
 
 #include "common/checkpoint.hpp"
 #include "scenarios/plate_run.hpp"
@@ -30,38 +32,44 @@ std::filesystem::path finished_file(const std::filesystem::path& folder, int fil
   return folder / (prefix(fill) + ".json");
 }
 
+// A row's fields by their checkpoint keys: one table writes and reads them.
+constexpr std::pair<std::string_view, double PlateRow::*> row_numbers[] = {
+    {"time", &PlateRow::time},
+    {"deformation", &PlateRow::deformation},
+    {"approach", &PlateRow::approach},
+    {"top_force", &PlateRow::top_force},
+    {"bottom_force", &PlateRow::bottom_force},
+    {"hertz_force", &PlateRow::hertz_force},
+    {"kinetic_energy", &PlateRow::kinetic_energy},
+    {"work", &PlateRow::work},
+    {"cpu_s", &PlateRow::cpu_seconds},
+    {"wall_s", &PlateRow::wall_seconds},
+    {"top_force_sd", &PlateRow::top_force_sd},
+    {"top_force_min", &PlateRow::top_force_min},
+    {"top_force_max", &PlateRow::top_force_max}};
+constexpr std::pair<std::string_view, std::int64_t PlateRow::*> row_wholes[] = {
+    {"contacts", &PlateRow::contacts}, {"intact_bonds", &PlateRow::intact_bonds}};
+
 std::vector<CheckpointState> rows_state(const std::vector<PlateRow>& rows) {
-  std::vector<CheckpointState> items;
-  items.reserve(rows.size());
-  for (const PlateRow& r : rows)
-    items.push_back(CheckpointState()
-                        .number("time", r.time)
-                        .number("deformation", r.deformation)
-                        .number("approach", r.approach)
-                        .number("top_force", r.top_force)
-                        .number("bottom_force", r.bottom_force)
-                        .number("hertz_force", r.hertz_force)
-                        .whole("contacts", r.contacts)
-                        .whole("intact_bonds", r.intact_bonds)
-                        .number("kinetic_energy", r.kinetic_energy)
-                        .number("work", r.work)
-                        .number("cpu_s", r.cpu_seconds)
-                        .number("wall_s", r.wall_seconds)
-                        .number("top_force_sd", r.top_force_sd)
-                        .number("top_force_min", r.top_force_min)
-                        .number("top_force_max", r.top_force_max));
+  std::vector<CheckpointState> items(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    for (const auto& [key, field] : row_numbers)
+      items[k].number(key, rows[k].*field);
+    for (const auto& [key, field] : row_wholes)
+      items[k].whole(key, rows[k].*field);
+  }
   return items;
 }
 
 std::vector<PlateRow> read_rows(const CheckpointFields& state) {
   std::vector<PlateRow> rows;
-  for (const CheckpointFields& f : state.list("rows"))
-    rows.push_back(PlateRow{f.number("time"), f.number("deformation"), f.number("approach"),
-                            f.number("top_force"), f.number("bottom_force"),
-                            f.number("hertz_force"), f.whole("contacts"), f.whole("intact_bonds"),
-                            f.number("kinetic_energy"), f.number("work"), f.number("cpu_s"),
-                            f.number("wall_s"), f.number("top_force_sd"), f.number("top_force_min"),
-                            f.number("top_force_max")});
+  for (const CheckpointFields& f : state.list("rows")) {
+    PlateRow& r = rows.emplace_back();
+    for (const auto& [key, field] : row_numbers)
+      r.*field = f.number(key);
+    for (const auto& [key, field] : row_wholes)
+      r.*field = f.whole(key);
+  }
   return rows;
 }
 
