@@ -170,6 +170,18 @@ bool finished_before_resume(std::string_view stage, const std::string& run,
   return true;
 }
 
+namespace {
+
+// The per-stage text checkpoints (step_N.history, particles_N.history) before the one format.
+bool holds_text_checkpoints(const std::filesystem::path& folder) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec))
+    if (entry.path().extension() == ".history") return true;
+  return false;
+}
+
+}  // namespace
+
 ResumableRun::ResumableRun(std::string stage, std::filesystem::path output,
                            std::filesystem::path folder, CheckpointPolicy policy)
     : stage_(std::move(stage)),
@@ -181,6 +193,11 @@ ResumableRun::ResumableRun(std::string stage, std::filesystem::path output,
 bool ResumableRun::start(bool resumed, const RunInvocation& invocation) {
   if (resumed) remove_stale_temporaries(folder_);
   const bool continues = resumed && holds_checkpoints(folder_);
+  if (resumed && !continues && holds_text_checkpoints(folder_))
+    spdlog::warn(
+        "{}: {} holds checkpoints of the text format of builds before the one format "
+        "(*.history), which this build does not read: the run starts again",
+        stage_, folder_.string());
   if (!continues) {
     std::filesystem::remove_all(folder_);
     ensure_output_folder(folder_);

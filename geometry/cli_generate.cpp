@@ -118,7 +118,7 @@ std::optional<Generated> generate_resumably(const GenerateCli& cli, const ShapeT
       spdlog::info("generate: {} has no checkpoint yet: starting the run again", out.string());
   }
   ensure_output_folder(out);
-  resumable.start(step > 0, start);
+  resumable.start(resumed, start);
   // A step is one particle through one phase: drawn, shaped (a pass of the projected-ASR fit or
   // a box stretch), described; a second pass of the fit runs past the total shown.
   const double steps = 3.0 * static_cast<double>(count);

@@ -149,9 +149,8 @@ int run(const PackCli& given, const RunContext& context) {
       spdlog::info("pack: {} has no checkpoint yet: starting the run again", out.string());
     }
   }
-  // A run without a checkpoint to continue from starts afresh.
   ResumableRun resumable("pack", out, checkpoints, config.checkpoints);
-  resumable.start(resume.has_value(), pack_command(cli).invocation(command_line));
+  resumable.start(!given.resume.empty(), pack_command(cli).invocation(command_line));
   const Provenance provenance{command_line, root.text(), config.request.seed};
   std::optional<ProgressReporter> progress;
   std::string phase;

@@ -90,11 +90,10 @@ int run(const CompactCli& given, const RunContext& context) {
   root.check_unknown_keys();
   if (cli.steps) config.setup.max_steps = *cli.steps;
   ensure_output_folder(out / "snapshots");
-  // Before the settle, so --resume can start a run killed before its first checkpoint again (a
-  // run without a checkpoint to continue from starts afresh).
+  // Before the settle, so --resume can start a run killed before its first checkpoint again.
   ResumableRun resumable("compact", out, checkpoints,
                          {config.checkpoint_every, config.checkpoint_minutes});
-  resumable.start(checkpoint || settle_checkpoint, compact_command(cli).invocation(command_line));
+  resumable.start(!given.resume.empty(), compact_command(cli).invocation(command_line));
   const Provenance provenance{
       command_line, root.text(),
       config.generate ? std::optional(config.generate->seed) : std::nullopt};

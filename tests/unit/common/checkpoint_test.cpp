@@ -243,9 +243,11 @@ TEST(ResumableRun, ResumedWithoutARecordStartsAgain) {
   const fs::path folder = out / "checkpoints";
   fs::create_directories(folder);
   testing::write_text(folder / "step_0000000010.h5", "a snapshot whose record never came");
+  testing::write_text(folder / "step_0000000005.history", "an older build's text checkpoint");
   ResumableRun run("toy", out, folder, {});
   EXPECT_FALSE(run.start(true, toy_invocation()));
   EXPECT_FALSE(fs::exists(folder / "step_0000000010.h5"));
+  EXPECT_FALSE(fs::exists(folder / "step_0000000005.history"));  // not read: warned of
   EXPECT_TRUE(fs::exists(folder / "resume.json"));
 }
 
