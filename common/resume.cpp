@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.hpp"
+#include "common/checkpoint.hpp"
 #include "common/error.hpp"
 #include "common/sha256.hpp"
 
@@ -110,24 +111,13 @@ CheckpointFolderGuard::CheckpointFolderGuard(std::filesystem::path folder)
     : folder_(std::move(folder)), exceptions_(std::uncaught_exceptions()) {}
 
 CheckpointFolderGuard::~CheckpointFolderGuard() {
-  if (std::uncaught_exceptions() <= exceptions_) return;
+  if (std::uncaught_exceptions() <= exceptions_ || holds_checkpoints(folder_)) return;
   std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(folder_, ec))
-    if (entry.path().extension() == ".history") return;
   std::filesystem::remove_all(folder_, ec);
 }
 
 std::string exact_text(double value) {
   return fmt::format("{:a}", value);
-}
-
-double parse_exact(const std::string& token, const std::filesystem::path& file) {
-  char* end = nullptr;
-  const double value = std::strtod(token.c_str(), &end);
-  if (end == token.c_str() || *end != '\0')
-    throw InputError(
-        fmt::format("{}: '{}' is not a number (a damaged checkpoint)", file.string(), token));
-  return value;
 }
 
 namespace {
@@ -169,13 +159,75 @@ void remove_stale_temporaries(const std::filesystem::path& folder, const std::st
 }
 
 bool finished_before_resume(std::string_view stage, const std::string& run,
-                            const std::filesystem::path& resume_record,
+                            const std::filesystem::path& checkpoints,
                             const std::filesystem::path& run_metadata) {
-  if (run.empty() || std::filesystem::exists(resume_record) ||
+  if (run.empty() || std::filesystem::exists(checkpoints / "resume.json") ||
       !std::filesystem::exists(run_metadata))
     return false;
   spdlog::info("{}: {} is finished (its run.json is written): nothing to resume", stage, run);
+  std::error_code ignored;
+  std::filesystem::remove_all(checkpoints, ignored);
   return true;
+}
+
+namespace {
+
+// The per-stage text checkpoints (step_N.history, particles_N.history) before the one format.
+bool holds_text_checkpoints(const std::filesystem::path& folder) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec))
+    if (entry.path().extension() == ".history") return true;
+  return false;
+}
+
+}  // namespace
+
+ResumableRun::ResumableRun(std::string stage, std::filesystem::path output,
+                           std::filesystem::path folder, CheckpointPolicy policy)
+    : stage_(std::move(stage)),
+      output_(std::move(output)),
+      folder_(std::move(folder)),
+      policy_(policy),
+      clock_(policy) {}
+
+bool ResumableRun::start(bool resumed, const RunInvocation& invocation) {
+  if (resumed) remove_stale_temporaries(folder_);
+  const bool continues = resumed && holds_checkpoints(folder_);
+  if (resumed && !continues && holds_text_checkpoints(folder_))
+    spdlog::warn(
+        "{}: {} holds checkpoints of the text format of builds before the one format "
+        "(*.history), which this build does not read: the run starts again",
+        stage_, folder_.string());
+  if (!continues) {
+    std::filesystem::remove_all(folder_);
+    ensure_output_folder(folder_);
+    write_invocation(folder_ / "resume.json", invocation);
+  }
+  guard_.emplace(folder_);
+  signals_.emplace();
+  clock_.taken();  // the wall-time interval counts from here
+  return continues;
+}
+
+bool ResumableRun::after_step(std::int64_t step, const std::function<void()>& write) {
+  if (clock_.due(step)) {
+    write();
+    clock_.taken();
+  }
+  return SignalCheckpoints::received() == 0;
+}
+
+int ResumableRun::stopped(std::optional<std::int64_t> step) const {
+  spdlog::warn(
+      "{}: stopped by signal {}{}; checkpoint written: continue with `shapepress {} --resume {}`",
+      stage_, SignalCheckpoints::received(), step ? fmt::format(" at step {}", *step) : "", stage_,
+      output_.string());
+  return 128 + SignalCheckpoints::received();
+}
+
+void ResumableRun::finish() const {
+  std::error_code ignored;
+  std::filesystem::remove_all(folder_, ignored);
 }
 
 }  // namespace shapepress

@@ -25,24 +25,10 @@ struct DescribeCli {
 int run(const DescribeCli& cli, const RunContext& context) {
   // With --out, a run.json beside the CSV (describe --out is a file, not a folder).
   RunMetadata meta("describe", context.command_line);
-  const std::vector<std::string> columns = {"volume_m3",
-                                            "area_m2",
-                                            "L_m",
-                                            "I_m",
-                                            "S_m",
-                                            "asr",
-                                            "elongation",
-                                            "flatness",
-                                            "sphericity",
-                                            "convexity",
-                                            "volume_equivalent_diameter_m",
-                                            "projected_equivalent_diameter_m",
-                                            "projected_asr_mean",
-                                            "projected_asr_std"};
   std::unique_ptr<CsvWriter> csv;
   if (!cli.out.empty()) {
     std::vector<std::string> header = {"mesh"};
-    header.insert(header.end(), columns.begin(), columns.end());
+    header.insert(header.end(), descriptor_scalar_names.begin(), descriptor_scalar_names.end());
     csv = std::make_unique<CsvWriter>(cli.out, header);
     csv->comment(
         "shapepress describe: L >= I >= S from the minimum oriented bounding box; "
@@ -64,23 +50,10 @@ int run(const DescribeCli& cli, const RunContext& context) {
         path, d.L_m, d.I_m, d.S_m, d.asr, d.elongation, d.flatness, d.sphericity, d.convexity,
         d.projected_asr_mean);
     if (csv) {
-      const std::vector<double> values = {d.volume_m3,
-                                          d.area_m2,
-                                          d.L_m,
-                                          d.I_m,
-                                          d.S_m,
-                                          d.asr,
-                                          d.elongation,
-                                          d.flatness,
-                                          d.sphericity,
-                                          d.convexity,
-                                          d.volume_equivalent_diameter_m,
-                                          d.projected_equivalent_diameter_m,
-                                          d.projected_asr_mean,
-                                          d.projected_asr_std};
+      ShapeDescriptors scalars = d;
       std::vector<std::string> cells = {path};
-      for (double v : values)
-        cells.push_back(format_number(v));
+      for (const double* value : descriptor_scalars(scalars))
+        cells.push_back(format_number(*value));
       csv->row_text(cells);
     }
   }

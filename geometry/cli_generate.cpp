@@ -100,14 +100,14 @@ struct Generated {
 };
 
 std::optional<Generated> generate_resumably(const GenerateCli& cli, const ShapeTargets& targets,
-                                            bool resumed, const RunInvocation& start, bool quiet) {
-  const std::filesystem::path out(cli.out), checkpoints = checkpoint_folder(out);
+                                            ResumableRun& resumable, bool resumed,
+                                            const RunInvocation& start, bool quiet) {
+  const std::filesystem::path out(cli.out), checkpoints = resumable.folder();
   const auto count = static_cast<std::size_t>(cli.options.count);
   GenerateWork work;
   std::int64_t step = 0;
   if (resumed) {
     remove_stale_temporaries(out);
-    remove_stale_temporaries(checkpoints);
     work = read_generate_checkpoints(checkpoints, count, step);
     if (step > 0)
       spdlog::info(
@@ -118,30 +118,18 @@ std::optional<Generated> generate_resumably(const GenerateCli& cli, const ShapeT
       spdlog::info("generate: {} has no checkpoint yet: starting the run again", out.string());
   }
   ensure_output_folder(out);
-  if (step == 0) {
-    // A fresh start must not be resumed from another run's checkpoints.
-    std::filesystem::remove_all(checkpoints);
-    ensure_output_folder(checkpoints);
-    write_invocation(checkpoints / "resume.json", start);
-  }
-  const CheckpointFolderGuard checkpoints_guard(checkpoints);
+  resumable.start(resumed, start);
   // A step is one particle through one phase: drawn, shaped (a pass of the projected-ASR fit or
   // a box stretch), described; a second pass of the fit runs past the total shown.
   const double steps = 3.0 * static_cast<double>(count);
   ProgressReporter progress("generate", steps, {.quiet = quiet, .unit = "particle steps"});
   GenerateCheckpoints writer(checkpoints, work);
-  CheckpointClock clock(cli.checkpoints);
   GenerateHooks hooks;
   hooks.block_steps = cli.checkpoints.every_steps;
   hooks.after_block = [&](const GenerateWork& w) {
     progress.update(std::min(steps, static_cast<double>(w.steps())));
-    if (clock.due(w.steps())) {
-      writer.write(w);
-      clock.taken();
-    }
-    return SignalCheckpoints::received() == 0;
+    return resumable.after_step(w.steps(), [&] { writer.write(w); });
   };
-  const SignalCheckpoints signals;
   std::optional<Generated> generated;
   try {
     auto particles = generate_population(targets, cli.options, work, hooks);
@@ -160,13 +148,9 @@ std::optional<Generated> generate_resumably(const GenerateCli& cli, const ShapeT
 int run(const GenerateCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
   const std::filesystem::path resumed(given.resume);
-  if (finished_before_resume("generate", given.resume, checkpoint_folder(resumed) / "resume.json",
-                             resumed / std::string(run_metadata_name))) {
-    // What a kill during the final removal left (resume.json went first or in between).
-    std::error_code ignored;
-    std::filesystem::remove_all(checkpoint_folder(resumed), ignored);
+  if (finished_before_resume("generate", given.resume, checkpoint_folder(resumed),
+                             resumed / std::string(run_metadata_name)))
     return 0;
-  }
   GenerateCli cli = given;
   if (!given.resume.empty())
     command_line = generate_command(cli).resume(
@@ -177,17 +161,12 @@ int run(const GenerateCli& given, const RunContext& context) {
   // Before any folder is made: bad input leaves no file.
   targets.check();
   cli.options.check();
-  const std::optional<Generated> generated =
-      generate_resumably(cli, targets, !given.resume.empty(),
-                         generate_command(cli).invocation(command_line), context.quiet);
   const std::filesystem::path out(cli.out);
-  if (!generated) {
-    spdlog::warn(
-        "generate: stopped by signal {}; checkpoint written: continue with `shapepress generate "
-        "--resume {}`",
-        SignalCheckpoints::received(), out.string());
-    return 128 + SignalCheckpoints::received();
-  }
+  ResumableRun resumable("generate", out, checkpoint_folder(out), cli.checkpoints);
+  const std::optional<Generated> generated =
+      generate_resumably(cli, targets, resumable, !given.resume.empty(),
+                         generate_command(cli).invocation(command_line), context.quiet);
+  if (!generated) return resumable.stopped();
   const std::vector<GeneratedParticle>& particles = generated->particles;
   const std::vector<ShapeDescriptors>& measured = generated->measured;
   // The targets the run used, as TOML (`generate --targets effective.toml` reads them back).
@@ -272,9 +251,7 @@ int run(const GenerateCli& given, const RunContext& context) {
         .fact("projected_asr_target_quantiles", targets.asr_quantiles);
   }
   meta.fact("warnings", warnings).write(out / run_metadata_name);
-  // The run is whole: its checkpoints have done their work.
-  std::error_code ignored;
-  std::filesystem::remove_all(checkpoint_folder(out), ignored);
+  resumable.finish();
   spdlog::info("generate: {} particles in {}; {}", particles.size(), out.string(), summary);
   for (const std::string& warning : warnings)
     spdlog::warn("generate: {}", warning);

@@ -100,4 +100,37 @@ ShapeDescriptors describe(const TriangleMesh& mesh, const DescribeOptions& optio
   return d;
 }
 
+const std::array<std::string_view, descriptor_scalar_count> descriptor_scalar_names = {
+    "volume_m3",
+    "area_m2",
+    "L_m",
+    "I_m",
+    "S_m",
+    "asr",
+    "elongation",
+    "flatness",
+    "sphericity",
+    "convexity",
+    "volume_equivalent_diameter_m",
+    "projected_equivalent_diameter_m",
+    "projected_asr_mean",
+    "projected_asr_std"};
+
+std::array<double*, descriptor_scalar_count> descriptor_scalars(ShapeDescriptors& d) {
+  return {&d.volume_m3,
+          &d.area_m2,
+          &d.L_m,
+          &d.I_m,
+          &d.S_m,
+          &d.asr,
+          &d.elongation,
+          &d.flatness,
+          &d.sphericity,
+          &d.convexity,
+          &d.volume_equivalent_diameter_m,
+          &d.projected_equivalent_diameter_m,
+          &d.projected_asr_mean,
+          &d.projected_asr_std};
+}
+
 }  // namespace shapepress::geometry

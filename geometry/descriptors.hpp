@@ -4,7 +4,9 @@
 // I/L, flatness S/I, Wadell sphericity, convexity; and the 2D projected aspect ratio (Feret min /
 // Feret max of silhouettes in random directions), which is what an image of the particle
 // measures and so what must match the images.
+#include <array>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "geometry/mesh.hpp"
@@ -51,5 +53,11 @@ struct ShapeDescriptors {
 };
 
 ShapeDescriptors describe(const TriangleMesh& mesh, const DescribeOptions& options = {});
+
+// The scalar descriptors (all but projected_asr) in one order, by the names of describe's CSV
+// columns and of generate's checkpoint keys, and each one's field of `d`.
+inline constexpr std::size_t descriptor_scalar_count = 14;
+extern const std::array<std::string_view, descriptor_scalar_count> descriptor_scalar_names;
+std::array<double*, descriptor_scalar_count> descriptor_scalars(ShapeDescriptors& d);
 
 }  // namespace shapepress::geometry

@@ -2,203 +2,153 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <array>
-#include <fstream>
-#include <regex>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "common/atomic_file.hpp"
+#include "common/checkpoint.hpp"
 #include "common/error.hpp"
-#include "common/resume.hpp"
 
 namespace shapepress::geometry {
 namespace {
 
-constexpr std::string_view magic = "shapepress generate checkpoint 1";
+constexpr std::string_view generate_stage = "generate";
+constexpr std::string_view record_prefix = "particles";
 
-// The scalar descriptors in the order of a `describe` line (projected_asr follows them).
-constexpr std::size_t descriptor_scalars = 14;
-std::array<double*, descriptor_scalars> scalars(ShapeDescriptors& d) {
-  return {&d.volume_m3,
-          &d.area_m2,
-          &d.L_m,
-          &d.I_m,
-          &d.S_m,
-          &d.asr,
-          &d.elongation,
-          &d.flatness,
-          &d.sphericity,
-          &d.convexity,
-          &d.volume_equivalent_diameter_m,
-          &d.projected_equivalent_diameter_m,
-          &d.projected_asr_mean,
-          &d.projected_asr_std};
+CheckpointState draw_state(std::size_t i, const BaseDraw& d) {
+  return CheckpointState()
+      .whole("particle", static_cast<std::int64_t>(i))
+      .unsigned_whole("seed", d.seed)
+      .whole("redraws", d.redraws);
 }
 
-// (Appended piece by piece: GCC 12 at -O3 warns falsely (-Wrestrict) on " " + text.)
-void append_exact(std::string& text, double value) {
-  text += ' ';
-  text += exact_text(value);
-}
-
-void append_draw(std::string& text, std::size_t i, const BaseDraw& d) {
-  text += fmt::format("draw {} {} {}\n", i, d.seed, d.redraws);
-}
-
-void append_views(std::string& text, std::size_t pass, std::size_t i, const ChoiceViews& v) {
-  text += fmt::format("views {} {} {} {}", pass, i, v.size(), v.empty() ? 0 : v.front().size());
+// A particle's silhouettes: its shape choices' bins one after the other, `directions` each.
+CheckpointState views_state(std::size_t pass, std::size_t i, const ChoiceViews& v) {
+  std::vector<std::int64_t> bins;
   for (const std::vector<std::uint16_t>& choice : v)
-    for (std::uint16_t bin : choice)
-      text += fmt::format(" {}", bin);
-  text += '\n';
+    bins.insert(bins.end(), choice.begin(), choice.end());
+  return CheckpointState()
+      .whole("pass", static_cast<std::int64_t>(pass))
+      .whole("particle", static_cast<std::int64_t>(i))
+      .whole("directions", v.empty() ? 0 : static_cast<std::int64_t>(v.front().size()))
+      .wholes("bins", bins);
 }
 
-void append_correction(std::string& text, std::size_t i, const BoxCorrection& c) {
-  text += fmt::format("box {} {}", i, c.applied ? 1 : 0);
+CheckpointState correction_state(std::size_t i, const BoxCorrection& c) {
+  std::vector<double> axes, factors;
   for (int k = 0; k < 9; ++k)
-    append_exact(text, c.axes(k / 3, k % 3));
+    axes.push_back(c.axes(k / 3, k % 3));
   for (int k = 0; k < 3; ++k)
-    append_exact(text, c.factors[k]);
-  text += '\n';
+    factors.push_back(c.factors[k]);
+  return CheckpointState()
+      .whole("particle", static_cast<std::int64_t>(i))
+      .flag("applied", c.applied)
+      .numbers("axes", axes)
+      .numbers("factors", factors);
 }
 
-void append_descriptors(std::string& text, std::size_t i, ShapeDescriptors d) {
-  text += fmt::format("describe {}", i);
-  for (const double* value : scalars(d))
-    append_exact(text, *value);
-  text += fmt::format(" {}", d.projected_asr.size());
-  for (double ratio : d.projected_asr)
-    append_exact(text, ratio);
-  text += '\n';
+CheckpointState descriptors_state(std::size_t i, ShapeDescriptors d) {
+  CheckpointState state;
+  state.whole("particle", static_cast<std::int64_t>(i));
+  const auto values = descriptor_scalars(d);
+  for (std::size_t k = 0; k < descriptor_scalar_count; ++k)
+    state.number(descriptor_scalar_names[k], *values[k]);
+  state.numbers("projected_asr", d.projected_asr);
+  return state;
 }
 
-// Reads one file's records onto `work`, each continuing its list.
+// Reads one record's lists onto `work`, each continuing its list.
 class RecordReader {
  public:
-  RecordReader(std::filesystem::path file, std::size_t count, GenerateWork& work)
-      : file_(std::move(file)), count_(count), work_(work) {}
+  RecordReader(std::size_t count, GenerateWork& work) : count_(count), work_(work) {}
 
-  void read() {
-    std::ifstream in(file_);
-    std::string line;
-    if (!in || !std::getline(in, line) || line != magic)
-      fail(fmt::format("not a generate checkpoint (no '{}' line)", magic));
-    bool ended = false;
-    while (std::getline(in, line)) {
-      if (ended) fail("a record after 'end'");
-      line_.clear();
-      line_.str(line);
-      std::string kind;
-      line_ >> kind;
-      if (kind == "draw") {
-        read_draw();
-      } else if (kind == "views") {
-        read_views();
-      } else if (kind == "box") {
-        read_correction();
-      } else if (kind == "describe") {
-        read_descriptors();
-      } else if (kind == "end") {
-        ended = true;
-      } else {
-        fail(fmt::format("unknown record '{}'", kind));
-      }
-    }
-    if (!ended) fail("no 'end' line (a truncated file)");
+  void read(const CheckpointFields& state) {
+    for (const CheckpointFields& f : state.list("draws"))
+      read_draw(f);
+    for (const CheckpointFields& f : state.list("views"))
+      read_views(f);
+    for (const CheckpointFields& f : state.list("boxes"))
+      read_correction(f);
+    for (const CheckpointFields& f : state.list("descriptors"))
+      read_descriptors(f);
   }
 
  private:
-  [[noreturn]] void fail(const std::string& why) const {
-    throw InputError(fmt::format("{}: {} (a damaged checkpoint)", file_.string(), why));
+  // The particle of the next item of a list of `size`: it must be that one.
+  void next_of(const CheckpointFields& f, std::size_t size, const char* what) const {
+    const std::int64_t i = f.whole("particle");
+    if (i != static_cast<std::int64_t>(size) || size >= count_)
+      f.refuse("particle", fmt::format("is {}: {} of particle {} where particle {} of {} was due",
+                                       i, what, i, size, count_));
+  }
+  void shaped(const CheckpointFields& f) const {
+    if (work_.draws.size() != count_)
+      f.refuse("particle", "is shaped before every particle was drawn");
   }
 
-  std::string token() {
-    std::string t;
-    if (!(line_ >> t)) fail("a record cut short");
-    return t;
-  }
-  std::uint64_t integer() {
-    const std::string t = token();
-    if (t.empty() || t.find_first_not_of("0123456789") != std::string::npos || t.size() > 20)
-      fail(fmt::format("'{}' is not a count", t));
-    return std::stoull(t);
-  }
-  double real() { return parse_exact(token(), file_); }
-  // The index of the next record of a list of `size`: it must be that size.
-  void next_of(std::size_t size, const char* what) {
-    const std::uint64_t i = integer();
-    if (i != size || i >= count_)
-      fail(fmt::format("{} of particle {} where particle {} of {} was due", what, i, size, count_));
-  }
-  void shaped() const {
-    if (work_.draws.size() != count_) fail("a shape before every particle was drawn");
-  }
-
-  void read_draw() {
-    next_of(work_.draws.size(), "a draw");
+  void read_draw(const CheckpointFields& f) {
+    next_of(f, work_.draws.size(), "a draw");
     BaseDraw d;
-    d.seed = integer();
-    d.redraws = static_cast<int>(std::min<std::uint64_t>(integer(), 1000000));
+    d.seed = f.unsigned_whole("seed");
+    d.redraws = static_cast<int>(f.whole("redraws", 0, 1000000));
     work_.draws.push_back(d);
   }
 
-  void read_views() {
-    shaped();
-    const std::uint64_t pass = integer();
-    if (pass > work_.views.size() || pass > 1 ||
+  void read_views(const CheckpointFields& f) {
+    shaped(f);
+    const auto pass = static_cast<std::size_t>(f.whole("pass", 0, 1));
+    if (pass > work_.views.size() ||
         (pass == work_.views.size() && pass > 0 && work_.views.back().size() != count_))
-      fail(fmt::format("silhouettes of fit pass {} out of order", pass));
+      f.refuse("pass", fmt::format("is {}: silhouettes of a fit pass out of order", pass));
     if (pass == work_.views.size()) work_.views.emplace_back();
     std::vector<ChoiceViews>& views = work_.views[pass];
-    next_of(views.size(), "silhouettes");
-    const std::uint64_t choices = integer(), directions = integer();
-    if (choices == 0 || choices > 10000 || directions == 0 || directions > 10000)
-      fail(fmt::format("{} shapes of {} views", choices, directions));
-    ChoiceViews v(choices, std::vector<std::uint16_t>(directions));
-    for (std::vector<std::uint16_t>& choice : v)
-      for (std::uint16_t& bin : choice) {
-        const std::uint64_t b = integer();
-        if (b > 0xffff) fail(fmt::format("bin {}", b));
-        bin = static_cast<std::uint16_t>(b);
-      }
+    next_of(f, views.size(), "silhouettes");
+    const auto directions = static_cast<std::size_t>(f.whole("directions", 1, 10000));
+    const std::vector<std::int64_t> bins = f.wholes("bins");
+    if (bins.empty() || bins.size() % directions != 0 || bins.size() / directions > 10000)
+      f.refuse("bins",
+               fmt::format("holds {} bins, not whole shapes of {} views", bins.size(), directions));
+    ChoiceViews v(bins.size() / directions, std::vector<std::uint16_t>(directions));
+    for (std::size_t k = 0; k < bins.size(); ++k) {
+      if (bins[k] < 0 || bins[k] > 0xffff) f.refuse("bins", fmt::format("holds bin {}", bins[k]));
+      v[k / directions][k % directions] = static_cast<std::uint16_t>(bins[k]);
+    }
     views.push_back(std::move(v));
   }
 
-  void read_correction() {
-    shaped();
-    next_of(work_.corrections.size(), "a box stretch");
+  void read_correction(const CheckpointFields& f) {
+    shaped(f);
+    next_of(f, work_.corrections.size(), "a box stretch");
     BoxCorrection c;
-    c.applied = integer() != 0;
+    c.applied = f.flag("applied");
+    const std::vector<double> axes = f.numbers("axes"), factors = f.numbers("factors");
+    if (axes.size() != 9) f.refuse("axes", fmt::format("holds {} numbers, not 9", axes.size()));
+    if (factors.size() != 3)
+      f.refuse("factors", fmt::format("holds {} numbers, not 3", factors.size()));
     for (int k = 0; k < 9; ++k)
-      c.axes(k / 3, k % 3) = real();
+      c.axes(k / 3, k % 3) = axes[static_cast<std::size_t>(k)];
     for (int k = 0; k < 3; ++k)
-      c.factors[k] = real();
+      c.factors[k] = factors[static_cast<std::size_t>(k)];
     work_.corrections.push_back(c);
   }
 
-  void read_descriptors() {
+  void read_descriptors(const CheckpointFields& f) {
     const bool fitted = !work_.views.empty() && work_.views.back().size() == count_;
     if (!fitted && work_.corrections.size() != count_)
-      fail("descriptors before every particle was shaped");
-    next_of(work_.descriptors.size(), "descriptors");
+      f.refuse("particle", "is described before every particle was shaped");
+    next_of(f, work_.descriptors.size(), "descriptors");
     ShapeDescriptors d;
-    for (double* value : scalars(d))
-      *value = real();
-    const std::uint64_t directions = integer();
-    if (directions > 10000) fail(fmt::format("{} views", directions));
-    for (std::uint64_t k = 0; k < directions; ++k)
-      d.projected_asr.push_back(real());
+    const auto values = descriptor_scalars(d);
+    for (std::size_t k = 0; k < descriptor_scalar_count; ++k)
+      *values[k] = f.number(descriptor_scalar_names[k]);
+    d.projected_asr = f.numbers("projected_asr");
+    if (d.projected_asr.size() > 10000)
+      f.refuse("projected_asr", fmt::format("holds {} views", d.projected_asr.size()));
     work_.descriptors.push_back(std::move(d));
   }
 
-  std::filesystem::path file_;
   std::size_t count_;
   GenerateWork& work_;
-  std::istringstream line_;
 };
 
 }  // namespace
@@ -213,37 +163,36 @@ GenerateCheckpoints::GenerateCheckpoints(std::filesystem::path folder, const Gen
 }
 
 void GenerateCheckpoints::write(const GenerateWork& work) {
-  std::string text(magic);
-  text += '\n';
+  std::vector<CheckpointState> draws, views, boxes, descriptors;
   for (; draws_ < work.draws.size(); ++draws_)
-    append_draw(text, draws_, work.draws[draws_]);
+    draws.push_back(draw_state(draws_, work.draws[draws_]));
   views_.resize(work.views.size(), 0);
   for (std::size_t pass = 0; pass < work.views.size(); ++pass)
     for (std::size_t& i = views_[pass]; i < work.views[pass].size(); ++i)
-      append_views(text, pass, i, work.views[pass][i]);
+      views.push_back(views_state(pass, i, work.views[pass][i]));
   for (; corrections_ < work.corrections.size(); ++corrections_)
-    append_correction(text, corrections_, work.corrections[corrections_]);
+    boxes.push_back(correction_state(corrections_, work.corrections[corrections_]));
   for (; descriptors_ < work.descriptors.size(); ++descriptors_)
-    append_descriptors(text, descriptors_, work.descriptors[descriptors_]);
-  text += "end\n";
-  write_file_atomically(folder_ / fmt::format("particles_{:010d}.history", work.steps()), text);
+    descriptors.push_back(descriptors_state(descriptors_, work.descriptors[descriptors_]));
+  write_checkpoint_record(checkpoint_record_path(folder_, record_prefix, work.steps()),
+                          generate_stage, work.steps(),
+                          CheckpointState()
+                              .list("draws", std::move(draws))
+                              .list("views", std::move(views))
+                              .list("boxes", std::move(boxes))
+                              .list("descriptors", std::move(descriptors)));
 }
 
 GenerateWork read_generate_checkpoints(const std::filesystem::path& folder, std::size_t count,
                                        std::int64_t& latest_step) {
-  static const std::regex name(R"(particles_(\d{10})\.history)");
-  std::vector<std::pair<std::int64_t, std::filesystem::path>> files;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
-    std::smatch m;
-    const std::string file = entry.path().filename().string();
-    if (std::regex_match(file, m, name)) files.emplace_back(std::stoll(m[1].str()), entry.path());
-  }
-  std::sort(files.begin(), files.end());
   GenerateWork work;
   latest_step = 0;
-  for (const auto& [step, file] : files) {
-    RecordReader(file, count, work).read();
+  for (const auto& [step, file] : checkpoint_records(folder, record_prefix)) {
+    const CheckpointRecord record = read_checkpoint_record(file, generate_stage);
+    if (record.step != step)
+      throw InputError(fmt::format("{}: key 'step' is {}, its name says {} (a damaged checkpoint)",
+                                   file.string(), record.step, step));
+    RecordReader(count, work).read(record.state());
     if (work.steps() != step)
       throw InputError(
           fmt::format("{}: its records end at step {}, its name says {} (a damaged checkpoint)",

@@ -4,13 +4,14 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "common/atomic_file.hpp"
+#include "common/checkpoint.hpp"
 #include "common/command_options.hpp"
 #include "common/config.hpp"
 #include "common/error.hpp"
@@ -42,38 +43,29 @@ std::filesystem::path checkpoint_folder(const std::filesystem::path& out) {
   return out.string() + ".checkpoints";
 }
 
-constexpr std::string_view history_magic = "shapepress pack checkpoint 1";
+constexpr std::string_view pack_stage = "pack";
 
-std::string phase_text(const PackPhaseState& s) {
-  return fmt::format(
-      "{}\nphase {}\nphase_start {}\nphase_step {}\nsettled {}\nsettled_solid_fraction {}\n"
-      "precompression_solid_fraction {}\n",
-      history_magic, static_cast<int>(s.phase), exact_text(s.phase_start), s.phase_step,
-      s.settled ? 1 : 0, exact_text(s.settled_solid_fraction),
-      exact_text(s.precompression_solid_fraction));
+CheckpointState phase_state(const PackPhaseState& s) {
+  CheckpointState state;
+  state.whole("phase", static_cast<std::int64_t>(s.phase))
+      .number("phase_start", s.phase_start)
+      .whole("phase_step", s.phase_step)
+      .flag("settled", s.settled)
+      .number("settled_solid_fraction", s.settled_solid_fraction)
+      .number("precompression_solid_fraction", s.precompression_solid_fraction);
+  return state;
 }
 
 PackPhaseState read_phase(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  if (!in || !std::getline(in, line) || line != history_magic)
-    throw InputError(fmt::format("{}: not a pack checkpoint", path.string()));
-  const auto value = [&](std::string_view key) {
-    std::string word, token;
-    if (!(in >> word >> token) || word != key)
-      throw InputError(fmt::format("{}: no '{}' (a damaged checkpoint)", path.string(), key));
-    return parse_exact(token, path);
-  };
+  const CheckpointRecord record = read_checkpoint_record(path, pack_stage);
+  const CheckpointFields state = record.state();
   PackPhaseState s;
-  const double phase = value("phase");
-  if (phase != 0.0 && phase != 1.0 && phase != 2.0 && phase != 3.0)
-    throw InputError(fmt::format("{}: phase {} (a damaged checkpoint)", path.string(), phase));
-  s.phase = static_cast<PackPhase>(static_cast<int>(phase));
-  s.phase_start = value("phase_start");
-  s.phase_step = static_cast<std::int64_t>(value("phase_step"));
-  s.settled = value("settled") != 0.0;
-  s.settled_solid_fraction = value("settled_solid_fraction");
-  s.precompression_solid_fraction = value("precompression_solid_fraction");
+  s.phase = static_cast<PackPhase>(state.whole("phase", 0, static_cast<int>(PackPhase::release)));
+  s.phase_start = state.number("phase_start");
+  s.phase_step = state.whole("phase_step", 0, std::numeric_limits<std::int64_t>::max());
+  s.settled = state.flag("settled");
+  s.settled_solid_fraction = state.number("settled_solid_fraction");
+  s.precompression_solid_fraction = state.number("precompression_solid_fraction");
   return s;
 }
 
@@ -108,7 +100,7 @@ void add_measures(RunMetadata& meta, const PackMeasures& m) {
 
 int run(const PackCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
-  if (finished_before_resume("pack", given.resume, checkpoint_folder(given.resume) / "resume.json",
+  if (finished_before_resume("pack", given.resume, checkpoint_folder(given.resume),
                              run_metadata_beside(given.resume)))
     return 0;
   PackCli cli = given;
@@ -148,23 +140,17 @@ int run(const PackCli& given, const RunContext& context) {
   const std::filesystem::path checkpoints = checkpoint_folder(out);
   std::optional<PackResume> resume;
   if (!given.resume.empty()) {
-    remove_stale_temporaries(checkpoints);
     remove_stale_temporaries(out.has_parent_path() ? out.parent_path() : ".",
                              out.stem().string() + ".");
     if (const auto latest = latest_checkpoint(checkpoints)) {
       spdlog::info("pack: resuming {} from the checkpoint at step {}", out.string(), latest->step);
-      resume = PackResume{read_snapshot(latest->snapshot), read_phase(latest->history)};
+      resume = PackResume{read_snapshot(latest->snapshot), read_phase(latest->record)};
     } else {
       spdlog::info("pack: {} has no checkpoint yet: starting the run again", out.string());
     }
   }
-  if (!resume) {
-    // A fresh start must not be resumed from another run's checkpoints.
-    std::filesystem::remove_all(checkpoints);
-    ensure_output_folder(checkpoints);
-    write_invocation(checkpoints / "resume.json", pack_command(cli).invocation(command_line));
-  }
-  const CheckpointFolderGuard checkpoints_guard(checkpoints);
+  ResumableRun resumable("pack", out, checkpoints, config.checkpoints);
+  resumable.start(!given.resume.empty(), pack_command(cli).invocation(command_line));
   const Provenance provenance{command_line, root.text(), config.request.seed};
   std::optional<ProgressReporter> progress;
   std::string phase;
@@ -178,24 +164,14 @@ int run(const PackCli& given, const RunContext& context) {
     }
     progress->update(time);
   };
-  CheckpointClock clock(config.checkpoints);
   hooks.after_step = [&](const Engine& engine, const PackPhaseState& state) {
-    if (clock.due(engine.step_index())) {
-      write_checkpoint(checkpoints, engine, {}, provenance, phase_text(state));
-      clock.taken();
-    }
-    return SignalCheckpoints::received() == 0;
+    return resumable.after_step(engine.step_index(), [&] {
+      write_checkpoint(checkpoints, engine, {}, provenance, pack_stage, phase_state(state));
+    });
   };
-  const SignalCheckpoints signals;
   const PackRun result = pack(config.request, templates, hooks, std::move(resume));
   if (progress) progress->finish();
-  if (result.interrupted) {
-    spdlog::warn(
-        "pack: stopped by signal {} at step {}; checkpoint written: continue with "
-        "`shapepress pack --resume {}`",
-        SignalCheckpoints::received(), result.steps, out.string());
-    return 128 + SignalCheckpoints::received();
-  }
+  if (result.interrupted) return resumable.stopped(result.steps);
 
   write_packing(out, result.packing, provenance);
   std::filesystem::path sidecar = out;
@@ -224,9 +200,7 @@ int run(const PackCli& given, const RunContext& context) {
   add_measures(meta, m);
   meta.fact("effective_config", pack_config_toml(config));
   meta.write(run_metadata_beside(out));
-  // The run is whole: its checkpoints have done their work.
-  std::error_code ignored;
-  std::filesystem::remove_all(checkpoints, ignored);
+  resumable.finish();
   std::printf(
       "pack: %zu bodies, %zu sub-spheres, %zu bonds; bed height %.4g m\n"
       "  solid fraction %.4f by body volume, %.4f by shape volume, %.4f by sub-sphere volume\n"

@@ -55,8 +55,7 @@ CommandOptions compact_command(CompactCli& cli) {
 int run(const CompactCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
   const std::filesystem::path resumed(given.resume);
-  if (finished_before_resume("compact", given.resume,
-                             resumed / std::string(checkpoint_folder) / "resume.json",
+  if (finished_before_resume("compact", given.resume, resumed / std::string(checkpoint_folder),
                              resumed / std::string(run_metadata_name)))
     return 0;
   CompactCli cli = given;
@@ -81,7 +80,7 @@ int run(const CompactCli& given, const RunContext& context) {
                    settle_checkpoint->step);
     else
       spdlog::info("compact: {} has no checkpoint yet: starting the run again", out.string());
-    for (const auto* sub : {"", "snapshots", "checkpoints"})
+    for (const auto* sub : {"", "snapshots"})
       remove_stale_temporaries(out / sub);
   }
   RunMetadata meta("compact", command_line);
@@ -92,48 +91,31 @@ int run(const CompactCli& given, const RunContext& context) {
   root.check_unknown_keys();
   if (cli.steps) config.setup.max_steps = *cli.steps;
   ensure_output_folder(out / "snapshots");
-  const bool fresh = !checkpoint && !settle_checkpoint;
-  // A fresh start must not be resumed from another run's checkpoints.
-  if (fresh) std::filesystem::remove_all(checkpoints);
-  ensure_output_folder(checkpoints);
-  const CheckpointFolderGuard checkpoints_guard(checkpoints);
   // Before the settle, so --resume can start a run killed before its first checkpoint again.
-  if (fresh) {
-    write_invocation(checkpoints / "resume.json", compact_command(cli).invocation(command_line));
-  }
+  ResumableRun resumable("compact", out, checkpoints,
+                         {config.checkpoint_every, config.checkpoint_minutes});
+  resumable.start(!given.resume.empty(), compact_command(cli).invocation(command_line));
   const Provenance provenance{
       command_line, root.text(),
       config.generate ? std::optional(config.generate->seed) : std::nullopt};
-  CheckpointClock clock({config.checkpoint_every, config.checkpoint_minutes});
-  const SignalCheckpoints signals;
-  const auto stopped = [&](std::int64_t step) {
-    spdlog::warn(
-        "compact: stopped by signal {} at step {}; checkpoint written: continue with "
-        "`shapepress compact --resume {}`",
-        SignalCheckpoints::received(), step, out.string());
-    return 128 + SignalCheckpoints::received();
-  };
   SettleCheckpoints settle_checkpoints;
   if (settle_checkpoint) settle_checkpoints.resume = read_snapshot(settle_checkpoint->snapshot);
   std::int64_t settle_steps = 0;
   settle_checkpoints.after_step = [&](const Engine& e) {
     settle_steps = e.step_index();
-    if (clock.due(e.step_index())) {
-      write_settle_checkpoint(out, e, provenance);
-      clock.taken();
-    }
-    return SignalCheckpoints::received() == 0;
+    return resumable.after_step(e.step_index(),
+                                [&] { write_settle_checkpoint(out, e, provenance); });
   };
   PreparedCompaction prepared;
   CheckpointHistory history;
   if (checkpoint) {
-    history = read_checkpoint_history(checkpoint->history);
+    history = read_checkpoint_history(checkpoint->record);
     prepared = resume_compaction(config, read_snapshot(checkpoint->snapshot));
     if (history.compaction.records.empty() && prepared.punch.phase != PunchPhase::relax)
       throw InputError(
           fmt::format("{}: no records, and the snapshot's punch is past its "
                       "relaxation (a damaged checkpoint)",
-                      checkpoint->history.string()));
+                      checkpoint->record.string()));
     // The checkpoint keeps each record's gap; its fraction by shape volume follows from it.
     for (PunchRecord& r : history.compaction.records)
       r.solid_fraction_shape = prepared.setup.shape_volume / (prepared.setup.die_area * r.gap);
@@ -152,7 +134,7 @@ int run(const CompactCli& given, const RunContext& context) {
       std::optional<SphereList> spheres;
       if (!cli.packing.empty()) spheres = read_spheres(cli.packing);
       prepared = prepare_compaction(config, spheres, std::move(settle_checkpoints));
-      if (!prepared.engine) return stopped(settle_steps);
+      if (!prepared.engine) return resumable.stopped(settle_steps);
     }
     if (!cli.packing.empty()) meta.input("packing", cli.packing);
     if (config.clumps && !config.clumps->templates.empty())
@@ -215,12 +197,10 @@ int run(const CompactCli& given, const RunContext& context) {
   for (const PunchRecord& r : history.compaction.records)
     hooks.record(r);
   hooks.after_step = [&](const Engine& e, const PunchState& punch, const CompactionHistory& h) {
-    if (clock.due(e.step_index())) {
+    return resumable.after_step(e.step_index(), [&] {
       write_compact_checkpoint(out, e, compaction_scenario_state(punch, setup), provenance,
                                {h, index});
-      clock.taken();
-    }
-    return SignalCheckpoints::received() == 0;
+    });
   };
   // Steps to the run's limit, or the punch program's estimate (a displacement run), from here:
   // a resumed run's rate and ETA are this process's.
@@ -239,7 +219,7 @@ int run(const CompactCli& given, const RunContext& context) {
   const double h0 = prepared.punch.reference_gap;
   const CompactionSummary summary =
       run_compaction(engine, prepared.setup, prepared.punch, hooks, std::move(history.compaction));
-  if (summary.interrupted) return stopped(engine.step_index());  // not "100 % done"
+  if (summary.interrupted) return resumable.stopped(engine.step_index());  // not "100 % done"
   progress.finish();
   const QuasiStaticCheck& qs = summary.quasi_static;
   const auto warn_phase = [](const char* phase, const PhaseQuasiStatic& p) {
@@ -260,9 +240,7 @@ int run(const CompactCli& given, const RunContext& context) {
   meta.options(compact_command(cli).json());
   add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, engine, summary);
   meta.write(out / run_metadata_name);
-  // The run is whole: its checkpoints have done their work.
-  std::error_code ignored;
-  std::filesystem::remove_all(out / std::string(checkpoint_folder), ignored);
+  resumable.finish();
   const PunchRecord& last = summary.last;
   // One machine-readable line for scripts (tests/bench/hertz-compaction/run.sh).
   std::printf(

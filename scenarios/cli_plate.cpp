@@ -84,8 +84,7 @@ CommandOptions plate_command(PlateCli& cli) {
 int run(const PlateCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
   const std::filesystem::path resumed(given.resume);
-  if (finished_before_resume("plate", given.resume,
-                             resumed / std::string(checkpoint_folder) / "resume.json",
+  if (finished_before_resume("plate", given.resume, resumed / std::string(checkpoint_folder),
                              resumed / std::string(run_metadata_name)))
     return 0;
   PlateCli cli = given;
@@ -140,32 +139,18 @@ int run(const PlateCli& given, const RunContext& context) {
   const std::filesystem::path out(cli.out);
   ensure_output_folder(out);
   const std::filesystem::path checkpoints = out / std::string(checkpoint_folder);
-  if (!given.resume.empty()) {
-    for (const auto* sub : {"", "checkpoints"})
-      remove_stale_temporaries(out / sub);
-  } else {
-    // A fresh start must not be resumed from another run's checkpoints.
-    std::filesystem::remove_all(checkpoints);
-  }
-  ensure_output_folder(checkpoints);
-  const CheckpointFolderGuard checkpoints_guard(checkpoints);
-  if (given.resume.empty() || !std::filesystem::exists(checkpoints / "resume.json"))
-    write_invocation(checkpoints / "resume.json", plate_command(cli).invocation(command_line));
-  const PlateCheckpoints resumable(
-      checkpoints, {config.checkpoint_every, config.checkpoint_minutes},
+  if (!given.resume.empty()) remove_stale_temporaries(out);
+  ResumableRun resumable("plate", out, checkpoints,
+                         {config.checkpoint_every, config.checkpoint_minutes});
+  resumable.start(!given.resume.empty(), plate_command(cli).invocation(command_line));
+  const PlateCheckpoints fills(
+      checkpoints, resumable.policy(),
       Provenance{command_line, root.text(),
                  config.bms ? std::optional(config.bms->seed) : std::nullopt},
       cli.snapshot);
-  const SignalCheckpoints signals;
   const PlateRunOutcome outcome = run_plate_config(
-      config, kind, [](const std::string& line) { spdlog::info("{}", line); }, nullptr, &resumable);
-  if (outcome.interrupted) {
-    spdlog::warn(
-        "plate: stopped by signal {}; checkpoint written: continue with `shapepress plate "
-        "--resume {}`",
-        SignalCheckpoints::received(), out.string());
-    return 128 + SignalCheckpoints::received();
-  }
+      config, kind, [](const std::string& line) { spdlog::info("{}", line); }, nullptr, &fills);
+  if (outcome.interrupted) return resumable.stopped();
   // What the run used, every key with its value (defaults and command-line overrides included):
   // `plate --config effective.toml` with the same --particle runs it again. Written with the
   // results, so a run that fails leaves no file.
@@ -184,9 +169,7 @@ int run(const PlateCli& given, const RunContext& context) {
   meta.options(plate_command(cli).json());
   add_plate_facts(meta, config, kind, outcome);
   meta.write(out / run_metadata_name);
-  // The run is whole: its checkpoints have done their work.
-  std::error_code ignored;
-  std::filesystem::remove_all(checkpoints, ignored);
+  resumable.finish();
   const PlateRow& last = outcome.rows.back();
   spdlog::info("plate: {} rows in {}; {} of {} bonds intact; {:.3g} s wall, {:.3g} s CPU",
                outcome.rows.size(), (out / "force.csv").string(), last.intact_bonds, outcome.bonds,

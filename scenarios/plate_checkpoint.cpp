@@ -2,20 +2,19 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
+#include <limits>
 #include <mutex>
-#include <sstream>
+#include <string_view>
+#include <utility>
 
-#include "common/atomic_file.hpp"
-#include "common/error.hpp"
+#include "common/checkpoint.hpp"
 #include "scenarios/plate_run.hpp"
 #include "simulate/checkpoint.hpp"
 
 namespace shapepress::scenarios {
 namespace {
 
-constexpr std::string_view history_magic = "shapepress plate checkpoint 1";
-constexpr std::string_view finished_magic = "shapepress plate fill 1";
+constexpr std::string_view plate_stage = "plate";
 
 // One lock for the folder's files: the fills of an ensemble write them from their threads.
 std::mutex& files_lock() {
@@ -27,78 +26,56 @@ std::string prefix(int fill) {
   return fmt::format("fill{}", fill);
 }
 
+// A finished fill's record: fill<k>.json (not fill<k>_N.json, so that removing the fill's step
+// checkpoints leaves it).
 std::filesystem::path finished_file(const std::filesystem::path& folder, int fill) {
-  return folder / (prefix(fill) + ".rows");
+  return folder / (prefix(fill) + ".json");
 }
 
-std::string rows_text(const std::vector<PlateRow>& rows) {
-  std::string text = fmt::format("rows {}\n", rows.size());
-  for (const PlateRow& r : rows)
-    text += fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", exact_text(r.time),
-                        exact_text(r.deformation), exact_text(r.approach), exact_text(r.top_force),
-                        exact_text(r.bottom_force), exact_text(r.hertz_force), r.contacts,
-                        r.intact_bonds, exact_text(r.kinetic_energy), exact_text(r.work),
-                        exact_text(r.cpu_seconds), exact_text(r.wall_seconds),
-                        exact_text(r.top_force_sd), exact_text(r.top_force_min),
-                        exact_text(r.top_force_max));
-  return text;
+// A row's fields by their checkpoint keys: one table writes and reads them.
+constexpr std::pair<std::string_view, double PlateRow::*> row_numbers[] = {
+    {"time", &PlateRow::time},
+    {"deformation", &PlateRow::deformation},
+    {"approach", &PlateRow::approach},
+    {"top_force", &PlateRow::top_force},
+    {"bottom_force", &PlateRow::bottom_force},
+    {"hertz_force", &PlateRow::hertz_force},
+    {"kinetic_energy", &PlateRow::kinetic_energy},
+    {"work", &PlateRow::work},
+    {"cpu_s", &PlateRow::cpu_seconds},
+    {"wall_s", &PlateRow::wall_seconds},
+    {"top_force_sd", &PlateRow::top_force_sd},
+    {"top_force_min", &PlateRow::top_force_min},
+    {"top_force_max", &PlateRow::top_force_max}};
+constexpr std::pair<std::string_view, std::int64_t PlateRow::*> row_wholes[] = {
+    {"contacts", &PlateRow::contacts}, {"intact_bonds", &PlateRow::intact_bonds}};
+
+std::vector<CheckpointState> rows_state(const std::vector<PlateRow>& rows) {
+  std::vector<CheckpointState> items(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    for (const auto& [key, field] : row_numbers)
+      items[k].number(key, rows[k].*field);
+    for (const auto& [key, field] : row_wholes)
+      items[k].whole(key, rows[k].*field);
+  }
+  return items;
 }
 
-// Reads `key value` pairs and rows back from a checkpoint's text, naming the file when damaged.
-class Reader {
- public:
-  explicit Reader(std::filesystem::path path) : path_(std::move(path)), in_(path_) {}
-  void expect_magic(std::string_view magic) {
-    std::string line;
-    if (!in_ || !std::getline(in_, line) || line != magic)
-      throw InputError(fmt::format("{}: not a plate checkpoint", path_.string()));
+std::vector<PlateRow> read_rows(const CheckpointFields& state) {
+  std::vector<PlateRow> rows;
+  for (const CheckpointFields& f : state.list("rows")) {
+    PlateRow& r = rows.emplace_back();
+    for (const auto& [key, field] : row_numbers)
+      r.*field = f.number(key);
+    for (const auto& [key, field] : row_wholes)
+      r.*field = f.whole(key);
   }
-  std::string word(std::string_view key) {
-    std::string name, value;
-    if (!(in_ >> name >> value) || name != key)
-      throw InputError(fmt::format("{}: no '{}' (a damaged checkpoint)", path_.string(), key));
-    return value;
-  }
-  double number(std::string_view key) { return parse_exact(word(key), path_); }
-  std::string line(std::string_view key) {
-    std::string name, rest;
-    if (!(in_ >> name) || name != key || !std::getline(in_ >> std::ws, rest))
-      throw InputError(fmt::format("{}: no '{}' (a damaged checkpoint)", path_.string(), key));
-    return rest;
-  }
-  std::vector<PlateRow> rows() {
-    const auto count = static_cast<std::size_t>(number("rows"));
-    std::vector<PlateRow> rows(count);
-    for (PlateRow& r : rows) {
-      std::string t[15];
-      for (std::string& token : t)
-        if (!(in_ >> token))
-          throw InputError(
-              fmt::format("{}: a row cut short (a damaged checkpoint)", path_.string()));
-      const auto at = [&](int k) { return parse_exact(t[k], path_); };
-      r = PlateRow{at(0),
-                   at(1),
-                   at(2),
-                   at(3),
-                   at(4),
-                   at(5),
-                   static_cast<std::int64_t>(at(6)),
-                   static_cast<std::int64_t>(at(7)),
-                   at(8),
-                   at(9),
-                   at(10),
-                   at(11),
-                   at(12),
-                   at(13),
-                   at(14)};
-    }
-    return rows;
-  }
+  return rows;
+}
 
- private:
-  std::filesystem::path path_;
-  std::ifstream in_;
-};
+std::size_t count(const CheckpointFields& state, std::string_view key) {
+  return static_cast<std::size_t>(state.whole(key, 0, std::numeric_limits<std::int64_t>::max()));
+}
 
 }  // namespace
 
@@ -113,29 +90,32 @@ std::optional<PlateRunOutcome> PlateCheckpoints::finished(int fill) const {
   const std::lock_guard<std::mutex> lock(files_lock());
   const std::filesystem::path path = finished_file(folder_, fill);
   if (!std::filesystem::exists(path)) return std::nullopt;
-  Reader in(path);
-  in.expect_magic(finished_magic);
+  const CheckpointRecord record = read_checkpoint_record(path, plate_stage);
+  const CheckpointFields state = record.state();
   PlateRunOutcome o;
-  o.spheres = static_cast<std::size_t>(in.number("spheres"));
-  o.bonds = static_cast<std::size_t>(in.number("bonds"));
-  o.requested_spheres = static_cast<std::size_t>(in.number("requested_spheres"));
-  o.sub_sphere_radius = in.number("sub_sphere_radius");
-  o.time_step = in.number("time_step");
-  o.description = in.line("description");
-  o.rows = in.rows();
+  o.spheres = count(state, "spheres");
+  o.bonds = count(state, "bonds");
+  o.requested_spheres = count(state, "requested_spheres");
+  o.sub_sphere_radius = state.number("sub_sphere_radius");
+  o.time_step = state.number("time_step");
+  o.description = state.text("description");
+  o.rows = read_rows(state);
   return o;
 }
 
-void PlateCheckpoints::finish(int fill, const PlateRunOutcome& o) const {
+void PlateCheckpoints::finish(int fill, const PlateRunOutcome& o, std::int64_t step) const {
   const std::lock_guard<std::mutex> lock(files_lock());
   if (fill == 0 && final_snapshot_) write_plate_snapshot(folder_, o, provenance_);
-  write_file_atomically(
-      finished_file(folder_, fill),
-      fmt::format("{}\nspheres {}\nbonds {}\nrequested_spheres {}\nsub_sphere_radius {}\n"
-                  "time_step {}\ndescription {}\n",
-                  finished_magic, o.spheres, o.bonds, o.requested_spheres,
-                  exact_text(o.sub_sphere_radius), exact_text(o.time_step), o.description) +
-          rows_text(o.rows));
+  write_checkpoint_record(
+      finished_file(folder_, fill), plate_stage, step,
+      CheckpointState()
+          .whole("spheres", static_cast<std::int64_t>(o.spheres))
+          .whole("bonds", static_cast<std::int64_t>(o.bonds))
+          .whole("requested_spheres", static_cast<std::int64_t>(o.requested_spheres))
+          .number("sub_sphere_radius", o.sub_sphere_radius)
+          .number("time_step", o.time_step)
+          .text("description", o.description)
+          .list("rows", rows_state(o.rows)));
   simulate::remove_checkpoints(folder_, prefix(fill));
 }
 
@@ -144,12 +124,12 @@ PlateHooks PlateCheckpoints::hooks(int fill) const {
   {
     const std::lock_guard<std::mutex> lock(files_lock());
     if (const auto latest = simulate::latest_checkpoint(folder_, prefix(fill))) {
-      Reader in(latest->history);
-      in.expect_magic(history_magic);
+      const CheckpointRecord record = read_checkpoint_record(latest->record, plate_stage);
+      const CheckpointFields state = record.state();
       PlateProgress progress;
-      progress.cpu_seconds = in.number("cpu_s");
-      progress.wall_seconds = in.number("wall_s");
-      progress.rows = in.rows();
+      progress.cpu_seconds = state.number("cpu_s");
+      progress.wall_seconds = state.number("wall_s");
+      progress.rows = read_rows(state);
       hooks.resume = PlateResumePoint{read_snapshot(latest->snapshot), std::move(progress)};
     }
   }
@@ -159,12 +139,14 @@ PlateHooks PlateCheckpoints::hooks(int fill) const {
                                          const std::function<PlateProgress()>& progress) {
     if (!clock->due(engine.step_index())) return true;
     const PlateProgress p = progress();
-    const std::string text = fmt::format("{}\ncpu_s {}\nwall_s {}\n", history_magic,
-                                         exact_text(p.cpu_seconds), exact_text(p.wall_seconds)) +
-                             rows_text(p.rows);
+    const CheckpointState state = CheckpointState()
+                                      .number("cpu_s", p.cpu_seconds)
+                                      .number("wall_s", p.wall_seconds)
+                                      .list("rows", rows_state(p.rows));
     {
       const std::lock_guard<std::mutex> lock(files_lock());
-      simulate::write_checkpoint(folder_, engine, {}, provenance_, text, prefix(fill));
+      simulate::write_checkpoint(folder_, engine, {}, provenance_, plate_stage, state,
+                                 prefix(fill));
     }
     clock->taken();
     return SignalCheckpoints::received() == 0;

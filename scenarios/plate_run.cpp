@@ -286,9 +286,11 @@ PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
                         : std::string()));
   }
   int recorded = hooks.resume ? static_cast<int>(hooks.resume->progress.rows.size()) : 0;
+  std::int64_t last_step = 0;
   outcome.rows = run_plate(
       table, setup, engine, std::move(particle),
       [&](const PlateRow&, const Engine& e) {
+        last_step = e.step_index();
         if (++recorded == setup.records) outcome.final_snapshot = std::make_shared<Engine>(e);
       },
       std::move(hooks));
@@ -296,7 +298,7 @@ PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
     outcome.interrupted = true;
     return outcome;
   }
-  if (checkpoints) checkpoints->finish(fill, outcome);
+  if (checkpoints) checkpoints->finish(fill, outcome, last_step);
   return outcome;
 }
 

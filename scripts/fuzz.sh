@@ -5,9 +5,10 @@
 # to build-fuzz/findings/<target>/ and the script exits 1 after running the rest. Keep a fixed
 # crash as a regression case in tests/fuzz/regressions/<target>/ (replayed by the unit tests).
 #   scripts/fuzz.sh [SECONDS] [TARGET...]
-# CI (.ci/run) runs `scripts/fuzz.sh 15 config csv mesh image hdf5`: every target briefly, on the
-# seed corpus (hdf5's holds files of layout 2 only: fixed-length strings, checksummed; the
-# variable-length strings of layout 1 make HDF5 1.10.8 itself fail, tests/fuzz/library-crashes).
+# CI (.ci/run) runs `scripts/fuzz.sh 15 config csv checkpoint mesh image hdf5`: every target
+# briefly, on the seed corpus (hdf5's holds files of layout 2 only: fixed-length strings,
+# checksummed; the variable-length strings of layout 1 make HDF5 1.10.8 itself fail,
+# tests/fuzz/library-crashes).
 # -timeout=60: one input running a minute is a finding (a hang), not 20 minutes of CI.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +16,7 @@ start=$(date +%s)
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(config csv mesh image hdf5)
+[ ${#targets[@]} -eq 0 ] && targets=(config csv checkpoint mesh image hdf5)
 launcher=()
 if command -v ccache >/dev/null 2>&1; then
   export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$(cd .. && pwd)}"

@@ -16,6 +16,7 @@
 #include <string>
 #include <string_view>
 
+#include "common/checkpoint.hpp"
 #include "common/config.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
@@ -103,6 +104,27 @@ inline void csv(const std::uint8_t* data, std::size_t size) {
     const CsvTable table = read_csv(file.path());
     for (const std::string& name : table.columns)
       table.column(name);
+  });
+}
+
+// A checkpoint record (common/checkpoint.hpp) a killed run left, read as a stage reads its
+// state: the record's keys, then typed fields of the state and of the items of its lists.
+inline void checkpoint(const std::uint8_t* data, std::size_t size) {
+  const InputFile file(data, size, "step_0000000001.json");
+  expect_input_error_only([&] {
+    const CheckpointRecord record = read_checkpoint_record(file.path(), "compact");
+    const CheckpointFields state = record.state();
+    state.whole("steps", 0, 1000000);
+    state.number("loop_s");
+    state.unsigned_whole("seed");
+    state.flag("settled");
+    state.text("description");
+    state.numbers("axes");
+    state.wholes("bins");
+    for (const CheckpointFields& item : state.list("records")) {
+      item.number("gap");
+      item.whole("phase");
+    }
   });
 }
 

@@ -47,8 +47,8 @@ inline CommandResult terminate_when(const std::string& arguments, const std::str
 // from that checkpoint or the next).
 struct CheckpointKills {
   std::filesystem::path folder;
-  // The start of a checkpoint history's name (an extended regular expression), before its step:
-  // "step_" for step_0000001200.history, "fill[0-9]+_" for plate's fill2_0000001000.history.
+  // The start of a checkpoint record's name (an extended regular expression), before its step:
+  // "step_" for step_0000001200.json, "fill[0-9]+_" for plate's fill2_0000001000.json.
   std::string prefix;
   std::vector<std::int64_t> steps;  // one kill an attempt, in increasing order
 };
@@ -68,7 +68,7 @@ inline std::string checkpoint_reached(const CheckpointKills& kills, std::int64_t
   test += shell_quoted(kills.folder);
   test += " 2>/dev/null | sed -n -E 's/^";
   test += kills.prefix;
-  test += "0*([0-9]+)[.]history$/\\1/p' | awk -v t=";
+  test += "0*([0-9]+)[.]json$/\\1/p' | awk -v t=";
   test += std::to_string(step);
   test += " '$1 + 0 >= t { f = 1 } END { exit !f }'";
   return test;

@@ -76,7 +76,7 @@ TEST(GenerateResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   // SIGTERM once a checkpoint is out (box targets: the other branch of the shape phase).
   const CommandResult stopped =
       terminate_when(small_generate(data / "paper_box_targets.toml", out),
-                     shell_quoted(out / "checkpoints") + "/*.history", "0.02");
+                     shell_quoted(out / "checkpoints") + "/*_*.json", "0.02");
   EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   EXPECT_THAT(stopped.output, HasSubstr("generate --resume"));
   EXPECT_FALSE(fs::exists(out / "shapes.csv"));

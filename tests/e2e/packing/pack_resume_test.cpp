@@ -125,7 +125,7 @@ TEST(PackResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   const auto stopped = terminate_when(
       "pack " + shell_quoted(templates) + " --config " + shell_quoted(dir / "pack.toml") +
           " --out " + shell_quoted(dir / "packed.h5"),
-      shell_quoted(dir / "packed.h5.checkpoints") + "/*.history", "0.02");
+      shell_quoted(dir / "packed.h5.checkpoints") + "/*_*.json", "0.02");
   EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   EXPECT_THAT(stopped.output, HasSubstr("--resume"));
   EXPECT_FALSE(fs::exists(dir / "packed.h5"));

@@ -233,7 +233,7 @@ std::function<void(const fs::path&)> generate_killed(std::string sha256,
     fs::create_directories(d / "shapes" / "checkpoints");
     write_text(d / "shapes" / "checkpoints" / "resume.json", record.dump(2));
     if (!checkpoint.empty())
-      write_text(d / "shapes" / "checkpoints" / "particles_0000000002.history", checkpoint);
+      write_text(d / "shapes" / "checkpoints" / "particles_0000000002.json", checkpoint);
   };
 }
 
@@ -433,10 +433,32 @@ std::vector<Row> catalogue(const fs::path& v) {
       "--quiet generate --resume {d}/shapes", 2, {"{d}/shapes", "no run to resume"});
   add("generate: --resume after its targets changed", generate_killed(std::string(64, '0')),
       "--quiet generate --resume {d}/shapes", 2, {"{d}/shapes", "t.toml", "changed"});
-  add("generate: --resume from a damaged checkpoint",
-      generate_killed("", "shapepress generate checkpoint 1\ndraw 0 17\nend\n"),
+  // A checkpoint record (common/checkpoint.hpp) of stage `stage`, version `version`, holding the
+  // draws `draws`.
+  const auto generate_record = [](std::string stage, int version, std::string draws) {
+    return R"({"format":"shapepress checkpoint","version":)" + std::to_string(version) +
+           R"(,"stage":")" + stage + R"(","step":2,"state":{"draws":[)" + draws +
+           R"(],"views":[],"boxes":[],"descriptors":[]}})";
+  };
+  const std::string two_draws =
+      R"({"particle":0,"seed":17,"redraws":0},{"particle":1,"seed":18,"redraws":0})";
+  add("generate: --resume from a checkpoint without a key",
+      generate_killed("", generate_record("generate", 1, R"({"particle":0,"redraws":0})")),
       "--quiet generate --resume {d}/shapes", 2,
-      {"{d}/shapes/checkpoints/particles_0000000002.history", "damaged"});
+      {"{d}/shapes/checkpoints/particles_0000000002.json", "key 'state.draws[0].seed' is missing",
+       "damaged"});
+  add("generate: --resume from a cut-short checkpoint",
+      generate_killed("", generate_record("generate", 1, two_draws).substr(0, 90)),
+      "--quiet generate --resume {d}/shapes", 2,
+      {"{d}/shapes/checkpoints/particles_0000000002.json", "cut short"});
+  add("generate: --resume from another stage's checkpoint",
+      generate_killed("", generate_record("compact", 1, two_draws)),
+      "--quiet generate --resume {d}/shapes", 2,
+      {"{d}/shapes/checkpoints/particles_0000000002.json", "key 'stage' is 'compact'"});
+  add("generate: --resume from a checkpoint of another version",
+      generate_killed("", generate_record("generate", 2, two_draws)),
+      "--quiet generate --resume {d}/shapes", 2,
+      {"{d}/shapes/checkpoints/particles_0000000002.json", "key 'version' is 2"});
   add("generate: --resume with a damaged resume record", generate_killed("", "", "-4"),
       "--quiet generate --resume {d}/shapes", 2,
       {"{d}/shapes/checkpoints/resume.json", "count", "-4"});

@@ -98,7 +98,7 @@ TEST(RunLock, ASecondRunIntoARunningOneIsRefusedNamingTheFirst) {
   // The first starts; once its first checkpoint is out (it is well into its steps, and holds its
   // folder), a second run into the folder and a --resume of it are each refused; then the first
   // is stopped, and says how it ended.
-  const std::string script = when_ready(first, "ls " + run + "/checkpoints/*.history", second);
+  const std::string script = when_ready(first, "ls " + run + "/checkpoints/*_*.json", second);
   const auto result = run_command(script);
   EXPECT_EQ(printed(result.output, "second"), 2) << result.output;
   EXPECT_EQ(printed(result.output, "resume"), 2) << result.output;
@@ -131,9 +131,9 @@ TEST(RunLock, AKilledRunLeavesItsFolderFree) {
       std::string(SHAPEPRESS_BINARY) + " --quiet --threads 1 compact --config " +
       shell_quoted(scratch / "c.toml") + " --out " + shell_quoted(scratch / "run");
   // Killed with SIGKILL (no handler runs) once its first checkpoint is out.
-  const auto killed = run_command(
-      when_ready(start, "ls " + shell_quoted(scratch / "run") + "/checkpoints/*.history",
-                 "kill -KILL $pid; wait $pid"));
+  const auto killed =
+      run_command(when_ready(start, "ls " + shell_quoted(scratch / "run") + "/checkpoints/*_*.json",
+                             "kill -KILL $pid; wait $pid"));
   EXPECT_EQ(killed.exit_code, 128 + 9) << killed.output;
   EXPECT_TRUE(fs::exists(scratch / "run" / ".shapepress.lock"));  // its file, but not its lock
   // The next run takes the folder at once, and when it ends its lock file is gone. (A --resume

@@ -139,7 +139,7 @@ TEST(PlateResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   const fs::path dir = fresh_directory("plate_sigterm");
   // SIGTERM once a fill has written a checkpoint (any: the newest two are kept).
   const auto stopped = terminate_when(
-      start_command(dir), shell_quoted(dir / "run" / "checkpoints") + "/*.history", "0.02");
+      start_command(dir), shell_quoted(dir / "run" / "checkpoints") + "/*_*.json", "0.02");
   EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   EXPECT_THAT(stopped.output, HasSubstr("--resume"));
   EXPECT_FALSE(fs::exists(dir / "run" / "force.csv"));

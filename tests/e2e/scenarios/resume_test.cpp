@@ -133,17 +133,20 @@ TEST(CompactResume, SigtermWritesACheckpointAndExitsWithItsCode) {
   EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.output;
   EXPECT_THAT(stopped.output, HasSubstr("--resume"));
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "punch.csv"));
-  // A checkpoint written before the loop's wall seconds were kept: the same run without its
-  // loop_s line, which resumes to the same curve and states no loop_s it cannot know.
+  // A checkpoint whose loop's wall seconds are unknown ("nan": resumed once from a run that did
+  // not keep them): the same run, which resumes to the same curve and states no loop_s it cannot
+  // know.
   std::filesystem::copy(dir / "run", dir / "older", std::filesystem::copy_options::recursive);
   int stripped = 0;
   for (const auto& file : files_under(dir / "older" / "checkpoints")) {
-    if (std::filesystem::path(file).extension() != ".history") continue;
+    if (!file.string().starts_with("step_") || std::filesystem::path(file).extension() != ".json")
+      continue;
     const std::string text = read_text(dir / "older" / "checkpoints" / file);
-    const std::size_t at = text.find("\nloop_s ");
+    const std::size_t at = text.find("\"loop_s\":");
     ASSERT_NE(at, std::string::npos) << file;
+    const std::size_t value = at + std::string("\"loop_s\":").size();
     write_text(dir / "older" / "checkpoints" / file,
-               text.substr(0, at) + text.substr(text.find('\n', at + 1)));
+               text.substr(0, value) + "\"nan\"" + text.substr(text.find(',', value)));
     ++stripped;
   }
   EXPECT_GT(stripped, 0);
@@ -182,7 +185,7 @@ TEST(CompactResume, StoppedWhileSettlingResumesInTheSettle) {
   const auto dir = fresh_directory("compact_settle_resume");
   // Any settle checkpoint: the newest two are kept, and on an idle machine the first is gone
   // within milliseconds.
-  ASSERT_NO_FATAL_FAILURE(run_whole_and_stopped(dir, resumable_config(), "settle_*.history"));
+  ASSERT_NO_FATAL_FAILURE(run_whole_and_stopped(dir, resumable_config(), "settle_*.json"));
   const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_THAT(resumed.output, HasSubstr("settle's checkpoint at step"));
@@ -198,12 +201,12 @@ TEST(CompactResume, StoppedWhileThePunchRelaxesResumesInTheRelaxation) {
   std::string config = resumable_config();
   config.insert(config.find("hold_time = "), "relax_time = \"10 ms\"\n");
   // The first checkpoint of the compaction (100 steps after the settle, of some 6000 relaxing).
-  ASSERT_NO_FATAL_FAILURE(run_whole_and_stopped(dir, config, "step_*.history"));
+  ASSERT_NO_FATAL_FAILURE(run_whole_and_stopped(dir, config, "step_*.json"));
   int relaxing = 0;
   for (const auto& file : files_under(dir / "run" / "checkpoints"))
-    if (std::filesystem::path(file).extension() == ".history")
+    if (file.string().starts_with("step_"))
       relaxing +=
-          read_text(dir / "run" / "checkpoints" / file).find("\nrecords 0\n") != std::string::npos;
+          read_text(dir / "run" / "checkpoints" / file).find("\"records\":[]") != std::string::npos;
   EXPECT_GT(relaxing, 0);
   const auto resumed = run_shapepress("compact --resume " + shell_quoted(dir / "run"));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;

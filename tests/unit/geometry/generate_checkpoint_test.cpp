@@ -1,6 +1,6 @@
 // generate's checkpoints (geometry/generate_checkpoint.hpp): a population stopped in each phase,
 // written out, read back and continued, on one thread and then two, is the uninterrupted one bit
-// for bit; a damaged checkpoint is an InputError naming its file.
+// for bit; a damaged checkpoint is an InputError naming its file and its key.
 #include "geometry/generate_checkpoint.hpp"
 
 #include <gmock/gmock.h>
@@ -8,7 +8,6 @@
 #include <omp.h>
 
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 
@@ -100,27 +99,50 @@ TEST(GenerateCheckpointFiles, ADamagedOneIsAnInputErrorNamingIt) {
   const ShapeTargets targets = read_shape_targets(data / "paper_box_targets.toml");
   const fs::path folder = testing::fresh_directory("generate_checkpoint_damaged");
   EXPECT_FALSE(run_until(targets, folder, 4));
-  const fs::path file = folder / "particles_0000000004.history";
+  const fs::path file = folder / "particles_0000000004.json";
   ASSERT_TRUE(fs::exists(file));
   std::int64_t step = 0;
   EXPECT_EQ(read_generate_checkpoints(folder, 5, step).draws.size(), 4u);
   EXPECT_EQ(step, 4);
-  const auto expect_refused = [&](const std::string& text, const std::string& why) {
-    std::ofstream(file) << text;
+  const auto expect_refused = [&](const std::string& state, const std::string& why,
+                                  std::int64_t record_step = 4) {
+    testing::write_text(file,
+                        "{\"format\":\"shapepress checkpoint\",\"version\":1,"
+                        "\"stage\":\"generate\",\"step\":" +
+                            std::to_string(record_step) + ",\"state\":" + state + "}");
     try {
       read_generate_checkpoints(folder, 5, step);
-      ADD_FAILURE() << "accepted: " << text;
+      ADD_FAILURE() << "accepted: " << state;
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), ::testing::HasSubstr(file.string()));
       EXPECT_THAT(e.what(), ::testing::HasSubstr(why));
     }
   };
-  expect_refused("shapepress generate checkpoint 1\ndraw 2 17 0\ndraw 3 18 0\n", "truncated");
-  expect_refused("shapepress generate checkpoint 1\ndraw 3 17 0\ndraw 2 18 0\nend\n", "particle 3");
-  expect_refused("shapepress generate checkpoint 1\ndraw 2 17 x\ndraw 3 18 0\nend\n", "'x'");
-  expect_refused("shapepress generate checkpoint 1\ndraw 2 17 0\nend\n", "step 3");
-  expect_refused("shapepress generate checkpoint 1\ndraw 2 17 0\nbox 0 1\nend\n", "drawn");
-  expect_refused("a particle mesh\n", "not a generate checkpoint");
+  const auto draws = [](const std::string& items, const std::string& boxes = "[]") {
+    return "{\"draws\":[" + items + "],\"views\":[],\"boxes\":" + boxes + ",\"descriptors\":[]}";
+  };
+  const std::string two = R"({"particle":2,"seed":17,"redraws":0})";
+  const std::string three = R"({"particle":3,"seed":18,"redraws":0})";
+  expect_refused(draws(two + "," + three).substr(0, 30), "not JSON or cut short");
+  expect_refused(draws(three + "," + two), "particle 3");
+  expect_refused(draws(two + R"(,{"particle":3,"seed":18,"redraws":"x"})"),
+                 "key 'state.draws[1].redraws' is \"x\"");
+  expect_refused(draws(two + R"(,{"particle":3,"redraws":0})"),
+                 "key 'state.draws[1].seed' is missing");
+  expect_refused(draws(two), "step 3");
+  expect_refused(draws(two + "," + three), "its name says 4", 5);
+  expect_refused(draws(two, R"([{"particle":0,"applied":true}])"), "drawn");
+  expect_refused(R"({"draws":[]})", "key 'state.views' is missing");
+  testing::write_text(file, "a particle mesh\n");
+  try {
+    read_generate_checkpoints(folder, 5, step);
+    ADD_FAILURE() << "accepted a mesh";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr(file.string()));
+  }
+  testing::write_text(file, R"({"format":"shapepress checkpoint","version":1,"stage":"compact",)"
+                            R"("step":4,"state":{}})");
+  EXPECT_THROW(read_generate_checkpoints(folder, 5, step), InputError);
 }
 
 }  // namespace

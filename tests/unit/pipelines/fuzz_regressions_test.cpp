@@ -49,6 +49,10 @@ TEST(FuzzRegressions, Csv) {
   EXPECT_GE(replay("csv", fuzz::csv), 2);
 }
 
+TEST(FuzzRegressions, CheckpointRecords) {
+  EXPECT_GE(replay("checkpoint", fuzz::checkpoint), 3);
+}
+
 TEST(FuzzRegressions, Meshes) {
   EXPECT_GE(replay("mesh", fuzz::mesh), 4);
 }
