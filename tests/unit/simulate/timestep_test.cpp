@@ -58,16 +58,26 @@ TEST(TimeStep, StatedLoadingStiffnessAndPrefactorCount) {
   EXPECT_NEAR(step_with(MulticontactLaw{q}) / hertz, 1.0 / std::sqrt(2.8), 1e-12);
 }
 
-TEST(TimeStep, FractionAboveTheBondLimitIsRefusedByName) {
+// Two touching spheres of 1 mm, one body, and a stiff bond between them.
+SphereState two_touching_spheres() {
   constexpr double r = 1e-3;
   SphereState s;
   s.add_sphere(0.0, 0.0, 0.0, r, 2000.0, 0);
   s.add_sphere(2 * r, 0.0, 0.0, r, 2000.0, 0);
   s.body = {0, 0};
+  return s;
+}
+
+BondSet stiff_bond(const SphereState& s) {
   BondParameters stiff;
   stiff.normal_stiffness = 1e10;
   stiff.shear_stiffness = 0.5e10;
-  const BondSet bonds = create_bonds(s, 1.15, stiff);
+  return create_bonds(s, 1.15, stiff);
+}
+
+TEST(TimeStep, FractionAboveTheBondLimitIsRefusedByName) {
+  const SphereState s = two_touching_spheres();
+  const BondSet bonds = stiff_bond(s);
   const MaterialTable table({{"m", 1e7, 0.3, 2000.0}}, {{"m", "m", 0.7, 0.5}});
   const double period = bond_oscillation_period(bonds, s);
   // Below 1/π of the bond period: accepted, and the bonds set the step.
@@ -85,15 +95,8 @@ TEST(TimeStep, FractionAboveTheBondLimitIsRefusedByName) {
 // The bonds' own fraction: the step where the bonds bind follows it, the contacts keep theirs,
 // and above 1/π it is refused by its own name.
 TEST(TimeStep, TheBondsTakeTheirOwnFractionOfTheirPeriodBound) {
-  constexpr double r = 1e-3;
-  SphereState s;
-  s.add_sphere(0.0, 0.0, 0.0, r, 2000.0, 0);
-  s.add_sphere(2 * r, 0.0, 0.0, r, 2000.0, 0);
-  s.body = {0, 0};
-  BondParameters stiff;
-  stiff.normal_stiffness = 1e10;
-  stiff.shear_stiffness = 0.5e10;
-  const BondSet bonds = create_bonds(s, 1.15, stiff);
+  const SphereState s = two_touching_spheres();
+  const BondSet bonds = stiff_bond(s);
   const MaterialTable table({{"m", 1e5, 0.3, 2000.0}}, {{"m", "m", 0.7, 0.5}});
   const double period = bond_oscillation_period(bonds, s);
   const TimeStepChoice shared =
