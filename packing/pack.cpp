@@ -459,103 +459,102 @@ double solid_body_volume(const std::vector<PackedBody>& bodies) {
   return v;
 }
 
-}  // namespace
-
-PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
-             const PackProgress& progress, std::optional<PackResume> resume) {
-  PackRun run;
-  std::vector<PackedBody> bodies = draw_bodies(request, templates);
-  const double region_top = insert_bodies(request, templates, bodies);
-  spdlog::info("pack: {} bodies inserted below {:.4g} m", bodies.size(), region_top);
-  // Every body rigid while it is packed: a sphere body a sphere, the others clumps of their scaled
-  // template's mass properties. Sub-sphere i of the engine is particle i of `placed`.
+// The bodies drawn and inserted in a region above the floor, and placed as the engine's
+// particles: every body rigid while it is packed, a sphere body a sphere, the others clumps of
+// their scaled template's mass properties. Sub-sphere i of the engine is particle i of `placed`.
+struct InsertedBodies {
+  std::vector<PackedBody> bodies;
   BodyPacking placed;
-  placed.templates = templates;
-  placed.bodies = bodies;
-  place_bodies(placed);
+  double region_top = 0.0;  // m, the top of the insertion region
+};
+
+InsertedBodies insert_bed(const PackRequest& request, const std::vector<BodyTemplate>& templates) {
+  InsertedBodies inserted;
+  inserted.bodies = draw_bodies(request, templates);
+  inserted.region_top = insert_bodies(request, templates, inserted.bodies);
+  spdlog::info("pack: {} bodies inserted below {:.4g} m", inserted.bodies.size(),
+               inserted.region_top);
+  inserted.placed.templates = templates;
+  inserted.placed.bodies = inserted.bodies;
+  place_bodies(inserted.placed);
+  return inserted;
+}
+
+// The step of `bed` at `density`, for bodies as fast as `speed`.
+TimeStepChoice packed_time_step(const PackRequest& request, const Bed& bed, double density,
+                                double speed, const MaterialTable& table) {
+  PackRequest at = request;
+  at.density = density;
+  TimeStepChoice step =
+      select_time_step(bed.state, pack_materials(at, request.friction, request.wall_friction), {1},
+                       request.time_step, request.time_step_fraction, speed, BondSet{}, bed.clumps);
+  if (!request.time_step && !bed.clumps.empty()) {
+    step.clump_period = packed_clump_period(bed.state, bed.clumps, table);
+    // A sub-sphere of a rigid body has no motion of its own, so its Rayleigh time (a wave
+    // across it) bounds nothing: the body's contact oscillation does. Free spheres keep theirs.
+    const bool all_rigid = std::all_of(bed.clumps.clump_of.begin(), bed.clumps.clump_of.end(),
+                                       [](std::int32_t c) { return c >= 0; });
+    step.time_step =
+        request.time_step_fraction *
+        (all_rigid ? step.clump_period : std::min(step.rayleigh_time, step.clump_period));
+  }
+  return step;
+}
+
+// The bed at the true density and at the settle's scaled one (settle.density_scale), each with
+// its step; the scaled bed is made only when the settle is scaled.
+struct DensityBeds {
+  Bed bed, settle_bed;
+  TimeStepChoice step, settle_step;
+};
+
+DensityBeds density_beds(const PackRequest& request, const BodyPacking& placed, double speed,
+                         const MaterialTable& table) {
   const double mass_scale = request.settle_density_scale;
-  const MaterialTable table = pack_materials(request, request.friction, request.wall_friction);
-  std::vector<PlaneWall> walls = {
-      PlaneWall{request.floor, 1, 0.0, 1},
-      PlaneWall{region_top + 0.01 * (region_top - request.floor), -1, 0.0, 1}};
-  const double fall = region_top - request.floor;
-  const double speed = std::sqrt(2.0 * request.gravity * fall) + request.punch_speed;
-  // The step of the bed at `density`.
-  const auto choose_step = [&](const Bed& bed, double density) {
-    PackRequest at = request;
-    at.density = density;
-    TimeStepChoice step = select_time_step(
-        bed.state, pack_materials(at, request.friction, request.wall_friction), {1},
-        request.time_step, request.time_step_fraction, speed, BondSet{}, bed.clumps);
-    if (!request.time_step && !bed.clumps.empty()) {
-      step.clump_period = packed_clump_period(bed.state, bed.clumps, table);
-      // A sub-sphere of a rigid body has no motion of its own, so its Rayleigh time (a wave
-      // across it) bounds nothing: the body's contact oscillation does. Free spheres keep theirs.
-      const bool all_rigid = std::all_of(bed.clumps.clump_of.begin(), bed.clumps.clump_of.end(),
-                                         [](std::int32_t c) { return c >= 0; });
-      step.time_step =
-          request.time_step_fraction *
-          (all_rigid ? step.clump_period : std::min(step.rayleigh_time, step.clump_period));
-    }
-    return step;
-  };
-  Bed bed = bed_from_packing(placed, {request.density, 0, std::nullopt, true});
-  const TimeStepChoice step = choose_step(bed, request.density);
-  Bed settle_bed =
+  DensityBeds beds;
+  beds.bed = bed_from_packing(placed, {request.density, 0, std::nullopt, true});
+  beds.step = packed_time_step(request, beds.bed, request.density, speed, table);
+  if (mass_scale != 1.0)
+    beds.settle_bed =
+        bed_from_packing(placed, {request.density * mass_scale, 0, std::nullopt, true});
+  beds.settle_step =
       mass_scale == 1.0
-          ? Bed{}
-          : bed_from_packing(placed, {request.density * mass_scale, 0, std::nullopt, true});
-  const TimeStepChoice settle_step =
-      mass_scale == 1.0 ? step : choose_step(settle_bed, request.density * mass_scale);
-  run.time_step = step.time_step;
-  run.settle_time_step = settle_step.time_step;
+          ? beds.step
+          : packed_time_step(request, beds.settle_bed, request.density * mass_scale, speed, table);
+  return beds;
+}
+
+// Gravity, and a neighbour-list skin of a fifth of the smallest sub-sphere's radius.
+EngineSettings pack_settings(const PackRequest& request, const SphereState& state) {
   double smallest = std::numeric_limits<double>::infinity();
-  for (double radius : bed.state.radius)
+  for (double radius : state.radius)
     smallest = std::min(smallest, radius);
   EngineSettings settings;
   settings.gravity = {0.0, 0.0, -request.gravity};
   settings.skin = 0.2 * smallest;
-  spdlog::info(
-      "pack: {} sub-spheres in {} bodies, time step {:.3g} s (Rayleigh {:.3g} s, clump "
-      "bound {:.3g} s)",
-      bed.state.size(), bodies.size(), step.time_step, step.rayleigh_time, step.clump_period);
-  if (mass_scale != 1.0)
-    spdlog::info("pack: the settle at {} × density, time step {:.3g} s", mass_scale,
-                 settle_step.time_step);
-  PackPhaseState state = resume ? resume->phase : PackPhaseState{};
-  const bool scaled_now = mass_scale != 1.0 && state.phase != PackPhase::release;
-  settings.time_step = scaled_now ? settle_step.time_step : step.time_step;
-  const auto friction_of = [&](PackPhase phase) {
-    // Frictionless by default while pressing: the bodies slide into a denser bed, as DEM fills
-    // are made.
-    return phase == PackPhase::press
-               ? pack_materials(request, request.press_friction, request.press_friction)
-               : table;
-  };
-  Bed& start = scaled_now ? settle_bed : bed;
-  auto engine =
-      resume ? std::make_unique<Engine>(std::move(resume->snapshot.state), resume->snapshot.box,
-                                        friction_of(state.phase), settings,
-                                        std::move(resume->snapshot.checkpoint))
-             : std::make_unique<Engine>(std::move(start.state), Box{request.box_x, request.box_y},
-                                        table, walls, settings, BondSet{}, std::move(start.clumps));
-  // The next phase on the same bed, walls and contact history; the release at the true density
-  // and its step (velocities kept, spins kept by scaling the angular momenta with the inertias).
-  const auto next_phase = [&](PackPhase phase) {
-    SphereState s = engine->state();
-    EngineCheckpoint checkpoint = engine->checkpoint();
-    EngineSettings next = engine->settings();
-    if (phase == PackPhase::release) {
-      scale_masses(s, checkpoint.clumps, 1.0 / mass_scale);
-      next.time_step = step.time_step;
-    }
-    engine = std::make_unique<Engine>(std::move(s), engine->box(), friction_of(phase), next,
-                                      std::move(checkpoint));
-    state.phase = phase;
-    state.phase_start = engine->time();
-    state.phase_step = 0;
-  };
+  return settings;
+}
 
+// What the phases run to: the kinetic energy of rest, the phases' shortest times and drags, the
+// punch's speed, the gap it presses to and where it is parked, and the steps and materials.
+struct PhasePlan {
+  double mass_scale = 1.0;
+  MaterialTable table;
+  double time_step = 0.0;         // s, at the true density
+  double settle_time_step = 0.0;  // s, at the scaled one
+  double rest = 0.0;              // J, at the true density
+  double free_fall = 0.0;         // s, the settle's shortest time
+  double release_min_time = 0.0, release_drag_time = 0.0;
+  double press_speed = 0.0;   // m/s
+  double area = 0.0;          // m², the box's
+  double gap = 0.0;           // m, the punch's target above the floor (0: no press)
+  double parked_punch = 0.0;  // m, the punch's position outside the press
+};
+
+PhasePlan phase_plan(const PackRequest& request, const std::vector<PackedBody>& bodies,
+                     const DensityBeds& beds, MaterialTable table, double fall,
+                     double parked_punch) {
+  const double mass_scale = request.settle_density_scale;
   double rest = 0.0;  // Σ m g d: KE below ratio × this is rest, m the body's mass in the engine
   for (const PackedBody& b : bodies)
     rest += request.density * b.body_volume * request.gravity *
@@ -566,129 +565,179 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
   // some contact periods at the true density, and a drag of about a hundred contact periods
   // (damping the bed's slowest modes, not the contacts') brings it to rest where settle's
   // τ, long against the fall, would take a few τ.
-  const double contact_period = step.time_step / request.time_step_fraction;
+  const double contact_period = beds.step.time_step / request.time_step_fraction;
   const double release_min_time = 20.0 * contact_period;
   const double release_drag_time =
       request.damping_time > 0.0 ? std::min(request.damping_time, 100.0 * contact_period) : 0.0;
   const double press_speed = request.punch_speed / std::sqrt(mass_scale);
-  const auto started = std::chrono::steady_clock::now();
-  const std::int64_t first_step = engine->step_index();
   const double free_fall = std::sqrt(2.0 * fall / request.gravity);
   const double area = request.box_x * request.box_y;
   const double gap = request.target_solid_fraction
                          ? solid_body_volume(bodies) / (area * *request.target_solid_fraction)
                          : 0.0;
-  const auto same = [] { return true; };
-  for (bool done = false; !done;) {
-    switch (state.phase) {
-      case PackPhase::settle: {
-        const PhaseEnd end = run_phase(*engine, request, free_fall, rest * mass_scale,
-                                       request.damping_time, progress, state, same);
-        if (end == PhaseEnd::interrupted) {
-          run.interrupted = done = true;
-          break;
-        }
-        state.settled = end == PhaseEnd::rest;
-        state.settled_solid_fraction =
-            solid_body_volume(bodies) /
-            (area * (bed_top(engine->state(), request.floor) - request.floor));
-        spdlog::info("pack: settled at solid fraction {:.4f} by body volume",
-                     state.settled_solid_fraction);
-        if (!request.target_solid_fraction) {
-          if (mass_scale == 1.0)
-            done = true;
-          else
-            next_phase(PackPhase::release);
-          break;
-        }
-        if (state.settled_solid_fraction >= *request.target_solid_fraction)
-          spdlog::warn(
-              "pack: the bed settled denser ({:.4f} by body volume) than press.solid_fraction = "
-              "{}: the punch does not touch it, and the bed is stated as settled, not "
-              "pre-compressed",
-              state.settled_solid_fraction, *request.target_solid_fraction);
-        next_phase(PackPhase::press);
-        PlaneWall& punch = engine->walls()[1];
-        punch.position = std::max(bed_top(engine->state(), request.floor), request.floor + gap);
-        engine->rebase_energy();
-        break;
-      }
-      case PackPhase::press: {
-        const double dt = settle_step.time_step;
-        PhaseEnd end = PhaseEnd::rest;
-        try {
-          end = run_phase(*engine, request, std::numeric_limits<double>::infinity(), 0.0,
-                          request.damping_time, progress, state, [&] {
-                            PlaneWall& p = engine->walls()[1];
-                            if (p.position - request.floor <= gap) {
-                              p.velocity = 0.0;
-                              return false;
-                            }
-                            p.velocity = -press_speed;
-                            p.position =
-                                std::max(request.floor + gap, p.position - press_speed * dt);
-                            return true;
-                          });
-        } catch (const ComputationError& e) {
-          // Rigid bodies that cannot rearrange (a single layer, a jammed bed) stop the punch
-          // short of the target: it then drives a sub-sphere into its neighbour until the
-          // overlap check trips. The target is what cannot be had.
-          const double reached =
-              solid_body_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
-          throw InputError(fmt::format(
-              "pack: the press jammed at a solid fraction of {:.4f} by body volume, short of "
-              "press.solid_fraction = {}: the rigid bodies cannot be pressed further without "
-              "overlapping ({}); lower press.solid_fraction, or pack more bodies so that they "
-              "can rearrange",
-              reached, *request.target_solid_fraction, e.what()));
-        }
-        if (end == PhaseEnd::interrupted) {
-          run.interrupted = done = true;
-          break;
-        }
-        // Where the punch stopped is the bed's solid fraction only if it reached the bed.
-        if (state.settled_solid_fraction < *request.target_solid_fraction)
-          state.precompression_solid_fraction =
-              solid_body_volume(bodies) / (area * (engine->walls()[1].position - request.floor));
-        // Release: the punch back to where it was parked; the bed relaxes under gravity.
-        engine->walls()[1].velocity = 0.0;
-        engine->walls()[1].position = walls[1].position;
-        next_phase(PackPhase::relax);
-        break;
-      }
-      case PackPhase::relax: {
-        const PhaseEnd end = run_phase(*engine, request, 0.0, rest * mass_scale,
-                                       request.damping_time, progress, state, same);
-        run.interrupted = end == PhaseEnd::interrupted;
-        state.settled = state.settled && end == PhaseEnd::rest;
-        if (mass_scale == 1.0 || run.interrupted)
-          done = true;
-        else
-          next_phase(PackPhase::release);
-        break;
-      }
-      case PackPhase::release: {
-        const PhaseEnd end = run_phase(*engine, request, release_min_time, rest, release_drag_time,
-                                       progress, state, same);
-        run.interrupted = end == PhaseEnd::interrupted;
-        state.settled = state.settled && end == PhaseEnd::rest;
-        done = true;
-        break;
-      }
-    }
-  }
-  run.settled = state.settled;
-  run.settled_solid_fraction = state.settled_solid_fraction;
-  run.precompression_solid_fraction = state.precompression_solid_fraction;
-  run.loop_steps = engine->step_index() - first_step;
-  run.loop_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  run.steps = engine->step_index();
-  if (run.interrupted) return run;
+  return PhasePlan{mass_scale,
+                   std::move(table),
+                   beds.step.time_step,
+                   beds.settle_step.time_step,
+                   rest,
+                   free_fall,
+                   release_min_time,
+                   release_drag_time,
+                   press_speed,
+                   area,
+                   gap,
+                   parked_punch};
+}
 
-  // The bodies where the engine left them.
-  const SphereState& s = engine->state();
-  const ClumpSet& clumps = engine->clumps();
+// The phase's materials: frictionless by default while pressing, so the bodies slide into a
+// denser bed, as DEM fills are made.
+MaterialTable phase_materials(const PackRequest& request, const PhasePlan& plan, PackPhase phase) {
+  return phase == PackPhase::press
+             ? pack_materials(request, request.press_friction, request.press_friction)
+             : plan.table;
+}
+
+// The engine of the phase running now, and where the run is in its phases.
+struct PhaseEngine {
+  std::unique_ptr<Engine> engine;
+  PackPhaseState state;
+};
+
+// The next phase on the same bed, walls and contact history; the release at the true density
+// and its step (velocities kept, spins kept by scaling the angular momenta with the inertias).
+void next_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
+                PackPhase phase) {
+  SphereState s = run.engine->state();
+  EngineCheckpoint checkpoint = run.engine->checkpoint();
+  EngineSettings next = run.engine->settings();
+  if (phase == PackPhase::release) {
+    scale_masses(s, checkpoint.clumps, 1.0 / plan.mass_scale);
+    next.time_step = plan.time_step;
+  }
+  run.engine =
+      std::make_unique<Engine>(std::move(s), run.engine->box(),
+                               phase_materials(request, plan, phase), next, std::move(checkpoint));
+  run.state.phase = phase;
+  run.state.phase_start = run.engine->time();
+  run.state.phase_step = 0;
+}
+
+constexpr auto keep_going = [] { return true; };
+
+// Each phase runs the engine until it ends and starts the next; each returns whether the run is
+// done (finished or interrupted: PackRun::interrupted).
+
+// The pour settles under gravity (at the scaled weight), then is pressed, released or done.
+bool settle_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
+                  const std::vector<PackedBody>& bodies, const PackProgress& progress,
+                  PackRun& result) {
+  const PhaseEnd end = run_phase(*run.engine, request, plan.free_fall, plan.rest * plan.mass_scale,
+                                 request.damping_time, progress, run.state, keep_going);
+  if (end == PhaseEnd::interrupted) {
+    result.interrupted = true;
+    return true;
+  }
+  PackPhaseState& state = run.state;
+  state.settled = end == PhaseEnd::rest;
+  state.settled_solid_fraction =
+      solid_body_volume(bodies) /
+      (plan.area * (bed_top(run.engine->state(), request.floor) - request.floor));
+  spdlog::info("pack: settled at solid fraction {:.4f} by body volume",
+               state.settled_solid_fraction);
+  if (!request.target_solid_fraction) {
+    if (plan.mass_scale == 1.0) return true;
+    next_phase(run, request, plan, PackPhase::release);
+    return false;
+  }
+  if (state.settled_solid_fraction >= *request.target_solid_fraction)
+    spdlog::warn(
+        "pack: the bed settled denser ({:.4f} by body volume) than press.solid_fraction = "
+        "{}: the punch does not touch it, and the bed is stated as settled, not "
+        "pre-compressed",
+        state.settled_solid_fraction, *request.target_solid_fraction);
+  next_phase(run, request, plan, PackPhase::press);
+  PlaneWall& punch = run.engine->walls()[1];
+  punch.position = std::max(bed_top(run.engine->state(), request.floor), request.floor + plan.gap);
+  run.engine->rebase_energy();
+  return false;
+}
+
+// The punch presses the bed to the target gap, then goes back to where it was parked.
+bool press_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
+                 const std::vector<PackedBody>& bodies, const PackProgress& progress,
+                 PackRun& result) {
+  Engine& engine = *run.engine;
+  const double dt = plan.settle_time_step;
+  PhaseEnd end = PhaseEnd::rest;
+  try {
+    end = run_phase(engine, request, std::numeric_limits<double>::infinity(), 0.0,
+                    request.damping_time, progress, run.state, [&] {
+                      PlaneWall& p = engine.walls()[1];
+                      if (p.position - request.floor <= plan.gap) {
+                        p.velocity = 0.0;
+                        return false;
+                      }
+                      p.velocity = -plan.press_speed;
+                      p.position =
+                          std::max(request.floor + plan.gap, p.position - plan.press_speed * dt);
+                      return true;
+                    });
+  } catch (const ComputationError& e) {
+    // Rigid bodies that cannot rearrange (a single layer, a jammed bed) stop the punch
+    // short of the target: it then drives a sub-sphere into its neighbour until the
+    // overlap check trips. The target is what cannot be had.
+    const double reached =
+        solid_body_volume(bodies) / (plan.area * (engine.walls()[1].position - request.floor));
+    throw InputError(fmt::format(
+        "pack: the press jammed at a solid fraction of {:.4f} by body volume, short of "
+        "press.solid_fraction = {}: the rigid bodies cannot be pressed further without "
+        "overlapping ({}); lower press.solid_fraction, or pack more bodies so that they "
+        "can rearrange",
+        reached, *request.target_solid_fraction, e.what()));
+  }
+  if (end == PhaseEnd::interrupted) {
+    result.interrupted = true;
+    return true;
+  }
+  // Where the punch stopped is the bed's solid fraction only if it reached the bed.
+  if (run.state.settled_solid_fraction < *request.target_solid_fraction)
+    run.state.precompression_solid_fraction =
+        solid_body_volume(bodies) / (plan.area * (engine.walls()[1].position - request.floor));
+  // Release: the punch back to where it was parked; the bed relaxes under gravity.
+  engine.walls()[1].velocity = 0.0;
+  engine.walls()[1].position = plan.parked_punch;
+  next_phase(run, request, plan, PackPhase::relax);
+  return false;
+}
+
+// The pressed bed relaxes under gravity (at the scaled weight), then is released or done.
+bool relax_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
+                 const PackProgress& progress, PackRun& result) {
+  const PhaseEnd end = run_phase(*run.engine, request, 0.0, plan.rest * plan.mass_scale,
+                                 request.damping_time, progress, run.state, keep_going);
+  result.interrupted = end == PhaseEnd::interrupted;
+  run.state.settled = run.state.settled && end == PhaseEnd::rest;
+  if (plan.mass_scale == 1.0 || result.interrupted) return true;
+  next_phase(run, request, plan, PackPhase::release);
+  return false;
+}
+
+// The bed at its true weight comes to rest under the release's drag.
+bool release_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
+                   const PackProgress& progress, PackRun& result) {
+  const PhaseEnd end = run_phase(*run.engine, request, plan.release_min_time, plan.rest,
+                                 plan.release_drag_time, progress, run.state, keep_going);
+  result.interrupted = end == PhaseEnd::interrupted;
+  run.state.settled = run.state.settled && end == PhaseEnd::rest;
+  return true;
+}
+
+// The bodies where the engine left them, as a packing measured against the size distribution.
+BodyPacking packed_bed(const PackRequest& request, const std::vector<BodyTemplate>& templates,
+                       std::vector<PackedBody> bodies, const BodyPacking& placed,
+                       const Engine& engine) {
+  const SphereState& s = engine.state();
+  const ClumpSet& clumps = engine.clumps();
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const auto i = static_cast<std::size_t>(placed.first_particle[b]);
     if (clumps.empty() || clumps.clump_of[i] < 0) {
@@ -699,15 +748,87 @@ PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templa
     bodies[b].centre = {clumps.centre.x[c], clumps.centre.y[c], clumps.centre.z[c]};
     bodies[b].orientation = clumps.rotation[c].orientation;
   }
-  BodyPacking& packing = run.packing;
+  BodyPacking packing;
   packing.templates = templates;
   packing.bodies = std::move(bodies);
   packing.box = Box{request.box_x, request.box_y};
   packing.floor = request.floor;
   place_bodies(packing);
-  packing.top = bed_top(engine->state(), request.floor);
+  packing.top = bed_top(engine.state(), request.floor);
   const SizeTable target = size_table(request.sizes, request.diameter_min, request.diameter_max);
   packing.measures = measure_packing(packing, target, request.sizes.volume_weighted);
+  return packing;
+}
+
+}  // namespace
+
+PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
+             const PackProgress& progress, std::optional<PackResume> resume) {
+  PackRun run;
+  InsertedBodies inserted = insert_bed(request, templates);
+  const double region_top = inserted.region_top;
+  const double mass_scale = request.settle_density_scale;
+  const MaterialTable table = pack_materials(request, request.friction, request.wall_friction);
+  std::vector<PlaneWall> walls = {
+      PlaneWall{request.floor, 1, 0.0, 1},
+      PlaneWall{region_top + 0.01 * (region_top - request.floor), -1, 0.0, 1}};
+  const double fall = region_top - request.floor;
+  const double speed = std::sqrt(2.0 * request.gravity * fall) + request.punch_speed;
+  DensityBeds beds = density_beds(request, inserted.placed, speed, table);
+  const TimeStepChoice& step = beds.step;
+  run.time_step = step.time_step;
+  run.settle_time_step = beds.settle_step.time_step;
+  EngineSettings settings = pack_settings(request, beds.bed.state);
+  spdlog::info(
+      "pack: {} sub-spheres in {} bodies, time step {:.3g} s (Rayleigh {:.3g} s, clump "
+      "bound {:.3g} s)",
+      beds.bed.state.size(), inserted.bodies.size(), step.time_step, step.rayleigh_time,
+      step.clump_period);
+  if (mass_scale != 1.0)
+    spdlog::info("pack: the settle at {} × density, time step {:.3g} s", mass_scale,
+                 beds.settle_step.time_step);
+  const PhasePlan plan = phase_plan(request, inserted.bodies, beds, table, fall, walls[1].position);
+  PhaseEngine phases;
+  phases.state = resume ? resume->phase : PackPhaseState{};
+  const bool scaled_now = mass_scale != 1.0 && phases.state.phase != PackPhase::release;
+  settings.time_step = scaled_now ? beds.settle_step.time_step : step.time_step;
+  Bed& start = scaled_now ? beds.settle_bed : beds.bed;
+  phases.engine =
+      resume ? std::make_unique<Engine>(std::move(resume->snapshot.state), resume->snapshot.box,
+                                        phase_materials(request, plan, phases.state.phase),
+                                        settings, std::move(resume->snapshot.checkpoint))
+             : std::make_unique<Engine>(std::move(start.state), Box{request.box_x, request.box_y},
+                                        table, walls, settings, BondSet{}, std::move(start.clumps));
+
+  const auto started = std::chrono::steady_clock::now();
+  const std::int64_t first_step = phases.engine->step_index();
+  const std::vector<PackedBody>& bodies = inserted.bodies;
+  for (bool done = false; !done;) {
+    switch (phases.state.phase) {
+      case PackPhase::settle:
+        done = settle_phase(phases, request, plan, bodies, progress, run);
+        break;
+      case PackPhase::press:
+        done = press_phase(phases, request, plan, bodies, progress, run);
+        break;
+      case PackPhase::relax:
+        done = relax_phase(phases, request, plan, progress, run);
+        break;
+      case PackPhase::release:
+        done = release_phase(phases, request, plan, progress, run);
+        break;
+    }
+  }
+  const Engine& engine = *phases.engine;
+  run.settled = phases.state.settled;
+  run.settled_solid_fraction = phases.state.settled_solid_fraction;
+  run.precompression_solid_fraction = phases.state.precompression_solid_fraction;
+  run.loop_steps = engine.step_index() - first_step;
+  run.loop_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  run.steps = engine.step_index();
+  if (run.interrupted) return run;
+  run.packing = packed_bed(request, templates, std::move(inserted.bodies), inserted.placed, engine);
   return run;
 }
 

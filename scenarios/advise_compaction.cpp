@@ -335,10 +335,9 @@ std::vector<std::string> pressing_lines(const fs::path& effective) {
   return lines;
 }
 
-}  // namespace
-
-int run_compaction_advise(const CompactionAdviseRequest& request, const RunContext& context) {
-  RunMetadata meta("advise", context.command_line);
+// The compact config a ladder varies: the given one, checked to be a compaction of a packed bed
+// at a step fraction (each rung sets its own).
+CompactConfig read_ladder_config(const CompactionAdviseRequest& request, RunMetadata& meta) {
   if (request.pack_config.empty())
     throw InputError("advise --templates needs --pack-config (the bed's pack config)");
   const ConfigTable root = ConfigTable::load_file(request.config);
@@ -355,14 +354,25 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
   if (config.generate || config.clumps)
     throw InputError(request.config +
                      ": advise presses the packed bed; [generate] and [clumps] pour another");
-  const FillRecipe recipe = fill_recipe(request.templates);
-  const int bodies = request.bodies > 0 ? request.bodies : pack_count(request.pack_config);
-  const int full_bodies =
-      request.full_bodies > 0 ? request.full_bodies : pack_count(request.pack_config);
-  const std::vector<double> fractions =
-      request.fractions.empty() ? std::vector{config.run.time_step_fraction} : request.fractions;
-  const std::vector<double> scales =
-      request.density_scales.empty() ? std::vector{config.density_scale} : request.density_scales;
+  return config;
+}
+
+// The settings every bed is pressed at: the step fractions and mass scalings (the config's when
+// none are given).
+struct PressSettings {
+  std::vector<double> fractions, scales;
+};
+
+PressSettings press_settings(const CompactionAdviseRequest& request, const CompactConfig& config) {
+  return {
+      request.fractions.empty() ? std::vector{config.run.time_step_fraction} : request.fractions,
+      request.density_scales.empty() ? std::vector{config.density_scale} : request.density_scales};
+}
+
+// The --reference-run folders, each refused when the ladder runs its setting itself.
+std::vector<GivenRun> read_given_runs(const CompactionAdviseRequest& request,
+                                      const FillRecipe& recipe, int bodies,
+                                      const PressSettings& settings, RunMetadata& meta) {
   const auto in_ladder = [](const auto& values, auto value) {
     return std::find(values.begin(), values.end(), value) != values.end();
   };
@@ -371,40 +381,51 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
     given_runs.push_back(read_given_run(folder, recipe, bodies));
     const GivenRun& given = given_runs.back();
     // Refused before the ladder runs: its own rung of that setting would be the same run.
-    if (in_ladder(request.counts, given.count) && in_ladder(fractions, given.fraction) &&
-        in_ladder(scales, given.density_scale))
+    if (in_ladder(request.counts, given.count) && in_ladder(settings.fractions, given.fraction) &&
+        in_ladder(settings.scales, given.density_scale))
       throw InputError(fmt::format(
           "{}: the ladder runs its setting itself (N = {}, step {} of critical, density scale {})",
           folder, given.count, number_text(given.fraction), number_text(given.density_scale)));
     meta.input("reference_run", fs::path(folder) / "punch.csv");
   }
-  // Absolute, so that every rung's run.json names its packing wherever it is read from (the
-  // report follows a compaction to its bed).
-  const fs::path out = fs::absolute(request.out);
-  ensure_output_folder(out);
+  return given_runs;
+}
 
+// The beds (one per count and seed) and the rungs pressed on them (one per step fraction and mass
+// scaling), each with its folder in `out` and the key its record must hold to be reused.
+struct LadderPlan {
+  std::vector<std::optional<std::uint64_t>> seeds;  // one empty: the pack config's
+  std::vector<BedJob> beds;
+  std::vector<RungJob> rungs;
+};
+
+// A label's seed suffix: only when the ladder packs more than one seed.
+std::string seed_text(const std::optional<std::uint64_t>& seed, std::size_t seeds) {
+  return seeds > 1 ? fmt::format("-seed{}", *seed) : std::string();
+}
+
+LadderPlan plan_ladder(const CompactionAdviseRequest& request, const FillRecipe& recipe, int bodies,
+                       const PressSettings& settings, const fs::path& out) {
   const nlohmann::json bed_key = {{"templates_sha256", sha256_file(request.templates)},
                                   {"pack_config_sha256", sha256_file(request.pack_config)},
                                   {"bodies", bodies}};
-  std::vector<std::optional<std::uint64_t>> seeds(request.seeds.begin(), request.seeds.end());
-  if (seeds.empty()) seeds.push_back(std::nullopt);  // the pack config's
-  const auto seed_text = [&](const std::optional<std::uint64_t>& seed) {
-    return seeds.size() > 1 ? fmt::format("-seed{}", *seed) : std::string();
-  };
-  std::vector<BedJob> beds;
-  std::vector<RungJob> rungs;
-  for (const auto& seed : seeds)
+  LadderPlan plan;
+  plan.seeds.assign(request.seeds.begin(), request.seeds.end());
+  if (plan.seeds.empty()) plan.seeds.push_back(std::nullopt);  // the pack config's
+  const std::size_t seeds = plan.seeds.size();
+  for (const auto& seed : plan.seeds)
     for (int count : request.counts) {
       const std::string kind = count > 1 ? recipe.kind : "sphere";
-      BedJob bed{count, seed, out / fmt::format("bed-{}{}", count, seed_text(seed)), bed_key};
+      BedJob bed{count, seed, out / fmt::format("bed-{}{}", count, seed_text(seed, seeds)),
+                 bed_key};
       bed.key["count"] = count;
       bed.key["seed"] = seed ? nlohmann::json(*seed) : nlohmann::json("pack config's");
-      for (double fraction : fractions)
-        for (double scale : scales) {
+      for (double fraction : settings.fractions)
+        for (double scale : settings.scales) {
           RungJob job;
           job.label = fmt::format("{}-{}-f{}-s{}{}", kind, count, number_text(fraction),
-                                  number_text(scale), seed_text(seed));
-          job.bed = beds.size();
+                                  number_text(scale), seed_text(seed, seeds));
+          job.bed = plan.beds.size();
           job.fraction = fraction;
           job.density_scale = scale;
           job.folder = out / job.label;
@@ -412,123 +433,172 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
           job.key["config_sha256"] = sha256_file(request.config);
           job.key["time_step_fraction"] = fraction;
           job.key["density_scale"] = scale;
-          rungs.push_back(std::move(job));
+          plan.rungs.push_back(std::move(job));
         }
-      beds.push_back(std::move(bed));
+      plan.beds.push_back(std::move(bed));
     }
+  return plan;
+}
 
-  const int threads = context.threads > 0 ? context.threads : omp_get_max_threads();
-  std::mutex lock;
-  // First the beds (one fill and one pack per count), then every rung on its bed.
-  std::vector<std::optional<nlohmann::json>> bed_records(beds.size());
+// Every bed's record: reused when finished, else filled and packed now (one fill and one pack
+// per count and seed, side by side).
+struct BedRecords {
+  std::vector<std::optional<nlohmann::json>> records;  // all set once made
+  int made = 0;
+};
+
+bool bed_made(const nlohmann::json& bed_record) {
+  return bed_record.at("exit_code").get<int>() == 0;
+}
+
+BedRecords make_beds(const LadderPlan& plan, const FillRecipe& recipe,
+                     const CompactionAdviseRequest& request, int bodies, int threads) {
+  const std::vector<BedJob>& beds = plan.beds;
+  BedRecords made{std::vector<std::optional<nlohmann::json>>(beds.size()), 0};
   std::vector<std::size_t> beds_to_make;
   for (std::size_t k = 0; k < beds.size(); ++k) {
-    bed_records[k] = finished_record(beds[k].folder / "bed.json", beds[k].key, request.resume);
-    if (!bed_records[k]) beds_to_make.push_back(k);
+    made.records[k] = finished_record(beds[k].folder / "bed.json", beds[k].key, request.resume);
+    if (!made.records[k]) beds_to_make.push_back(k);
   }
+  std::mutex lock;
   run_on_threads(beds_to_make.size(), threads, [&](std::size_t i) {
     const BedJob& bed = beds[beds_to_make[i]];
     nlohmann::json record = make_bed(bed, recipe, request, bodies);
     spdlog::info("advise: bed of {} sub-spheres per body {}", bed.count,
-                 record.at("exit_code").get<int>() == 0 ? "packed"
-                                                        : "failed: " + record.value("message", ""));
+                 bed_made(record) ? "packed" : "failed: " + record.value("message", ""));
     const std::lock_guard guard(lock);
-    bed_records[beds_to_make[i]] = std::move(record);
+    made.records[beds_to_make[i]] = std::move(record);
   });
+  made.made = static_cast<int>(beds_to_make.size());
+  return made;
+}
 
-  std::vector<std::optional<nlohmann::json>> records(rungs.size());
+// Every rung's record: reused when finished, else pressed now on its bed (none on a bed that
+// could not be made).
+struct RungRecords {
+  std::vector<std::optional<nlohmann::json>> records;
+  int run_now = 0;
+};
+
+RungRecords press_rungs(const LadderPlan& plan, const BedRecords& beds, const CompactConfig& config,
+                        const CompactionAdviseRequest& request, int bodies, int threads) {
+  const std::vector<RungJob>& rungs = plan.rungs;
+  RungRecords pressed{std::vector<std::optional<nlohmann::json>>(rungs.size()), 0};
   std::vector<std::size_t> pending;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
-    records[k] = finished_record(rungs[k].folder / "rung.json", rungs[k].key, request.resume);
-    const bool bed_made = bed_records[rungs[k].bed]->at("exit_code").get<int>() == 0;
-    if (!records[k] && bed_made) pending.push_back(k);
+    pressed.records[k] =
+        finished_record(rungs[k].folder / "rung.json", rungs[k].key, request.resume);
+    if (!pressed.records[k] && bed_made(*beds.records[rungs[k].bed])) pending.push_back(k);
   }
-  spdlog::info("advise: {} rungs on {} beds of {} bodies, {} to run", rungs.size(), beds.size(),
-               bodies, pending.size());
+  spdlog::info("advise: {} rungs on {} beds of {} bodies, {} to run", rungs.size(),
+               plan.beds.size(), bodies, pending.size());
+  std::mutex lock;
   run_on_threads(pending.size(), threads, [&](std::size_t i) {
     const RungJob& job = rungs[pending[i]];
-    nlohmann::json record = press(job, beds[job.bed], config);
+    nlohmann::json record = press(job, plan.beds[job.bed], config);
     const int code = record.at("exit_code").get<int>();
     spdlog::info("advise: {} {}", job.label,
                  code == 0
                      ? "done"
                      : (code == 1 ? "diverged: " : "refused: ") + record.value("message", ""));
     const std::lock_guard guard(lock);
-    records[pending[i]] = std::move(record);
+    pressed.records[pending[i]] = std::move(record);
   });
+  pressed.run_now = static_cast<int>(pending.size());
+  return pressed;
+}
 
+// A given run's bed among the ladder's: the one packed by the same effective pack config.
+std::size_t bed_of_given(const GivenRun& given, const LadderPlan& plan, const BedRecords& beds,
+                         const fs::path& out) {
+  for (std::size_t k = 0; k < plan.beds.size(); ++k)
+    if (plan.beds[k].count > 1 && bed_made(*beds.records[k]) &&
+        RunRecord::read(run_metadata_beside(plan.beds[k].folder / "packed.h5"))
+                .text("effective_config") == given.pack_config)
+      return k;
+  throw InputError(fmt::format(
+      "{}: its bed was packed by another pack config or seed than every bed of the ladder "
+      "({}/bed-*/packed.h5.run.json)",
+      given.folder.string(), out.string()));
+}
+
+// InputError unless the given run was pressed by the config of a rung of its bed that ran, but
+// for what a ladder varies.
+void check_pressed_alike(const GivenRun& given, const LadderPlan& plan,
+                         const std::optional<std::uint64_t>& seed) {
+  std::optional<fs::path> pressed;  // a rung of that bed that ran, to compare configs with
+  for (const RungJob& job : plan.rungs)
+    if (!pressed && plan.beds[job.bed].seed == seed && fs::exists(job.folder / "effective.toml"))
+      pressed = job.folder;
+  if (!pressed)
+    throw InputError(fmt::format("{}: no rung of its bed ran to compare its config with",
+                                 given.folder.string()));
+  const auto ours = pressing_lines(*pressed / "effective.toml");
+  const auto theirs = pressing_lines(given.folder / "effective.toml");
+  if (ours != theirs) {
+    const auto [a, b] = std::mismatch(ours.begin(), ours.end(), theirs.begin(), theirs.end());
+    throw InputError(fmt::format(
+        "{}: pressed by another config than the ladder's ({}: \"{}\" against \"{}\")",
+        (given.folder / "effective.toml").string(), (*pressed / "effective.toml").string(),
+        b == theirs.end() ? "(end)" : *b, a == ours.end() ? "(end)" : *a));
+  }
+}
+
+// A given run as a rung of the ladder, at its bed's seed.
+analysis::Rung given_rung(const GivenRun& given, const LadderPlan& plan, const BedRecords& beds,
+                          const FillRecipe& recipe, const CompactionAdviseRequest& request,
+                          const fs::path& out) {
+  const auto& seed = plan.beds[bed_of_given(given, plan, beds, out)].seed;
+  check_pressed_alike(given, plan, seed);
+  analysis::Rung rung;
+  rung.label =
+      fmt::format("given-{}-{}-f{}-s{}{}", recipe.kind, given.count, number_text(given.fraction),
+                  number_text(given.density_scale), seed_text(seed, plan.seeds.size()));
+  rung.sub_spheres = given.count;
+  rung.time_step_fraction = given.fraction;
+  rung.density_scale = given.density_scale;
+  rung.seed = seed ? static_cast<int>(*seed) : 0;
+  rung.cpu_seconds = -1.0;  // not measured by advise: never the pick while another holds
+  read_pressed_curve(rung, given.folder / "punch.csv", request.curve_axis == "solid_fraction");
+  return rung;
+}
+
+// The ladder as it ended: its rungs, then the given runs.
+std::vector<analysis::Rung> load_ladder(const LadderPlan& plan, const BedRecords& beds,
+                                        const RungRecords& pressed,
+                                        const std::vector<GivenRun>& given_runs,
+                                        const FillRecipe& recipe,
+                                        const CompactionAdviseRequest& request, const fs::path& out,
+                                        RunMetadata& meta) {
   std::vector<analysis::Rung> ladder;
-  for (std::size_t k = 0; k < rungs.size(); ++k)
-    ladder.push_back(load_rung(rungs[k], beds[rungs[k].bed], *bed_records[rungs[k].bed], records[k],
+  for (std::size_t k = 0; k < plan.rungs.size(); ++k) {
+    const RungJob& job = plan.rungs[k];
+    ladder.push_back(load_rung(job, plan.beds[job.bed], *beds.records[job.bed], pressed.records[k],
                                request.curve_axis == "solid_fraction"));
+  }
   for (const GivenRun& given : given_runs) {
-    // Its bed among the ladder's: the one packed by the same effective pack config.
-    std::optional<std::size_t> bed;
-    for (std::size_t k = 0; k < beds.size() && !bed; ++k)
-      if (beds[k].count > 1 && bed_records[k]->at("exit_code").get<int>() == 0 &&
-          RunRecord::read(run_metadata_beside(beds[k].folder / "packed.h5"))
-                  .text("effective_config") == given.pack_config)
-        bed = k;
-    if (!bed)
-      throw InputError(fmt::format(
-          "{}: its bed was packed by another pack config or seed than every bed of the ladder "
-          "({}/bed-*/packed.h5.run.json)",
-          given.folder.string(), out.string()));
-    const auto& seed = beds[*bed].seed;
-    std::optional<fs::path> pressed;  // a rung of that bed that ran, to compare configs with
-    for (const RungJob& job : rungs)
-      if (!pressed && beds[job.bed].seed == seed && fs::exists(job.folder / "effective.toml"))
-        pressed = job.folder;
-    if (!pressed)
-      throw InputError(fmt::format("{}: no rung of its bed ran to compare its config with",
-                                   given.folder.string()));
-    const auto ours = pressing_lines(*pressed / "effective.toml");
-    const auto theirs = pressing_lines(given.folder / "effective.toml");
-    if (ours != theirs) {
-      const auto [a, b] = std::mismatch(ours.begin(), ours.end(), theirs.begin(), theirs.end());
-      throw InputError(fmt::format(
-          "{}: pressed by another config than the ladder's ({}: \"{}\" against \"{}\")",
-          (given.folder / "effective.toml").string(), (*pressed / "effective.toml").string(),
-          b == theirs.end() ? "(end)" : *b, a == ours.end() ? "(end)" : *a));
-    }
-    analysis::Rung rung;
-    rung.label =
-        fmt::format("given-{}-{}-f{}-s{}{}", recipe.kind, given.count, number_text(given.fraction),
-                    number_text(given.density_scale), seed_text(seed));
-    rung.sub_spheres = given.count;
-    rung.time_step_fraction = given.fraction;
-    rung.density_scale = given.density_scale;
-    rung.seed = seed ? static_cast<int>(*seed) : 0;
-    rung.cpu_seconds = -1.0;  // not measured by advise: never the pick while another holds
-    read_pressed_curve(rung, given.folder / "punch.csv", request.curve_axis == "solid_fraction");
+    analysis::Rung rung = given_rung(given, plan, beds, recipe, request, out);
     if (given.loop_seconds) meta.fact("reference_run_loop_s", *given.loop_seconds);
     ladder.push_back(std::move(rung));
   }
-  const analysis::Advice advice = analysis::advise(ladder, request.tolerance, 0.0, 1.0);
-  write_advice(advice, out, meta);
-  const int run_now = static_cast<int>(pending.size());
-  meta.fact("particle_kind", recipe.kind)
-      .fact("tolerance", request.tolerance)
-      .fact("bodies", bodies)
-      .fact("full_bodies", full_bodies)
-      .fact("rungs", static_cast<int>(rungs.size()))
-      .fact("rungs_run", run_now)
-      .fact("rungs_reused", static_cast<int>(rungs.size()) - run_now)
-      .fact("beds_made", static_cast<int>(beds_to_make.size()))
-      .fact("seeds", static_cast<int>(seeds.size()))
-      .fact("curve_axis", request.curve_axis)
-      .fact("curve_from", advice.from)
-      .fact("curve_to", advice.to);
-  if (!advice.pick) {
-    meta.write(out / run_metadata_name);
-    throw ComputationError("advise: no rung finished, so none can be recommended (advice.csv)");
-  }
+  return ladder;
+}
+
+// The sizes of the ladder: its reduced bed and the full one whose cost is predicted.
+struct BedSizes {
+  int bodies = 0, full_bodies = 0;
+};
+
+// The pick's facts in run.json (written here) and its line in the log: the full run at the pick's
+// setting costs more as the bodies grow, and in the same die the bed's height, the punch's travel
+// to the same strain and so the steps do too.
+void report_pick(const analysis::Advice& advice, const std::vector<analysis::Rung>& ladder,
+                 const CompactionAdviseRequest& request, BedSizes sizes, const fs::path& out,
+                 RunMetadata& meta) {
   if (advice.seed_scatter) meta.fact("seed_scatter", *advice.seed_scatter);
   const analysis::Rung& pick = ladder[*advice.pick];
   const analysis::Rung& reference = ladder[*advice.reference];
-  // The full run at the pick's setting: the cost of a step grows with the bodies, and in the same
-  // die the bed's height, the punch's travel to the same strain and so the steps do too.
-  const double body_factor = static_cast<double>(full_bodies) / bodies;
+  const double body_factor = static_cast<double>(sizes.full_bodies) / sizes.bodies;
   const double predicted = pick.cpu_seconds * body_factor * body_factor;
   meta.fact("reference", reference.label)
       .fact("pick", pick.label)
@@ -550,7 +620,7 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
   if (pick.cpu_seconds < 0.0) {
     spdlog::info("advise: no rung of the ladder within {:.2g} % of the given run {}: its setting",
                  100.0 * request.tolerance, reference.label);
-    return 0;
+    return;
   }
   spdlog::info(
       "advise: pick {} ({} sub-spheres per body, step {} of critical, density scale {}): {:.2g} % "
@@ -563,7 +633,53 @@ int run_compaction_advise(const CompactionAdviseRequest& request, const RunConte
           ? fmt::format(" against {:.3g} s ({:.3g}x less)", reference.cpu_seconds,
                         reference.cpu_seconds / pick.cpu_seconds)
           : std::string(),
-      bodies, full_bodies, predicted);
+      sizes.bodies, sizes.full_bodies, predicted);
+}
+
+}  // namespace
+
+int run_compaction_advise(const CompactionAdviseRequest& request, const RunContext& context) {
+  RunMetadata meta("advise", context.command_line);
+  const CompactConfig config = read_ladder_config(request, meta);
+  const FillRecipe recipe = fill_recipe(request.templates);
+  const int bodies = request.bodies > 0 ? request.bodies : pack_count(request.pack_config);
+  const int full_bodies =
+      request.full_bodies > 0 ? request.full_bodies : pack_count(request.pack_config);
+  const PressSettings settings = press_settings(request, config);
+  const std::vector<GivenRun> given_runs = read_given_runs(request, recipe, bodies, settings, meta);
+  // Absolute, so that every rung's run.json names its packing wherever it is read from (the
+  // report follows a compaction to its bed).
+  const fs::path out = fs::absolute(request.out);
+  ensure_output_folder(out);
+
+  const LadderPlan plan = plan_ladder(request, recipe, bodies, settings, out);
+  const int threads = context.threads > 0 ? context.threads : omp_get_max_threads();
+  // First the beds (one fill and one pack per count), then every rung on its bed.
+  const BedRecords beds = make_beds(plan, recipe, request, bodies, threads);
+  const RungRecords pressed = press_rungs(plan, beds, config, request, bodies, threads);
+  const std::vector<analysis::Rung> ladder =
+      load_ladder(plan, beds, pressed, given_runs, recipe, request, out, meta);
+
+  const analysis::Advice advice = analysis::advise(ladder, request.tolerance, 0.0, 1.0);
+  write_advice(advice, out, meta);
+  const int rungs = static_cast<int>(plan.rungs.size());
+  meta.fact("particle_kind", recipe.kind)
+      .fact("tolerance", request.tolerance)
+      .fact("bodies", bodies)
+      .fact("full_bodies", full_bodies)
+      .fact("rungs", rungs)
+      .fact("rungs_run", pressed.run_now)
+      .fact("rungs_reused", rungs - pressed.run_now)
+      .fact("beds_made", beds.made)
+      .fact("seeds", static_cast<int>(plan.seeds.size()))
+      .fact("curve_axis", request.curve_axis)
+      .fact("curve_from", advice.from)
+      .fact("curve_to", advice.to);
+  if (!advice.pick) {
+    meta.write(out / run_metadata_name);
+    throw ComputationError("advise: no rung finished, so none can be recommended (advice.csv)");
+  }
+  report_pick(advice, ladder, request, {bodies, full_bodies}, out, meta);
   return 0;
 }
 

@@ -52,113 +52,144 @@ CommandOptions compact_command(CompactCli& cli) {
   return options;
 }
 
-int run(const CompactCli& given, const RunContext& context) {
-  std::string command_line = context.command_line;
-  const std::filesystem::path resumed(given.resume);
-  if (finished_before_resume("compact", given.resume, resumed / std::string(checkpoint_folder),
-                             resumed / std::string(run_metadata_name)))
-    return 0;
-  CompactCli cli = given;
+namespace fs = std::filesystem;
+
+// The run's arguments and command line: as given, or as the killed run was started (--resume).
+struct CompactInvocation {
+  CompactCli cli;
+  std::string command_line;
+};
+
+CompactInvocation resolve_invocation(const CompactCli& given, const RunContext& context) {
+  CompactInvocation invocation{given, context.command_line};
   if (!given.resume.empty())
-    command_line = compact_command(cli).resume(
-        std::filesystem::absolute(given.resume) / std::string(checkpoint_folder) / "resume.json",
-        given.resume);
-  if (cli.config.empty()) throw InputError("compact: give --config FILE (or --resume OUT)");
-  if (cli.out.empty()) throw InputError("compact: give --out FOLDER (or --resume OUT)");
-  const std::filesystem::path out(cli.out);
-  const std::filesystem::path checkpoints = out / std::string(checkpoint_folder);
-  // A checkpoint of the compaction, else one of the settle of a generated bed before it.
-  std::optional<CheckpointFiles> checkpoint, settle_checkpoint;
-  if (!given.resume.empty()) {
-    checkpoint = latest_checkpoint(checkpoints);
-    if (!checkpoint) settle_checkpoint = latest_checkpoint(checkpoints, settle_checkpoint_prefix);
-    if (checkpoint)
-      spdlog::info("compact: resuming {} from the checkpoint at step {}", out.string(),
-                   checkpoint->step);
-    else if (settle_checkpoint)
-      spdlog::info("compact: resuming {} from the settle's checkpoint at step {}", out.string(),
-                   settle_checkpoint->step);
-    else
-      spdlog::info("compact: {} has no checkpoint yet: starting the run again", out.string());
-    for (const auto* sub : {"", "snapshots"})
-      remove_stale_temporaries(out / sub);
-  }
-  RunMetadata meta("compact", command_line);
-  const ConfigTable root = ConfigTable::load_file(cli.config);
-  // Hashed once each reader has accepted the file, so a missing file keeps the reader's message.
-  meta.input("config", cli.config);
-  CompactConfig config = read_compact_config(root);
-  root.check_unknown_keys();
-  if (cli.steps) config.setup.max_steps = *cli.steps;
-  ensure_output_folder(out / "snapshots");
-  // Before the settle, so --resume can start a run killed before its first checkpoint again.
-  ResumableRun resumable("compact", out, checkpoints,
-                         {config.checkpoint_every, config.checkpoint_minutes});
-  resumable.start(!given.resume.empty(), compact_command(cli).invocation(command_line));
-  const Provenance provenance{
-      command_line, root.text(),
-      config.generate ? std::optional(config.generate->seed) : std::nullopt};
-  SettleCheckpoints settle_checkpoints;
-  if (settle_checkpoint) settle_checkpoints.resume = read_snapshot(settle_checkpoint->snapshot);
-  std::int64_t settle_steps = 0;
-  settle_checkpoints.after_step = [&](const Engine& e) {
+    invocation.command_line =
+        compact_command(invocation.cli)
+            .resume(fs::absolute(given.resume) / std::string(checkpoint_folder) / "resume.json",
+                    given.resume);
+  if (invocation.cli.config.empty())
+    throw InputError("compact: give --config FILE (or --resume OUT)");
+  if (invocation.cli.out.empty()) throw InputError("compact: give --out FOLDER (or --resume OUT)");
+  return invocation;
+}
+
+// Where a resumed run continues: a checkpoint of the compaction, else one of the settle of a
+// generated bed before it (neither: from the start).
+struct ResumePoint {
+  std::optional<CheckpointFiles> compaction, settle;
+};
+
+ResumePoint find_resume_point(const fs::path& out, const fs::path& checkpoints) {
+  ResumePoint point;
+  point.compaction = latest_checkpoint(checkpoints);
+  if (!point.compaction) point.settle = latest_checkpoint(checkpoints, settle_checkpoint_prefix);
+  if (point.compaction)
+    spdlog::info("compact: resuming {} from the checkpoint at step {}", out.string(),
+                 point.compaction->step);
+  else if (point.settle)
+    spdlog::info("compact: resuming {} from the settle's checkpoint at step {}", out.string(),
+                 point.settle->step);
+  else
+    spdlog::info("compact: {} has no checkpoint yet: starting the run again", out.string());
+  for (const auto* sub : {"", "snapshots"})
+    remove_stale_temporaries(out / sub);
+  return point;
+}
+
+// The settle's checkpoints (of a generated bed), from `resume` when there is one; the settle's
+// step is kept in `settle_steps` for the record of a stopped run.
+SettleCheckpoints settle_checkpoints(const std::optional<CheckpointFiles>& resume,
+                                     ResumableRun& resumable, const fs::path& out,
+                                     const Provenance& provenance, std::int64_t& settle_steps) {
+  SettleCheckpoints checkpoints;
+  if (resume) checkpoints.resume = read_snapshot(resume->snapshot);
+  checkpoints.after_step = [&](const Engine& e) {
     settle_steps = e.step_index();
     return resumable.after_step(e.step_index(),
                                 [&] { write_settle_checkpoint(out, e, provenance); });
   };
-  PreparedCompaction prepared;
+  return checkpoints;
+}
+
+// The bed the compaction starts (or continues) from, with the records and snapshot index it had
+// written before its checkpoint.
+struct StartedBed {
+  PreparedCompaction prepared;  // no engine: the settle was stopped
   CheckpointHistory history;
+};
+
+// The compaction's checkpoint, its records' fractions by shape volume filled in from their gaps.
+StartedBed continue_from_checkpoint(const CompactConfig& config,
+                                    const CheckpointFiles& checkpoint) {
+  StartedBed bed;
+  bed.history = read_checkpoint_history(checkpoint.record);
+  bed.prepared = resume_compaction(config, read_snapshot(checkpoint.snapshot));
+  if (bed.history.compaction.records.empty() && bed.prepared.punch.phase != PunchPhase::relax)
+    throw InputError(
+        fmt::format("{}: no records, and the snapshot's punch is past its "
+                    "relaxation (a damaged checkpoint)",
+                    checkpoint.record.string()));
+  // The checkpoint keeps each record's gap; its fraction by shape volume follows from it.
+  const CompactionSetup& setup = bed.prepared.setup;
+  for (PunchRecord& r : bed.history.compaction.records)
+    r.solid_fraction_shape = setup.shape_volume / (setup.die_area * r.gap);
+  return bed;
+}
+
+// The bed from the compaction's checkpoint, a --restart snapshot, a --packing or the config's
+// [generate] (settled), each input named in `meta`.
+StartedBed start_bed(const CompactCli& cli, const CompactConfig& config,
+                     const std::optional<CheckpointFiles>& checkpoint,
+                     SettleCheckpoints settle_checkpoints, RunMetadata& meta) {
+  StartedBed bed;
   if (checkpoint) {
-    history = read_checkpoint_history(checkpoint->record);
-    prepared = resume_compaction(config, read_snapshot(checkpoint->snapshot));
-    if (history.compaction.records.empty() && prepared.punch.phase != PunchPhase::relax)
-      throw InputError(
-          fmt::format("{}: no records, and the snapshot's punch is past its "
-                      "relaxation (a damaged checkpoint)",
-                      checkpoint->record.string()));
-    // The checkpoint keeps each record's gap; its fraction by shape volume follows from it.
-    for (PunchRecord& r : history.compaction.records)
-      r.solid_fraction_shape = prepared.setup.shape_volume / (prepared.setup.die_area * r.gap);
+    bed = continue_from_checkpoint(config, *checkpoint);
     // The inputs the run started from, so run.json is the uninterrupted run's.
     if (!cli.restart.empty()) meta.input("restart", cli.restart);
     if (!cli.packing.empty()) meta.input("packing", cli.packing);
     if (cli.restart.empty() && config.clumps && !config.clumps->templates.empty())
       meta.input("templates", config.clumps->templates);
   } else if (!cli.restart.empty()) {
-    prepared = resume_compaction(config, read_snapshot(cli.restart));
+    bed.prepared = resume_compaction(config, read_snapshot(cli.restart));
     meta.input("restart", cli.restart);
   } else {
     if (!cli.packing.empty() && is_body_packing(cli.packing)) {
-      prepared = prepare_compaction(config, read_packing(cli.packing));
+      bed.prepared = prepare_compaction(config, read_packing(cli.packing));
     } else {
       std::optional<SphereList> spheres;
       if (!cli.packing.empty()) spheres = read_spheres(cli.packing);
-      prepared = prepare_compaction(config, spheres, std::move(settle_checkpoints));
-      if (!prepared.engine) return resumable.stopped(settle_steps);
+      bed.prepared = prepare_compaction(config, spheres, std::move(settle_checkpoints));
+      if (!bed.prepared.engine) return bed;
     }
     if (!cli.packing.empty()) meta.input("packing", cli.packing);
     if (config.clumps && !config.clumps->templates.empty())
       meta.input("templates", config.clumps->templates);
   }
-  Engine& engine = *prepared.engine;
-  // Where the punch starts when [box] leaves it to the packing: the effective config states it.
-  if (std::isnan(config.punch)) config.punch = engine.walls()[prepared.setup.punch_wall].position;
+  return bed;
+}
+
+void log_time_step(const Engine& engine, const CompactionSetup& setup) {
   spdlog::info(
       "compact: {} spheres ({} rigid clumps), time step {:.3g} s ({:.3g} of the Rayleigh time, "
       "{:.0f} steps per Hertz collision)",
-      engine.state().size(), engine.clumps().size(), prepared.setup.time_step.time_step,
-      prepared.setup.time_step.time_step / prepared.setup.time_step.rayleigh_time,
-      prepared.setup.time_step.collision_time / prepared.setup.time_step.time_step);
+      engine.state().size(), engine.clumps().size(), setup.time_step.time_step,
+      setup.time_step.time_step / setup.time_step.rayleigh_time,
+      setup.time_step.collision_time / setup.time_step.time_step);
+}
 
-  // What the run used, every key with its value (defaults and --steps included); a resumed run
-  // has it from its start (where the punch started is no longer in the engine).
-  if (!checkpoint) {  // (again after a settle checkpoint: the same text)
-    write_file_atomically(
-        out / "effective.toml",
-        fmt::format("# {}\n# the effective config of this compact run\n", command_line) +
-            compact_config_toml(config));
-  }
-  CsvWriter csv(out / "punch.csv", punch_csv_columns());
+// What the run used, every key with its value (defaults and --steps included).
+void write_effective_config(const fs::path& out, const std::string& command_line,
+                            const CompactConfig& config) {
+  write_file_atomically(
+      out / "effective.toml",
+      fmt::format("# {}\n# the effective config of this compact run\n", command_line) +
+          compact_config_toml(config));
+}
+
+// punch.csv's comments: the strain's reference, the volumes its solid fractions divide by, the
+// mass scaling and where loading stops.
+void write_punch_csv_comments(CsvWriter& csv, const PreparedCompaction& prepared,
+                              const CompactConfig& config) {
   const CompactionSetup& setup = prepared.setup;
   csv.comment(fmt::format("shapepress compact; strain from H0 = {:.10g} m; die area {:.10g} m^2",
                           prepared.punch.reference_gap, setup.die_area));
@@ -181,68 +212,59 @@ int run(const CompactCli& given, const RunContext& context) {
         setup.max_solid_fraction, *setup.program.min_gap,
         1.0 - *setup.program.min_gap / prepared.punch.reference_gap, *setup.program.target_gap));
   csv.comment("phase: 0 load, 1 hold, 2 unload, 4 release, 3 done");
-  std::vector<SnapshotIndexEntry>& index = history.snapshots;
+}
+
+// What the compaction writes as it runs: punch.csv's rows, the snapshots and their index, and
+// the checkpoints.
+CompactionHooks output_hooks(CsvWriter& csv, std::vector<SnapshotIndexEntry>& index,
+                             const fs::path& out, const CompactionSetup& setup,
+                             const Provenance& provenance, ResumableRun& resumable) {
   CompactionHooks hooks;
   hooks.record = [&](const PunchRecord& r) { csv.row(punch_csv_row(r)); };
   hooks.snapshot = [&](const Engine& e, const PunchState& punch) {
     const std::string name = fmt::format("step_{:010d}.h5", e.step_index());
     write_snapshot(out / "snapshots" / name, e, compaction_scenario_state(punch, setup),
                    provenance);
-    index.push_back({std::filesystem::path("snapshots") / name, e.time(), e.state().size(),
-                     e.walls().size(), e.computes_particle_stress(), e.bonds().size(),
-                     e.clumps().size()});
+    index.push_back({fs::path("snapshots") / name, e.time(), e.state().size(), e.walls().size(),
+                     e.computes_particle_stress(), e.bonds().size(), e.clumps().size()});
     write_xdmf(out / "snapshots.xdmf", index);
   };
-  // The rows before the checkpoint, as the run wrote them (the same numbers, the same text).
-  for (const PunchRecord& r : history.compaction.records)
-    hooks.record(r);
   hooks.after_step = [&](const Engine& e, const PunchState& punch, const CompactionHistory& h) {
     return resumable.after_step(e.step_index(), [&] {
       write_compact_checkpoint(out, e, compaction_scenario_state(punch, setup), provenance,
                                {h, index});
     });
   };
-  // Steps to the run's limit, or the punch program's estimate (a displacement run), from here:
-  // a resumed run's rate and ETA are this process's.
-  const std::int64_t first_step = engine.step_index();
+  return hooks;
+}
+
+// Steps to the run's limit, or the punch program's estimate (a displacement run), from here:
+// a resumed run's rate and ETA are this process's.
+double steps_to_go(const Engine& engine, const PreparedCompaction& prepared,
+                   const CompactConfig& config) {
+  const CompactionSetup& setup = prepared.setup;
   const double gap =
       engine.walls()[setup.punch_wall].position - engine.walls()[setup.bottom_wall].position;
-  const double total = config.setup.max_steps > 0
-                           ? static_cast<double>(config.setup.max_steps - first_step)
-                           : remaining_steps_estimate(setup.program, prepared.punch, engine.time(),
-                                                      gap, engine.settings().time_step);
-  ProgressReporter progress("compact", total, {.quiet = context.quiet});
-  if (total > 0)
-    hooks.progress = [&](std::int64_t step) {
-      progress.update(static_cast<double>(step - first_step), phase_name(prepared.punch.phase));
-    };
-  const double h0 = prepared.punch.reference_gap;
-  const CompactionSummary summary =
-      run_compaction(engine, prepared.setup, prepared.punch, hooks, std::move(history.compaction));
-  if (summary.interrupted) return resumable.stopped(engine.step_index());  // not "100 % done"
-  progress.finish();
-  const QuasiStaticCheck& qs = summary.quasi_static;
-  const auto warn_phase = [](const char* phase, const PhaseQuasiStatic& p) {
-    if (p.records == 0 || p.quasi_static()) return;
-    spdlog::warn(
-        "compact: the {} was not quasi-static: kinetic energy up to {:.3g} of the punch's work "
-        "(limit {}), top and bottom forces {:.3g} apart on average (limit {}), inertial number "
-        "up to {:.3g} (limit {}); slow the punch, or lower run.density_scale",
-        phase, p.max_kinetic_to_work, PhaseQuasiStatic::max_kinetic_energy_ratio,
-        p.mean_force_imbalance, PhaseQuasiStatic::max_mean_force_imbalance, p.max_inertial_number,
-        PhaseQuasiStatic::max_inertial_number_limit);
-  };
-  warn_phase("loading", qs);
-  warn_phase("unloading", qs.unload);
-  csv.commit();
-  meta.output("punch.csv");
-  if (!index.empty()) meta.output("snapshots.xdmf");
-  meta.options(compact_command(cli).json());
-  add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, engine, summary);
-  meta.write(out / run_metadata_name);
-  resumable.finish();
+  return config.setup.max_steps > 0
+             ? static_cast<double>(config.setup.max_steps - engine.step_index())
+             : remaining_steps_estimate(setup.program, prepared.punch, engine.time(), gap,
+                                        engine.settings().time_step);
+}
+
+void warn_unless_quasi_static(const char* phase, const PhaseQuasiStatic& p) {
+  if (p.records == 0 || p.quasi_static()) return;
+  spdlog::warn(
+      "compact: the {} was not quasi-static: kinetic energy up to {:.3g} of the punch's work "
+      "(limit {}), top and bottom forces {:.3g} apart on average (limit {}), inertial number "
+      "up to {:.3g} (limit {}); slow the punch, or lower run.density_scale",
+      phase, p.max_kinetic_to_work, PhaseQuasiStatic::max_kinetic_energy_ratio,
+      p.mean_force_imbalance, PhaseQuasiStatic::max_mean_force_imbalance, p.max_inertial_number,
+      PhaseQuasiStatic::max_inertial_number_limit);
+}
+
+// One machine-readable line for scripts (tests/bench/hertz-compaction/run.sh).
+void print_summary_line(const CompactionSummary& summary, const Engine& engine, double h0) {
   const PunchRecord& last = summary.last;
-  // One machine-readable line for scripts (tests/bench/hertz-compaction/run.sh).
   std::printf(
       "SUMMARY steps=%lld loop_s=%.6g particle_steps_per_s=%.6g punch_force_N=%.6g "
       "bottom_force_N=%.6g max_stress_Pa=%.6g contacts_per_particle=%.6g kinetic_energy_J=%.6g "
@@ -253,6 +275,78 @@ int run(const CompactCli& given, const RunContext& context) {
                                : 0.0,
       last.top_force, last.bottom_force, summary.max_stress, last.contacts_per_particle,
       last.kinetic_energy, static_cast<long long>(engine.list_builds()), h0);
+}
+
+int run(const CompactCli& given, const RunContext& context) {
+  const fs::path resumed(given.resume);
+  if (finished_before_resume("compact", given.resume, resumed / std::string(checkpoint_folder),
+                             resumed / std::string(run_metadata_name)))
+    return 0;
+  auto [cli, command_line] = resolve_invocation(given, context);
+  const fs::path out(cli.out);
+  const fs::path checkpoints = out / std::string(checkpoint_folder);
+  const ResumePoint resume =
+      given.resume.empty() ? ResumePoint{} : find_resume_point(out, checkpoints);
+  RunMetadata meta("compact", command_line);
+  const ConfigTable root = ConfigTable::load_file(cli.config);
+  // Hashed once each reader has accepted the file, so a missing file keeps the reader's message.
+  meta.input("config", cli.config);
+  CompactConfig config = read_compact_config(root);
+  root.check_unknown_keys();
+  if (cli.steps) config.setup.max_steps = *cli.steps;
+  ensure_output_folder(out / "snapshots");
+  // Before the settle, so --resume can start a run killed before its first checkpoint again.
+  ResumableRun resumable("compact", out, checkpoints,
+                         {config.checkpoint_every, config.checkpoint_minutes});
+  resumable.start(!given.resume.empty(), compact_command(cli).invocation(command_line));
+  const Provenance provenance{
+      command_line, root.text(),
+      config.generate ? std::optional(config.generate->seed) : std::nullopt};
+  std::int64_t settle_steps = 0;
+  StartedBed bed =
+      start_bed(cli, config, resume.compaction,
+                settle_checkpoints(resume.settle, resumable, out, provenance, settle_steps), meta);
+  PreparedCompaction& prepared = bed.prepared;
+  if (!prepared.engine) return resumable.stopped(settle_steps);
+  Engine& engine = *prepared.engine;
+  const CompactionSetup& setup = prepared.setup;
+  // Where the punch starts when [box] leaves it to the packing: the effective config states it.
+  if (std::isnan(config.punch)) config.punch = engine.walls()[setup.punch_wall].position;
+  log_time_step(engine, setup);
+  // A resumed run has its effective config from its start (where the punch started is no longer
+  // in the engine); again after a settle checkpoint: the same text.
+  if (!resume.compaction) write_effective_config(out, command_line, config);
+
+  CsvWriter csv(out / "punch.csv", punch_csv_columns());
+  write_punch_csv_comments(csv, prepared, config);
+  std::vector<SnapshotIndexEntry>& index = bed.history.snapshots;
+  CompactionHooks hooks = output_hooks(csv, index, out, setup, provenance, resumable);
+  // The rows before the checkpoint, as the run wrote them (the same numbers, the same text).
+  for (const PunchRecord& r : bed.history.compaction.records)
+    hooks.record(r);
+  const std::int64_t first_step = engine.step_index();
+  const double total = steps_to_go(engine, prepared, config);
+  ProgressReporter progress("compact", total, {.quiet = context.quiet});
+  if (total > 0)
+    hooks.progress = [&](std::int64_t step) {
+      progress.update(static_cast<double>(step - first_step), phase_name(prepared.punch.phase));
+    };
+  const double h0 = prepared.punch.reference_gap;
+  const CompactionSummary summary =
+      run_compaction(engine, setup, prepared.punch, hooks, std::move(bed.history.compaction));
+  if (summary.interrupted) return resumable.stopped(engine.step_index());  // not "100 % done"
+  progress.finish();
+  warn_unless_quasi_static("loading", summary.quasi_static);
+  warn_unless_quasi_static("unloading", summary.quasi_static.unload);
+
+  csv.commit();
+  meta.output("punch.csv");
+  if (!index.empty()) meta.output("snapshots.xdmf");
+  meta.options(compact_command(cli).json());
+  add_compaction_facts(meta, config, setup, prepared.punch.reference_gap, engine, summary);
+  meta.write(out / run_metadata_name);
+  resumable.finish();
+  print_summary_line(summary, engine, h0);
   return 0;
 }
 
