@@ -111,4 +111,26 @@ inline std::vector<std::filesystem::path> files_under(const std::filesystem::pat
   return files;
 }
 
+// `text` (a TOML config) with `key = value` in its [table]: the key's line replaced, or added
+// under the header. A missing table is a test failure (the config changed under the test).
+inline std::string with_config_key(std::string text, const std::string& table,
+                                   const std::string& key, const std::string& value) {
+  const std::string header = "\n[" + table + "]\n";
+  const std::size_t at = text.find(header);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no [" << table << "] to set " << key << " in: update the test";
+    return text;
+  }
+  const std::size_t body = at + header.size();
+  const std::size_t next = std::min(text.find("\n[", body), text.size());
+  const std::size_t line = text.find("\n" + key + " = ", body - 1);
+  if (line != std::string::npos && line < next) {
+    const std::size_t end = text.find('\n', line + 1);
+    text.replace(line + 1, end - line - 1, key + " = " + value);
+  } else {
+    text.insert(body, key + " = " + value + "\n");
+  }
+  return text;
+}
+
 }  // namespace shapepress::testing

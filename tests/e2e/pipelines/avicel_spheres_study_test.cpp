@@ -24,16 +24,8 @@ using shapepress::testing::read_text;
 using shapepress::testing::repository_root;
 using shapepress::testing::run_command;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::with_config_key;
 using shapepress::testing::write_text;
-
-// `text` with the first line that starts with `key = ` set to `key = value`.
-std::string with_line(std::string text, const std::string& key, const std::string& value) {
-  const std::size_t at = text.find("\n" + key + " = ");
-  EXPECT_NE(at, std::string::npos) << key;
-  if (at == std::string::npos) return text;
-  text.replace(at + 1, text.find('\n', at + 1) - at - 1, key + " = " + value);
-  return text;
-}
 
 // The max_stress_Pa of a compaction's SUMMARY line (compact's standard output).
 double summary_peak_stress(const fs::path& summary) {
@@ -46,9 +38,9 @@ double summary_peak_stress(const fs::path& summary) {
 TEST(AvicelSpheresStudy, ReducedStudyRunsTheReferenceTheSweepAndTheirReports) {
   const fs::path out = fresh_directory("avicel_spheres");
   std::string config = read_text(repository_root() / "pipelines/configs/avicel-ph200-spheres.toml");
-  config = with_line(config, "settle_time", "\"20 ms\"");
-  config = with_line(config, "speed", "\"0.2 m/s\"");
-  config = with_line(config, "unload_speed", "\"0.2 m/s\"");
+  config = with_config_key(config, "generate", "settle_time", "\"20 ms\"");
+  config = with_config_key(config, "punch", "speed", "\"0.2 m/s\"");
+  config = with_config_key(config, "punch", "unload_speed", "\"0.2 m/s\"");
   write_text(out / "reduced.toml", config);
   const std::string study =
       "make -s -C " + shell_quoted(repository_root() / "pipelines" / "avicel-spheres") +

@@ -30,6 +30,7 @@ using shapepress::testing::read_text;
 using shapepress::testing::repository_root;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::with_config_key;
 using shapepress::testing::write_text;
 
 // A key of one [table] set to a TOML value in the copy of a config.
@@ -155,26 +156,6 @@ std::string replaced_all(std::string text, const std::string& from, const std::s
   return text;
 }
 
-// `text` with `key = value` in its [table]: the key's line replaced, or added under the header.
-std::string with_key(std::string text, const Shortened& s) {
-  const std::string header = "\n[" + s.table + "]\n";
-  const std::size_t table = text.find(header);
-  if (table == std::string::npos) {
-    ADD_FAILURE() << "no [" << s.table << "] to shorten: update this test's row";
-    return text;
-  }
-  const std::size_t body = table + header.size();
-  const std::size_t next = std::min(text.find("\n[", body), text.size());
-  const std::size_t line = text.find("\n" + s.key + " = ", body - 1);
-  if (line != std::string::npos && line < next) {
-    const std::size_t end = text.find('\n', line + 1);
-    text.replace(line + 1, end - line - 1, s.key + " = " + s.value);
-  } else {
-    text.insert(body, s.key + " = " + s.value + "\n");
-  }
-  return text;
-}
-
 void make_input(Input input, const fs::path& dir) {
   switch (input) {
     case Input::none:
@@ -225,7 +206,7 @@ TEST_P(ShippedConfig, ReadByItsStageAndRunsAFewSteps) {
   make_input(run.input, dir);
   std::string text = read_text(repository_root() / "pipelines" / name);
   for (const Shortened& s : run.shortened)
-    text = with_key(text, {s.table, s.key, replaced_all(s.value, "{dir}", dir.string())});
+    text = with_config_key(text, s.table, s.key, replaced_all(s.value, "{dir}", dir.string()));
   const fs::path config = dir / fs::path(name).filename();
   write_text(config, text);
   std::string arguments = replaced_all(run.arguments, "{config}", shell_quoted(config));
