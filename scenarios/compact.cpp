@@ -22,6 +22,7 @@ ScenarioState compaction_scenario_state(const PunchState& punch, const Compactio
   state.emplace_back("collision_time_s", t.collision_time);
   state.emplace_back("collision_speed_m_per_s", t.collision_speed);
   state.emplace_back("bond_period_s", t.bond_period);
+  state.emplace_back("bond_stability_step_s", t.bond_stability_step);
   state.emplace_back("clump_period_s", t.clump_period);
   state.emplace_back("bond_substeps", t.bond_substeps);
   return state;

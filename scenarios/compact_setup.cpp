@@ -259,7 +259,7 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   const TimeStepChoice step =
       select_time_step(bed.state, table, {wall}, c.run.time_step, c.run.time_step_fraction,
                        expected_speed(c, bed.state), bed.bonds, bed.clumps,
-                       c.run.engine.bond_substeps, c.run.bond_time_step_fraction);
+                       c.run.engine.bond_substeps, c.run.bond_time_step_fraction, packing.box);
   const EngineSettings settings = compaction_settings(c, bed.state, step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
@@ -285,7 +285,7 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
   TimeStepChoice step = select_time_step(
       snapshot.state, table, wall_materials, c.run.time_step, c.run.time_step_fraction,
       expected_speed(c, snapshot.state), snapshot.checkpoint.bonds, snapshot.checkpoint.clumps,
-      c.run.engine.bond_substeps, c.run.bond_time_step_fraction);
+      c.run.engine.bond_substeps, c.run.bond_time_step_fraction, snapshot.box);
   // The uninterrupted run's step, where the snapshot keeps it (compaction_scenario_state): the
   // bound just computed reads the bonds' lengths now, not at the start.
   for (const auto& [name, value] : snapshot.scenario) {
@@ -294,6 +294,7 @@ PreparedCompaction resume_compaction(const CompactConfig& c, LoadedSnapshot snap
     if (name == "collision_time_s") step.collision_time = value;
     if (name == "collision_speed_m_per_s") step.collision_speed = value;
     if (name == "bond_period_s") step.bond_period = value;
+    if (name == "bond_stability_step_s") step.bond_stability_step = value;
     if (name == "clump_period_s") step.clump_period = value;
     if (name == "bond_substeps") step.bond_substeps = static_cast<int>(value);
   }

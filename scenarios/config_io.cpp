@@ -125,10 +125,11 @@ void add_run_rows(OptionTable<S>& t, Run run, std::string skin_default) {
       .number(
           "bond_time_step_fraction",
           [run](auto& c) -> auto& { return run(c).bond_time_step_fraction; },
-          Range::open_closed(0.0, 1.0 / std::numbers::pi),
-          "the bonds' bound on the step as a fraction of their period bound, at most 1/pi "
-          "(velocity Verlet's stability limit); their fastest modes need stability, not "
-          "resolution")
+          Range::open_closed(0.0, 1.0),
+          "the bonds' bound on the step as a fraction of their period bound (Gershgorin's); "
+          "above the stability limit of the bed's bonds (0.9 x 2/omega_max, estimated; "
+          "between 1/pi and about 2/pi of the bound) a run is refused; their fastest modes need "
+          "stability, not resolution")
       .default_text("time_step_fraction")
       .quantity(
           "skin", [run](auto& c) -> auto& { return run(c).skin; }, dim::length,

@@ -85,6 +85,8 @@ void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
   // this fact did not keep the part before it.
   if (std::isfinite(summary.total_loop_seconds)) meta.fact("loop_s", summary.total_loop_seconds);
   if (std::isfinite(time_step.bond_period)) meta.fact("bond_period_s", time_step.bond_period);
+  if (std::isfinite(time_step.bond_stability_step))
+    meta.fact("bond_stability_step_s", time_step.bond_stability_step);
   if (std::isfinite(time_step.clump_period)) meta.fact("clump_period_s", time_step.clump_period);
   if (setup.strain_reference == CompactionSetup::StrainReference::solid_fraction)
     meta.fact("reference_solid_fraction", setup.reference_solid_fraction);

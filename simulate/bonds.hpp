@@ -227,4 +227,27 @@ double bond_elastic_energy(const BondSet& bonds);
 // it (timestep.hpp), as it takes a fraction of the Rayleigh time for contacts.
 double bond_oscillation_period(const BondSet& bonds, const SphereState& state);
 
+// The bonded network's highest angular frequency ω_max [rad/s]: the square root of the largest
+// eigenvalue of M^-1/2 K M^-1/2, K the intact bonds' stiffness linearised about the present state
+// (each bond a normal, shear, twist and bending spring, the shear acting at the bond's centre, as
+// advance_springs integrates them), by Lanczos iteration from a fixed start vector; the largest
+// Ritz value approaches it from below. Gershgorin's bound (bond_oscillation_period) is a bound on
+// the same number and at least as large. 0 without intact bonds. (bond_spectrum.cpp)
+double bond_top_frequency(const BondSet& bonds, const SphereState& state, const Box& box);
+
+// The largest damping rate of the bond dampers [1/s]: the largest eigenvalue of M^-1/2 C M^-1/2,
+// C the dampers' matrix (the springs' structure with the coefficients 2ζ√(k m*)), by the same
+// iteration. 0 without dampers.
+double bond_top_damping_rate(const BondSet& bonds, const SphereState& state, const Box& box);
+
+// The margin on the estimated stability limit: the Ritz values are lower bounds, and a loaded
+// bed's contacts add their stiffness to the same sub-spheres' modes.
+inline constexpr double bond_stability_margin = 0.9;
+
+// The longest step velocity Verlet takes stably through the bonds with the engine's dampers:
+// bond_stability_margin × 2(√(γ² + ω²) − γ)/ω², ω of bond_top_frequency and γ of
+// bond_top_damping_rate (2/ω undamped, 1/γ for dampers alone; bond_spectrum.cpp says why).
+// +inf without intact bonds.
+double bond_stability_step(const BondSet& bonds, const SphereState& state, const Box& box);
+
 }  // namespace shapepress::simulate

@@ -125,15 +125,19 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
 
 namespace {
 
-// fraction × the bonded network's period bound when that is shorter; a fixed step above the
-// stability limit T_b/π is an InputError.
+// fraction × the bonded network's period bound when that is shorter; a step above the bonds'
+// stability limit is an InputError.
 TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fixed, double fraction,
                                 const BondSet& bonds, const SphereState& state, int bond_substeps,
-                                std::optional<double> bond_fraction) {
+                                std::optional<double> bond_fraction, const Box& box) {
   if (bond_substeps < 0)
     throw InputError(fmt::format("bond_substeps must be >= 0, got {}", bond_substeps));
   choice.bond_period = bond_oscillation_period(bonds, state);
   if (!std::isfinite(choice.bond_period)) return choice;
+  // Gershgorin's period bound is what a fraction takes (a step that does not move with the
+  // estimate's last digits); the estimated top frequency is what stability is judged by.
+  choice.bond_stability_step = bond_stability_step(bonds, state, box);
+  const double limit = choice.bond_stability_step;
   const double bonds_fraction = bond_fraction.value_or(fraction);
   if (bond_substeps != 1) {
     const double bond_step = bonds_fraction * choice.bond_period;
@@ -144,33 +148,32 @@ TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fix
             : std::max(1, static_cast<int>(std::ceil(contacts / bond_step * (1.0 - 1e-12))));
     choice.bond_substeps = n;
     if (!fixed) choice.time_step = std::min(contacts, n * bond_step);
-    if (choice.time_step / n > choice.bond_period / std::numbers::pi)
+    if (choice.time_step / n > limit)
       throw InputError(fmt::format(
           "a bond sub-step of {:.3g} s ({} per step of {:.3g} s) is above the stability limit "
           "{:.3g} s of the stiffest bonds (period bound {:.3g} s): raise bond_substeps or lower "
           "time_step",
-          choice.time_step / n, n, choice.time_step, choice.bond_period / std::numbers::pi,
-          choice.bond_period));
+          choice.time_step / n, n, choice.time_step, limit, choice.bond_period));
     return choice;
   }
   if (fixed) {
-    if (*fixed > choice.bond_period / std::numbers::pi)
+    if (*fixed > limit)
       throw InputError(fmt::format(
           "time_step {:.3g} s is above the stability limit {:.3g} s of the stiffest bonds "
           "(period bound {:.3g} s): lower time_step or the bond stiffness",
-          *fixed, choice.bond_period / std::numbers::pi, choice.bond_period));
+          *fixed, limit, choice.bond_period));
     return choice;
   }
   choice.time_step = std::min(choice.time_step, bonds_fraction * choice.bond_period);
-  // Velocity Verlet is stable below 2/ω_max = T_b/π: a fraction above 1/π of the bond period
-  // is refused where the bonds set the step (a shorter Rayleigh step keeps it stable).
-  if (choice.time_step > choice.bond_period / std::numbers::pi)
+  // A shorter Rayleigh step keeps any fraction stable; where the bonds set the step, a fraction
+  // beyond what the bed's top frequency allows is refused.
+  if (choice.time_step > limit)
     throw InputError(fmt::format(
-        "{} {:.3g} is above {:.3g} (1/π), the stability limit of the stiffest bonds (period "
-        "bound {:.3g} s, step {:.3g} s above T_b/π = {:.3g} s): lower it",
+        "{} {:.3g} is above {:.3g}, the stability limit of this bed's bonds (step {:.3g} s "
+        "against {:.3g} s, {:.2g} x 2/omega_max; period bound {:.3g} s): lower it",
         bond_fraction ? "bond_time_step_fraction" : "time_step_fraction", bonds_fraction,
-        1.0 / std::numbers::pi, choice.bond_period, choice.time_step,
-        choice.bond_period / std::numbers::pi));
+        limit / choice.bond_period, choice.time_step, limit, bond_stability_margin,
+        choice.bond_period));
   return choice;
 }
 
@@ -178,17 +181,18 @@ TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fix
 
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
-                                double fraction, double speed, const BondSet& bonds) {
+                                double fraction, double speed, const BondSet& bonds,
+                                const Box& box) {
   return checked(with_bond_period(
       select_with_masses(state, materials, wall_materials, fixed, fraction, speed, state.mass),
-      fixed, fraction, bonds, state, 1, std::nullopt));
+      fixed, fraction, bonds, state, 1, std::nullopt, box));
 }
 
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds,
                                 const ClumpSet& clumps, int bond_substeps,
-                                std::optional<double> bond_fraction) {
+                                std::optional<double> bond_fraction, const Box& box) {
   std::vector<double> mass(state.mass.begin(), state.mass.end());
   std::vector<double> overlap(state.size(), 0.0);
   std::vector<int> partners = wall_materials;
@@ -203,7 +207,7 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
   partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
   TimeStepChoice choice = with_bond_period(
       select_with_masses(state, materials, wall_materials, fixed, fraction, speed, mass), fixed,
-      fraction, bonds, state, bond_substeps, bond_fraction);
+      fraction, bonds, state, bond_substeps, bond_fraction, box);
   choice.clump_period = clump_contact_period(clumps, state, materials, partners, overlap);
   if (choice.bond_substeps > 1 && !clumps.empty())
     throw InputError("bond_substeps > 1 does not take rigid clumps");

@@ -39,7 +39,10 @@ struct TimeStepChoice {
   double rayleigh_time = 0.0;    // of the smallest sphere
   double collision_time = 0.0;   // shortest Hertz impact at `speed`, sphere–sphere or –wall
   double collision_speed = 0.0;  // m/s, the speed it was taken at
-  double bond_period = std::numeric_limits<double>::infinity();   // bond_oscillation_period
+  double bond_period = std::numeric_limits<double>::infinity();  // bond_oscillation_period
+  // The longest stable step through the bonds (bond_stability_step): a step, or a bond sub-step,
+  // above it is refused.
+  double bond_stability_step = std::numeric_limits<double>::infinity();
   double clump_period = std::numeric_limits<double>::infinity();  // clump_contact_period
   // Bond sub-steps per step (EngineSettings::bond_substeps): time_step / bond_substeps is the
   // bonds' step.
@@ -72,17 +75,20 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 double fraction, double speed);
 
 // With bonds: fraction × min(Rayleigh time, the bonded network's shortest period bound
-// T_b = 2π/ω_max). A step above T_b/π (velocity Verlet's stability limit 2/ω_max) is an
-// InputError: a fixed one naming time_step, one the bonds set with a fraction above 1/π naming
-// time_step_fraction.
+// T_b = 2π/ω_G, ω_G Gershgorin's bound on the top frequency). A step above the bonds' stability
+// limit (bond_stability_step: 0.9 × velocity Verlet's 2/ω_max with ω_max estimated by Lanczos,
+// between T_b/π and about twice it) is an InputError: a fixed one naming time_step, one the
+// bonds set naming time_step_fraction with the largest fraction this bed allows. `box`: the
+// periodic box, for the bonds' directions across it.
 TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& materials,
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
-                                double fraction, double speed, const BondSet& bonds);
+                                double fraction, double speed, const BondSet& bonds,
+                                const Box& box = {});
 
 // `bond_fraction`, when given, replaces `fraction` for the bonds' bound: the bonds' step is
-// bond_fraction × T_b, at most T_b/π. The bonds' fastest modes (a sub-sphere turning against its
-// bonds) carry little of a pressed bed's energy, so their step needs stability rather than the
-// contacts' resolution (docs/measurements.md, "A longer step for the bonds").
+// bond_fraction × T_b, below the stability limit. The bonds' fastest modes (a sub-sphere turning
+// against its bonds) carry little of a pressed bed's energy, so their step needs stability
+// rather than the contacts' resolution (docs/measurements.md, "A longer step for the bonds").
 // With bond sub-steps (`bond_substeps` n > 1, EngineSettings::bond_substeps): the bonds take
 // fraction × T_b per sub-step and the step is fraction × the contacts' bound (Rayleigh time,
 // clumps), at most n sub-steps long; n = 0 takes as many sub-steps as that bound needs
@@ -96,6 +102,7 @@ TimeStepChoice select_time_step(const SphereState& state, const MaterialTable& m
                                 const std::vector<int>& wall_materials, std::optional<double> fixed,
                                 double fraction, double speed, const BondSet& bonds,
                                 const ClumpSet& clumps, int bond_substeps = 1,
-                                std::optional<double> bond_fraction = std::nullopt);
+                                std::optional<double> bond_fraction = std::nullopt,
+                                const Box& box = {});
 
 }  // namespace shapepress::simulate

@@ -138,8 +138,8 @@ TEST(TimeStep, AStiffStatedPairShortensTheRayleighStep) {
 TEST(TimeStep, TheCollisionCheckSeesTheStepAfterTheBondBound) {
   // Stiff bonds between soft spheres: the Rayleigh step alone resolves a 5 m/s impact on the
   // stiff plate with fewer than 10 steps, the bond bound's shorter step does not; the check
-  // judges the step the run takes. The fraction is 0.3, below the 1/π at which a step the bonds
-  // set is refused as unstable (velocity Verlet, 2/ω_max).
+  // judges the step the run takes. The fraction is 0.3, below the bonds' stability limit (at
+  // least 0.9/π of the period bound) above which a step the bonds set is refused.
   const Material soft{"soft", 2e7, 0.46, 2000.0}, plate{"plate", 1e9, 0.3, 7800.0};
   Interaction against_plate{"soft", "plate", 0.7, 0.5};
   against_plate.effective_modulus = 1e9;

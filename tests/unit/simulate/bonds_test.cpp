@@ -534,11 +534,11 @@ TEST(BondSubsteps, ASubstepAboveTheBondsStabilityLimitIsRefused) {
   const BondSet bonds = create_bonds(s, 1.15, stiff());
   MaterialTable table({{"m", 1e7, 0.3, rho}}, {{"m", "m", 0.7, 0.5}});
   const double bound = bond_oscillation_period(bonds, s);
-  // A fixed step of 2 × the limit needs 3 sub-steps; 2 put each on the limit's edge or above.
-  EXPECT_NO_THROW(
-      select_time_step(s, table, {}, 2 * bound / std::numbers::pi, 0.2, 0.1, bonds, ClumpSet{}, 3));
+  const double limit = bond_stability_step(bonds, s, Box{});
+  // A fixed step of 1.8 × the limit takes 2 sub-steps; of 2.2 ×, 2 put each above it.
+  EXPECT_NO_THROW(select_time_step(s, table, {}, 1.8 * limit, 0.2, 0.1, bonds, ClumpSet{}, 2));
   try {
-    select_time_step(s, table, {}, 2.2 * bound / std::numbers::pi, 0.2, 0.1, bonds, ClumpSet{}, 2);
+    select_time_step(s, table, {}, 2.2 * limit, 0.2, 0.1, bonds, ClumpSet{}, 2);
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("raise bond_substeps"));
@@ -603,6 +603,125 @@ TEST(BondBlocks, UndampedGiveTheScalarLoopsBits) {
 }
 TEST(BondBlocks, DampedGiveTheScalarLoopsBits) {
   expect_blocks_match_the_scalar_loop(0.315);
+}
+
+}  // namespace
+}  // namespace shapepress::simulate
+
+namespace shapepress::simulate {
+namespace {
+
+// The bonded network's top frequency by Lanczos (bond_spectrum.cpp) against a pair's modes in
+// closed form, and against velocity Verlet itself on a small body: stable just below 2/ω_max,
+// unstable just above.
+// Two equal spheres (mass m, inertia I) bonded along x with arms a to the bond's centre: the
+// stretch has ω² = 2kn/m, the twist 2kt/I, the bend 2kb/I, and the shear with the spins a
+// rank-one block of energy ½ ks (Δy − a(θi + θj))² over the masses m/2 and I/2 of Δy and θi + θj,
+// ω² = ks (2/m + 2a²/I).
+double pair_top_frequency2(const BondSet& bonds, const SphereState& s) {
+  const double m = s.mass[0], inertia = 1.0 / s.inverse_inertia[0];
+  const double a = 0.5 * bonds.history.length[0];
+  return std::max({2.0 * bonds.normal_spring[0] / m, 2.0 * bonds.twist_spring[0] / inertia,
+                   2.0 * bonds.bend_spring[0] / inertia,
+                   bonds.shear_spring[0] * (2.0 / m + 2.0 * a * a / inertia)});
+}
+
+TEST(BondSpectrum, APairsTopFrequencyIsItsStiffestModeInClosedForm) {
+  BondParameters shear_tops = stiff(), stretch_tops = stiff();
+  stretch_tops.shear_stiffness = 0.1 * kn_bar;
+  for (const BondParameters& p : {shear_tops, stretch_tops}) {
+    const SphereState s = pair_state();
+    const BondSet bonds = create_bonds(s, 1.15, p);
+    const double want = std::sqrt(pair_top_frequency2(bonds, s));
+    EXPECT_NEAR(bond_top_frequency(bonds, s, Box{}), want, 1e-6 * want);
+    // Gershgorin bounds the same number from above.
+    EXPECT_LE(want, 2 * std::numbers::pi / bond_oscillation_period(bonds, s) * (1 + 1e-12));
+  }
+  // The stretch leads in the second set and the shear in the first: both branches are checked.
+  const SphereState s = pair_state();
+  const BondSet bonds = create_bonds(s, 1.15, stretch_tops);
+  EXPECT_DOUBLE_EQ(pair_top_frequency2(bonds, s), 2.0 * bonds.normal_spring[0] / s.mass[0]);
+}
+
+TEST(BondSpectrum, APairAcrossThePeriodicBoundaryHasTheSameFrequency) {
+  const SphereState inside = pair_state();
+  SphereState across = pair_state();
+  const Box box{10 * r, 10 * r};
+  across.position.x[0] = 10 * r - 0.5 * r;  // the pair straddles x = 0 as its nearest image
+  across.position.x[1] = 1.5 * r;
+  const BondSet bonds = create_bonds(inside, 1.15, stiff());
+  EXPECT_NEAR(bond_top_frequency(bonds, across, box), bond_top_frequency(bonds, inside, Box{}),
+              1e-9 * bond_top_frequency(bonds, inside, Box{}));
+}
+
+// A body of 27 sub-spheres on a jittered cubic lattice, 2.05 r apart (bonded by Eq. 10 without
+// touching, so the bonds alone act), every sphere moving at random, run at a multiple of the
+// bonds' stability limit without its margin: below it the energy stays bounded, above it the top
+// mode takes it without bound.
+struct BodyRun {
+  double energy_growth = 0.0;  // largest energy over the first
+};
+
+BodyRun run_body(double step_over_limit, double damping_ratio = 0.0) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> jitter(-0.01 * r, 0.01 * r), speed(-1e-3, 1e-3);
+  SphereState s;
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 3; ++y)
+      for (int z = 0; z < 3; ++z)
+        s.add_sphere(2.05 * r * x + jitter(random), 2.05 * r * y + jitter(random),
+                     2.05 * r * z + jitter(random), r * (1.0 + 0.1 * jitter(random) / r), rho, 0);
+  s.body.assign(s.size(), 0);
+  BondParameters p = stiff();
+  p.contact_when_bonded = false;
+  p.damping_ratio = damping_ratio;
+  BondSet bonds = create_bonds(s, 1.15, p);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    s.velocity.x[i] = speed(random), s.velocity.y[i] = speed(random);
+    s.velocity.z[i] = speed(random), s.angular_velocity.x[i] = speed(random) / r;
+    s.angular_velocity.y[i] = speed(random) / r, s.angular_velocity.z[i] = speed(random) / r;
+  }
+  // The limit without its margin: 2/ω_max undamped.
+  const double dt = step_over_limit * bond_stability_step(bonds, s, Box{}) / bond_stability_margin;
+  MaterialTable table({{"m", 1e3, 0.3, rho}}, {{"m", "m", 0.7, 0.5}});
+  EngineSettings settings{dt, {0, 0, 0}, 0.2 * r};
+  settings.check_every = 1 << 30;  // the run is judged by its energy, not stopped
+  Engine engine(std::move(s), Box{}, table, {}, settings, bonds);
+  const double e0 = engine.energy().elastic + engine.energy().kinetic;
+  BodyRun out;
+  for (int k = 0; k < 3000; ++k) {
+    engine.step();
+    const EnergySummary e = engine.energy();
+    const double growth = (e.elastic + e.kinetic) / e0;
+    if (!std::isfinite(growth) || growth > 1e6) return {1e6};
+    out.energy_growth = std::max(out.energy_growth, growth);
+  }
+  return out;
+}
+
+TEST(BondSpectrum, VerletIsStableJustBelowTheEstimatedLimitAndNotJustAbove) {
+  // Undamped the limit is 2/ω_max; with the dampers the bound (ω dt)² + 4 γ dt ≤ 4 on the largest
+  // ω and γ is as tight on this body (stable to 1.0 of it, unstable from 1.05 at every ζ tried).
+  for (double zeta : {0.0, 0.1, 0.315, 1.0}) {
+    EXPECT_LT(run_body(0.97, zeta).energy_growth, 3.0) << "zeta " << zeta;
+    EXPECT_GT(run_body(1.05, zeta).energy_growth, 1e3) << "zeta " << zeta;
+  }
+}
+
+TEST(BondSpectrum, TheStableStepHoldsTheMarginAndTheDampersTerms) {
+  const SphereState s = pair_state();
+  const BondSet plain = create_bonds(s, 1.15, stiff());
+  const double omega = bond_top_frequency(plain, s, Box{});
+  EXPECT_NEAR(bond_stability_step(plain, s, Box{}), bond_stability_margin * 2.0 / omega,
+              1e-12 / omega);
+  // Dampers: (ω dt)² + 4 γ dt = 4 at the limit without its margin.
+  const BondSet with_dampers = create_bonds(s, 1.15, damped());
+  const double gamma = bond_top_damping_rate(with_dampers, s, Box{});
+  EXPECT_GT(gamma, 0.0);
+  const double dt = bond_stability_step(with_dampers, s, Box{}) / bond_stability_margin;
+  EXPECT_NEAR(omega * omega * dt * dt + 4.0 * gamma * dt, 4.0, 1e-9);
+  EXPECT_EQ(bond_top_damping_rate(plain, s, Box{}), 0.0);
+  EXPECT_EQ(bond_stability_step(BondSet{}, s, Box{}), std::numeric_limits<double>::infinity());
 }
 
 }  // namespace

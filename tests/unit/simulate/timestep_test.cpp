@@ -1,6 +1,7 @@
 // The time step's bounds from the contact laws and the bonds (timestep.hpp): a law stiffer than
 // Hertz (the multi-contact unloading branch k2 = k1/λp, a stated k1) shortens the step, Hertz
 // keeps it, and a fraction above the bonds' stability limit is refused by name.
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -80,20 +81,25 @@ TEST(TimeStep, FractionAboveTheBondLimitIsRefusedByName) {
   const BondSet bonds = stiff_bond(s);
   const MaterialTable table({{"m", 1e7, 0.3, 2000.0}}, {{"m", "m", 0.7, 0.5}});
   const double period = bond_oscillation_period(bonds, s);
-  // Below 1/π of the bond period: accepted, and the bonds set the step.
+  // Below the bonds' stability limit: accepted, and the bonds set the step. The limit, 0.9 of
+  // 2/ω_max, lies between Gershgorin's T_b/π and about twice it.
   const TimeStepChoice ok = select_time_step(s, table, {}, std::nullopt, 0.3, 0.1, bonds);
   EXPECT_NEAR(ok.time_step, 0.3 * period, 1e-15 * period);
+  const double largest = ok.bond_stability_step / period;
+  EXPECT_GT(largest, bond_stability_margin / std::numbers::pi);
+  EXPECT_LT(largest, 2.0 / std::numbers::pi);
+  EXPECT_NO_THROW(select_time_step(s, table, {}, std::nullopt, 0.99 * largest, 0.1, bonds));
   try {
-    select_time_step(s, table, {}, std::nullopt, 0.5, 0.1, bonds);
-    ADD_FAILURE() << "a fraction of 0.5 of the bond period was accepted";
+    select_time_step(s, table, {}, std::nullopt, 1.01 * largest, 0.1, bonds);
+    ADD_FAILURE() << "a fraction above the bonds' stability limit was accepted";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("time_step_fraction"));
-    EXPECT_THAT(e.what(), HasSubstr("0.318"));
+    EXPECT_THAT(e.what(), HasSubstr(fmt::format("above {:.3g}", largest)));
   }
 }
 
 // The bonds' own fraction: the step where the bonds bind follows it, the contacts keep theirs,
-// and above 1/π it is refused by its own name.
+// and above the bonds' stability limit it is refused by its own name.
 TEST(TimeStep, TheBondsTakeTheirOwnFractionOfTheirPeriodBound) {
   const SphereState s = two_touching_spheres();
   const BondSet bonds = stiff_bond(s);
@@ -113,11 +119,11 @@ TEST(TimeStep, TheBondsTakeTheirOwnFractionOfTheirPeriodBound) {
   EXPECT_NEAR(contacts.time_step, 0.1 * contacts.rayleigh_time, 1e-15 * contacts.time_step);
   EXPECT_LT(contacts.time_step, 0.3 * period);
   try {
-    select_time_step(s, table, {}, std::nullopt, 0.1, 0.1, bonds, ClumpSet{}, 1, 0.4);
-    ADD_FAILURE() << "a bond fraction of 0.4 was accepted";
+    select_time_step(s, table, {}, std::nullopt, 0.1, 0.1, bonds, ClumpSet{}, 1, 0.7);
+    ADD_FAILURE() << "a bond fraction of 0.7 was accepted";
   } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("bond_time_step_fraction 0.4"));
-    EXPECT_THAT(e.what(), HasSubstr("0.318"));
+    EXPECT_THAT(e.what(), HasSubstr("bond_time_step_fraction 0.7"));
+    EXPECT_THAT(e.what(), HasSubstr(fmt::format("above {:.3g}", own.bond_stability_step / period)));
   }
 }
 
