@@ -24,6 +24,7 @@
 #include "common/atomic_file.hpp"
 #include "common/config.hpp"
 #include "common/error.hpp"
+#include "common/job_pool.hpp"
 #include "common/run_metadata.hpp"
 #include "common/sha256.hpp"
 #include "scenarios/advise_runs.hpp"
@@ -461,7 +462,7 @@ BedRecords make_beds(const LadderPlan& plan, const FillRecipe& recipe,
     if (!made.records[k]) beds_to_make.push_back(k);
   }
   std::mutex lock;
-  run_on_threads(beds_to_make.size(), threads, [&](std::size_t i) {
+  run_jobs(beds_to_make.size(), threads, [&](std::size_t i) {
     const BedJob& bed = beds[beds_to_make[i]];
     nlohmann::json record = make_bed(bed, recipe, request, bodies);
     spdlog::info("advise: bed of {} sub-spheres per body {}", bed.count,
@@ -493,7 +494,7 @@ RungRecords press_rungs(const LadderPlan& plan, const BedRecords& beds, const Co
   spdlog::info("advise: {} rungs on {} beds of {} bodies, {} to run", rungs.size(),
                plan.beds.size(), bodies, pending.size());
   std::mutex lock;
-  run_on_threads(pending.size(), threads, [&](std::size_t i) {
+  run_jobs(pending.size(), threads, [&](std::size_t i) {
     const RungJob& job = rungs[pending[i]];
     nlohmann::json record = press(job, plan.beds[job.bed], config);
     const int code = record.at("exit_code").get<int>();

@@ -3,12 +3,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <atomic>
-#include <exception>
 #include <fstream>
-#include <mutex>
-#include <thread>
 
 #include "analysis/plot.hpp"
 #include "common/error.hpp"
@@ -56,31 +51,6 @@ std::optional<nlohmann::json> finished_record(const fs::path& path, const nlohma
         fmt::format("{} holds finished steps of an earlier advise: --resume reuses them",
                     path.parent_path().string()));
   return record;
-}
-
-void run_on_threads(std::size_t count, int threads, const std::function<void(std::size_t)>& job) {
-  std::atomic<std::size_t> next{0};
-  std::mutex lock;
-  std::exception_ptr failure;
-  const auto worker = [&] {
-    for (std::size_t i = next++; i < count; i = next++) {
-      try {
-        job(i);
-      } catch (...) {
-        const std::lock_guard guard(lock);
-        if (!failure) failure = std::current_exception();
-        next = count;
-      }
-    }
-  };
-  std::vector<std::thread> team;
-  const std::size_t size =
-      std::min<std::size_t>(static_cast<std::size_t>(std::max(threads, 1)), count);
-  for (std::size_t t = 0; t < size; ++t)
-    team.emplace_back(worker);
-  for (std::thread& t : team)
-    t.join();
-  if (failure) std::rethrow_exception(failure);
 }
 
 std::string this_binary() {

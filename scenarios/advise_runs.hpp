@@ -4,9 +4,7 @@
 // run that diverges ends with its own exit code and named cause, and a killed advise leaves
 // every finished step reusable. A folder counts as done when its record (written last,
 // atomically) names the same key: the inputs' content and the rung's settings.
-#include <cstddef>
 #include <filesystem>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,10 +32,6 @@ std::string divergence_cause(const std::string& message);
 // `resume` is not set: finished work is neither silently reused nor overwritten.
 std::optional<nlohmann::json> finished_record(const std::filesystem::path& record,
                                               const nlohmann::json& key, bool resume);
-
-// Calls `job(i)` for i in [0, count) on up to `threads` threads; the first exception stops the
-// rest from starting and is rethrown once the running ones are done.
-void run_on_threads(std::size_t count, int threads, const std::function<void(std::size_t)>& job);
 
 // The shapepress binary running now, to start the steps with.
 std::string this_binary();

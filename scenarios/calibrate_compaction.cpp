@@ -5,13 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
 
 #include <fmt/format.h>
 
 #include "analysis/optimize.hpp"
 #include "common/error.hpp"
+#include "common/job_pool.hpp"
 
 namespace shapepress::scenarios {
 
@@ -274,7 +274,6 @@ CompactionCalibrationResult calibrate_compaction(
     const std::size_t n = points.size();
     std::vector<CalibrationEvaluation> evaluations(n);
     std::vector<std::optional<CompactionTrial>> trials(n);
-    std::vector<std::exception_ptr> errors(n);
     std::vector<std::size_t> to_run;
     for (std::size_t i = 0; i < n; ++i) {
       for (double v : points[i])
@@ -306,23 +305,16 @@ CompactionCalibrationResult calibrate_compaction(
       } catch (const ComputationError&) {
         // A diverged trial is a bad point, not the end of the search.
         evaluations[i].rms_relative = std::numeric_limits<double>::infinity();
-      } catch (...) {
-        errors[i] = std::current_exception();
       }
     };
+    // Trials side by side each run their engine on one thread (the same bits as alone); a
+    // single trial runs on this thread and its engine takes the threads. Another error ends
+    // the search (run_jobs rethrows it).
     const int side_by_side = std::min(threads, static_cast<int>(to_run.size()));
-    if (side_by_side <= 1) {
-      for (std::size_t i : to_run)
-        run_one(i);  // one trial: its engine takes the threads
-    } else {
-#pragma omp parallel for schedule(dynamic, 1) num_threads(side_by_side)
-      for (std::size_t k = 0; k < to_run.size(); ++k) {
-        omp_set_num_threads(1);  // each trial's engine on one thread: the same bits
-        run_one(to_run[k]);
-      }
-    }
-    for (const std::exception_ptr& e : errors)
-      if (e) std::rethrow_exception(e);
+    run_jobs(to_run.size(), side_by_side, [&](std::size_t k) {
+      if (side_by_side > 1) omp_set_num_threads(1);  // on the pool's own thread
+      run_one(to_run[k]);
+    });
     std::vector<double> values;
     for (std::size_t i = 0; i < n; ++i) {
       const CalibrationEvaluation& e = evaluations[i];

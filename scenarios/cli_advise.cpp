@@ -23,6 +23,7 @@
 #include "common/atomic_file.hpp"
 #include "common/config.hpp"
 #include "common/error.hpp"
+#include "common/job_pool.hpp"
 #include "common/run_metadata.hpp"
 #include "common/sha256.hpp"
 #include "scenarios/advise_compaction.hpp"
@@ -198,8 +199,7 @@ int run(const AdviseCli& cli, const RunContext& context) {
                  : code == 1 ? "diverged: " + record["message"].get<std::string>()
                              : "refused: " + record["message"].get<std::string>());
   };
-  run_on_threads(pending.size(), context.threads > 0 ? context.threads : omp_get_max_threads(),
-                 run_rung);
+  run_jobs(pending.size(), context.threads > 0 ? context.threads : omp_get_max_threads(), run_rung);
 
   std::vector<analysis::Rung> rungs;
   for (std::size_t k = 0; k < jobs.size(); ++k)

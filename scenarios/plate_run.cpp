@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -10,6 +9,7 @@
 
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/job_pool.hpp"
 #include "scenarios/bms_particle.hpp"
 #include "scenarios/cms_particle.hpp"
 #include "scenarios/plate_checkpoint.hpp"
@@ -132,23 +132,14 @@ PlateRunOutcome run_fills(const PlateConfig& config,
                           const PlateCheckpoints* checkpoints) {
   const int count = config.bms->fills;
   std::vector<PlateRunOutcome> fills(static_cast<std::size_t>(count));
-  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
   const int threads = std::min(count, omp_get_max_threads());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (int f = 0; f < count; ++f) {
-    omp_set_num_threads(1);  // this fill's engine, inside the region: one thread, the same bits
-    try {
-      PlateConfig one = config;
-      one.bms->fills = 1;
-      one.bms->seed = config.bms->seed + static_cast<std::uint64_t>(f);
-      fills[static_cast<std::size_t>(f)] =
-          run_one(one, PlateParticleKind::bms, log, cache, checkpoints, f);
-    } catch (...) {
-      errors[static_cast<std::size_t>(f)] = std::current_exception();
-    }
-  }
-  for (const std::exception_ptr& e : errors)
-    if (e) std::rethrow_exception(e);
+  run_jobs(fills.size(), threads, [&](std::size_t f) {
+    if (threads > 1) omp_set_num_threads(1);  // each fill's engine on one thread: the same bits
+    PlateConfig one = config;
+    one.bms->fills = 1;
+    one.bms->seed = config.bms->seed + f;
+    fills[f] = run_one(one, PlateParticleKind::bms, log, cache, checkpoints, static_cast<int>(f));
+  });
   for (const PlateRunOutcome& fill : fills)
     if (fill.interrupted) return fill;
   PlateRunOutcome mean = mean_of_fills(std::move(fills), threads);

@@ -2,11 +2,11 @@
 # Prints docs/imaging.md's table "side by side with ImageJ 1.53t": for each real image of
 # tests/data/imaging, ImageJ's stored Analyze Particles results (without and with its Watershed)
 # and shape-stats runs with the options below, as count, mean area (px²), mean Feret and mean
-# MinFeret (px). Needs a built build/pipelines/shapepress, not ImageJ. The scores against the
+# MinFeret (px). Needs a built build/app/shapepress, not ImageJ. The scores against the
 # hand marks come from `ctest --test-dir build -R MarkedParticles -V`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-shapepress=build/pipelines/shapepress
+shapepress=build/app/shapepress
 data=tests/data/imaging
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

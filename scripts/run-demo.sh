@@ -5,5 +5,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
-make -C pipelines/demo -j"$(nproc)" SHAPEPRESS="$PWD/build/pipelines/shapepress" OUT="$PWD/demo-out"
+make -C pipelines/demo -j"$(nproc)" SHAPEPRESS="$PWD/build/app/shapepress" OUT="$PWD/demo-out"
 echo "run-demo.sh: results in $PWD/demo-out"

@@ -4,5 +4,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh "$@"
-build/pipelines/shapepress help-config --markdown > docs/config-reference.md.new
+build/app/shapepress help-config --markdown > docs/config-reference.md.new
 mv docs/config-reference.md.new docs/config-reference.md

@@ -5,5 +5,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh "$@"
-build/pipelines/shapepress help-options docs/stages.md > docs/stages.md.new
+build/app/shapepress help-options docs/stages.md > docs/stages.md.new
 mv docs/stages.md.new docs/stages.md

@@ -24,7 +24,7 @@ set(shapepress_two_thread_tests
   "^simulate\\.BondBreakage\\.APartlyBrokenBodyRestartsBitIdenticallyAndShowsItsBrokenBonds$")
 
 foreach(label IN ITEMS unit validation e2e)
-  foreach(stage IN ITEMS common pipelines imaging geometry simulate packing scenarios analysis fem)
+  foreach(stage IN ITEMS common app pipelines imaging geometry simulate packing scenarios analysis fem)
     foreach(test IN LISTS ${label}_${stage}_TESTS)
       foreach(pattern IN LISTS shapepress_two_thread_tests)
         if(test MATCHES "${pattern}")

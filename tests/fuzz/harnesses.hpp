@@ -3,7 +3,7 @@
 // user files as a file or a string, and accept only an InputError (exit 2 naming the file) or
 // success. Any other exception, a crash or a sanitizer report is a finding. The libFuzzer
 // targets (tests/fuzz/fuzz_*.cpp, CMake option SHAPEPRESS_FUZZ) and the replay of the kept
-// findings in the default suite (tests/unit/pipelines/fuzz_regressions_test.cpp) both call
+// findings in the default suite (tests/unit/app/fuzz_regressions_test.cpp) both call
 // these, so a finding fixed stays fixed without clang.
 #include <unistd.h>
 

@@ -27,7 +27,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../../.." && pwd)
-bin=${SHAPEPRESS:-$repo/build/pipelines/shapepress}
+bin=${SHAPEPRESS:-$repo/build/app/shapepress}
 threads=${1:-2}
 count=${COUNT:-150}
 sub=${SUB:-350}

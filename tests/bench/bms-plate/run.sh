@@ -12,7 +12,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
-shapepress=${SHAPEPRESS:-$root/build/pipelines/shapepress}
+shapepress=${SHAPEPRESS:-$root/build/app/shapepress}
 [[ -x "$shapepress" ]] || { echo "run.sh: $shapepress is not built" >&2; exit 2; }
 [[ -z "${BASELINE:-}" || -x "$BASELINE" ]] || { echo "run.sh: BASELINE=$BASELINE is not executable" >&2; exit 2; }
 threads=("$@")

@@ -11,7 +11,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
-shapepress=${SHAPEPRESS:-$root/build/pipelines/shapepress}
+shapepress=${SHAPEPRESS:-$root/build/app/shapepress}
 [[ -x "$shapepress" ]] || { echo "timestep.sh: $shapepress is not built" >&2; exit 2; }
 count=${1:-545}
 [[ "$count" =~ ^[1-9][0-9]*$ ]] || { echo "timestep.sh: N must be a positive integer, got '$count'" >&2; exit 2; }

@@ -13,7 +13,7 @@ root=$(cd "$here/../../.." && pwd)
 repeats=${1:-2}
 steps=${2:-4000}
 threads=${3:-1}
-shapepress=${SHAPEPRESS:-$root/build/pipelines/shapepress}
+shapepress=${SHAPEPRESS:-$root/build/app/shapepress}
 [[ -x "$shapepress" ]] || { echo "multicontact-overhead.sh: $shapepress is not built" >&2; exit 2; }
 work=$(mktemp -d -t shapepress-mc-bench.XXXXXX)
 trap 'rm -rf "$work"' EXIT

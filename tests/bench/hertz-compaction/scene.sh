@@ -2,7 +2,7 @@
 # folder holding the reference scene for every engine (packing.txt for shapepress, packing.data,
 # liggghts.in and punch.stl for LIGGGHTS, packing.data and lammps.in for LAMMPS) and enters it. Expects: script (the caller's name for
 # messages), here (this folder), root (the repository), and the tools to check as arguments.
-shapepress=${SHAPEPRESS:-$root/build/pipelines/shapepress}
+shapepress=${SHAPEPRESS:-$root/build/app/shapepress}
 for tool in "$@"; do
   command -v "$tool" >/dev/null || { echo "$script: $tool is missing: scripts/install-deps.sh --peers" >&2; exit 2; }
 done

@@ -1,5 +1,5 @@
 // shapepress: from images of a powder to simulated tablet-compaction curves.
-// One binary, one table of stages (pipelines/stages.cpp); each stage parses its own options and
+// One binary, one table of stages (app/stages.cpp); each stage parses its own options and
 // calls its library. main() owns the global options, the exit codes and the error messages.
 #include <omp.h>
 
@@ -14,13 +14,13 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include "app/stages.hpp"
 #include "common/error.hpp"
 #include "common/logging.hpp"
 #include "common/options.hpp"
 #include "common/provenance.hpp"
 #include "common/run_lock.hpp"
 #include "common/suggest.hpp"
-#include "pipelines/stages.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "pipelines/stages.hpp"
+#include "app/stages.hpp"
 
 #include <vector>
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "pipelines/stages.hpp"
+#include "app/stages.hpp"
 #include "tests/support/files.hpp"
 
 namespace shapepress {

@@ -7,10 +7,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/stages.hpp"
 #include "common/command_options.hpp"
 #include "common/error.hpp"
 #include "common/options.hpp"
-#include "pipelines/stages.hpp"
 
 namespace shapepress {
 

@@ -6,8 +6,8 @@
 
 #include <string>
 
+#include "app/stages.hpp"
 #include "common/options.hpp"
-#include "pipelines/stages.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
 
