@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -30,6 +32,28 @@ nlohmann::json read_json(const std::filesystem::path& path) {
   return nlohmann::json::parse(in);
 }
 
+// advice.csv's rows, each by column name.
+std::vector<std::map<std::string, std::string>> advice_rows(const std::filesystem::path& csv) {
+  std::vector<std::map<std::string, std::string>> rows;
+  std::vector<std::string> columns;
+  std::ifstream in(csv);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');)
+      cells.push_back(cell);
+    if (columns.empty()) {
+      columns = cells;
+      continue;
+    }
+    std::map<std::string, std::string>& by_name = rows.emplace_back();
+    for (std::size_t k = 0; k < cells.size() && k < columns.size(); ++k)
+      by_name[columns[k]] = cells[k];
+  }
+  return rows;
+}
+
 TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
   const auto dir = fresh_directory("advise_cli");
   const std::string command = "--threads 2 --quiet advise --config " + shell_quoted(shipped) +
@@ -47,6 +71,29 @@ TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
   EXPECT_TRUE(std::filesystem::exists(dir / "advice" / "speed_accuracy.svg"));
   EXPECT_TRUE(std::filesystem::exists(dir / "advice" / "stability_map.svg"));
   const auto stamp = std::filesystem::last_write_time(dir / "advice" / "cms-20-f0.2" / "force.csv");
+  // Every rung's counted cost (its run.json's) beside its CPU seconds, and the pick the holding
+  // rung of least counted cost.
+  const auto rows = advice_rows(dir / "advice" / "advice.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  std::int64_t least = -1;
+  for (const auto& row : rows) {
+    ASSERT_TRUE(row.contains("counted_cost") && row.contains("cpu_s"));
+    const std::int64_t cost = std::stoll(row.at("counted_cost"));
+    const nlohmann::json rung = read_json(dir / "advice" / row.at("label") / "run.json");
+    EXPECT_EQ(cost, rung.at("facts").at("counted_cost").get<std::int64_t>()) << row.at("label");
+    EXPECT_GT(cost, 0);
+    EXPECT_GE(std::stod(row.at("cpu_s")), 0.0);
+    if (row.at("status") == "within" || row.at("status") == "reference")
+      least = least < 0 ? cost : std::min(least, cost);
+    if (row.at("picked") == "1") {
+      EXPECT_EQ(row.at("label"), facts.at("pick").get<std::string>());
+      EXPECT_EQ(cost, facts.at("pick_counted_cost").get<std::int64_t>());
+      EXPECT_EQ(facts.at("predicted_full_run_counted_cost").get<double>(), cost);  // one fill
+    }
+  }
+  EXPECT_EQ(facts.at("pick_counted_cost").get<std::int64_t>(), least);
+  EXPECT_TRUE(facts.contains("pick_cpu_s"));
+  EXPECT_TRUE(facts.contains("predicted_full_run_cpu_s"));
 
   // The same ladder again: nothing is re-run, the pick is the same.
   const auto again = run_shapepress(command + " --resume");
@@ -61,6 +108,22 @@ TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
   const auto refused = run_shapepress(command);
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_THAT(refused.output, HasSubstr("--resume"));
+
+  // The same ladder run afresh on one thread (the rungs one after another, timed differently):
+  // every counted cost the same, and so the pick, whatever the CPU seconds came out as.
+  std::string fresh = command;
+  fresh.replace(fresh.find("--threads 2"), 11, "--threads 1");
+  fresh.replace(fresh.find(shell_quoted(dir / "advice")), shell_quoted(dir / "advice").size(),
+                shell_quoted(dir / "again"));
+  const auto repeated = run_shapepress(fresh);
+  ASSERT_EQ(repeated.exit_code, 0) << repeated.output;
+  const auto afresh = advice_rows(dir / "again" / "advice.csv");
+  ASSERT_EQ(afresh.size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(afresh[k].at("counted_cost"), rows[k].at("counted_cost")) << rows[k].at("label");
+    EXPECT_EQ(afresh[k].at("picked"), rows[k].at("picked")) << rows[k].at("label");
+  }
+  EXPECT_EQ(read_json(dir / "again" / "run.json").at("facts").at("pick"), facts.at("pick"));
 }
 
 // The rows of advice.csv by label: "status,cause".
