@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +21,7 @@ namespace {
 using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::text_rows;
 using ::testing::HasSubstr;
 
 const std::filesystem::path repo = shapepress::testing::repository_root();
@@ -30,28 +30,6 @@ const std::filesystem::path shipped = repo / "pipelines/configs/rubber-sphere.to
 nlohmann::json read_json(const std::filesystem::path& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in);
-}
-
-// advice.csv's rows, each by column name.
-std::vector<std::map<std::string, std::string>> advice_rows(const std::filesystem::path& csv) {
-  std::vector<std::map<std::string, std::string>> rows;
-  std::vector<std::string> columns;
-  std::ifstream in(csv);
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::istringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');)
-      cells.push_back(cell);
-    if (columns.empty()) {
-      columns = cells;
-      continue;
-    }
-    std::map<std::string, std::string>& by_name = rows.emplace_back();
-    for (std::size_t k = 0; k < cells.size() && k < columns.size(); ++k)
-      by_name[columns[k]] = cells[k];
-  }
-  return rows;
 }
 
 TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
@@ -73,7 +51,7 @@ TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
   const auto stamp = std::filesystem::last_write_time(dir / "advice" / "cms-20-f0.2" / "force.csv");
   // Every rung's counted cost (its run.json's) beside its CPU seconds, and the pick the holding
   // rung of least counted cost.
-  const auto rows = advice_rows(dir / "advice" / "advice.csv");
+  const auto rows = text_rows(dir / "advice" / "advice.csv");
   ASSERT_EQ(rows.size(), 4u);
   std::int64_t least = -1;
   for (const auto& row : rows) {
@@ -117,7 +95,7 @@ TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
                 shell_quoted(dir / "again"));
   const auto repeated = run_shapepress(fresh);
   ASSERT_EQ(repeated.exit_code, 0) << repeated.output;
-  const auto afresh = advice_rows(dir / "again" / "advice.csv");
+  const auto afresh = text_rows(dir / "again" / "advice.csv");
   ASSERT_EQ(afresh.size(), rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
     EXPECT_EQ(afresh[k].at("counted_cost"), rows[k].at("counted_cost")) << rows[k].at("label");
