@@ -131,7 +131,8 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
           std::max(advice.seed_scatter.value_or(0.0),
                    compare(rungs[advice.references[r]], rungs[*advice.reference], advice).error);
   // The cheapest setting that holds the answer on every seed (the references always do), by its
-  // CPU seconds summed over the seeds; its row of the first seed is the pick.
+  // counted cost summed over the seeds (exact in a double below 2^53 steps of work); its row of
+  // the first seed is the pick.
   std::optional<double> pick_cost;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
     if (rungs[k].seed != seeds.front()) continue;
@@ -143,7 +144,7 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
       holds = holds && (s == RungStatus::within || s == RungStatus::reference);
       // A rung of unknown cost (a run made outside the ladder) is picked only when nothing
       // else holds.
-      cost += rungs[j].cpu_seconds >= 0.0 ? rungs[j].cpu_seconds : INFINITY;
+      cost += rungs[j].counted_cost >= 0 ? static_cast<double>(rungs[j].counted_cost) : INFINITY;
     }
     if (!holds) continue;
     const bool cheaper = !pick_cost || cost < *pick_cost ||
@@ -162,6 +163,7 @@ Advice advise(const std::vector<Rung>& rungs, double tolerance, double from, dou
 namespace {
 
 // advice.csv's columns, as write_advice_csv writes them and read_advice expects them.
+constexpr std::size_t counted_cost_column = 7;
 std::vector<std::string> advice_columns() {
   return {"label",
           "status",
@@ -170,6 +172,7 @@ std::vector<std::string> advice_columns() {
           "time_step_fraction",
           "density_scale",
           "seed",
+          "counted_cost",
           "cpu_s",
           "rms_vs_reference",
           "max_vs_reference",
@@ -210,6 +213,7 @@ void write_advice_csv(const std::filesystem::path& path, const Advice& advice) {
     csv.row_text({rung.label, status_name(row.status), rung.cause.empty() ? "-" : rung.cause,
                   std::to_string(rung.sub_spheres), format_number(rung.time_step_fraction),
                   format_number(rung.density_scale), std::to_string(rung.seed),
+                  rung.counted_cost >= 0 ? std::to_string(rung.counted_cost) : "nan",
                   number_or_nan(rung.cpu_seconds >= 0.0, rung.cpu_seconds),
                   number_or_nan(stable, row.versus_reference.rms_relative),
                   number_or_nan(stable, row.versus_reference.max_relative),
@@ -260,16 +264,22 @@ AdviceRecord read_advice(const std::filesystem::path& folder) {
   const std::vector<std::string> columns = advice_columns();
   auto rungs = std::make_shared<std::vector<Rung>>();
   std::vector<AdviceRow> rows;
-  bool header = false;
+  bool header = false, uncounted_costs = false;
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] == '#') continue;
-    const std::vector<std::string> f = split_fields(line);
+    std::vector<std::string> f = split_fields(line);
     if (!header) {
-      if (f != columns)
+      // advice.csv from before the counted cost: its rungs' costs are unknown.
+      std::vector<std::string> uncounted = columns;
+      uncounted.erase(uncounted.begin() + counted_cost_column);
+      uncounted_costs = f == uncounted;
+      if (f != columns && !uncounted_costs)
         throw InputError(fmt::format("{}: not advise's columns ({})", csv.string(), line));
       header = true;
       continue;
     }
+    if (uncounted_costs && f.size() == columns.size() - 1)
+      f.insert(f.begin() + counted_cost_column, "nan");
     if (f.size() != columns.size())
       throw InputError(fmt::format("{}: {} fields in '{}', expected {}", csv.string(), f.size(),
                                    line, columns.size()));
@@ -281,7 +291,8 @@ AdviceRecord read_advice(const std::filesystem::path& folder) {
     rung.time_step_fraction = number(4);
     rung.density_scale = number(5);
     rung.seed = static_cast<int>(number(6));
-    rung.cpu_seconds = std::isfinite(number(7)) ? number(7) : -1.0;
+    rung.counted_cost = std::isfinite(number(7)) ? std::llround(number(7)) : -1;
+    rung.cpu_seconds = std::isfinite(number(8)) ? number(8) : -1.0;
     AdviceRow row;
     const RungStatus statuses[] = {RungStatus::reference, RungStatus::within, RungStatus::off,
                                    RungStatus::diverged, RungStatus::refused};
@@ -293,17 +304,17 @@ AdviceRecord read_advice(const std::filesystem::path& folder) {
     rung.end = row.status == RungStatus::diverged  ? RunEnd::diverged
                : row.status == RungStatus::refused ? RunEnd::refused
                                                    : RunEnd::finished;
-    row.versus_reference.rms_relative = number(8);
-    row.versus_reference.max_relative = number(9);
-    row.peak_difference = number(10);
-    row.recovery_difference = number(11);
-    row.yield_pressure_difference = number(12);
-    if (std::isfinite(number(13))) {
-      rung.compaction = CompactionFigures{number(13), number(14), number(15)};
+    row.versus_reference.rms_relative = number(9);
+    row.versus_reference.max_relative = number(10);
+    row.peak_difference = number(11);
+    row.recovery_difference = number(12);
+    row.yield_pressure_difference = number(13);
+    if (std::isfinite(number(14))) {
+      rung.compaction = CompactionFigures{number(14), number(15), number(16)};
       record.compaction = true;
     }
-    row.error = number(16);
-    if (f[17] == "1") record.advice.pick = rows.size();
+    row.error = number(17);
+    if (f[18] == "1") record.advice.pick = rows.size();
     if (row.status == RungStatus::reference) {
       record.advice.references.push_back(rows.size());
       if (!record.advice.reference) record.advice.reference = rows.size();
@@ -327,6 +338,8 @@ AdviceRecord read_advice(const std::filesystem::path& folder) {
   if (run.has("reference")) record.reference = run.text("reference");
   record.pick_error = fact("pick_error_vs_reference");
   record.cost_saved_factor = fact("cost_saved_factor");
+  record.predicted_full_run_counted_cost = fact("predicted_full_run_counted_cost");
+  record.cpu_saved_factor = fact("cpu_saved_factor");
   record.predicted_full_run_cpu_s = fact("predicted_full_run_cpu_s");
   if (run.has("full_bodies")) record.full_bodies = static_cast<int>(run.integer("full_bodies"));
   return record;
@@ -339,10 +352,10 @@ Chart speed_accuracy_chart(const Advice& advice) {
                                       [](const AdviceRow& r) { return r.rung->compaction; });
   Chart chart{fmt::format("Each rung against the finest (curves over {:.3g}-{:.3g})", advice.from,
                           advice.to),
-              "CPU seconds of the run",
+              "counted cost of the run (sub-sphere-, contact- and bond-steps)",
               compaction ? "largest of curve RMS, peak, recovery, Py differences [%]"
                          : "RMS difference from the finest rung [%]",
-              "cpu_s",
+              "counted_cost",
               "error_percent",
               {}};
   chart.log_x = chart.log_y = compaction;
@@ -350,15 +363,16 @@ Chart speed_accuracy_chart(const Advice& advice) {
   double least = INFINITY, most = 0.0;
   for (const AdviceRow& row : advice.rows) {
     if (!row.rung->stable() || (compaction && row.status == RungStatus::reference) ||
-        row.rung->cpu_seconds < 0.0)
+        row.rung->counted_cost < 0)
       continue;
+    const double cost = static_cast<double>(row.rung->counted_cost);
     Series& s = by_fraction[row.rung->time_step_fraction];
     s.title = fmt::format("step {:.3g} of critical", row.rung->time_step_fraction);
     s.style = SeriesStyle::markers;
-    s.x.push_back(row.rung->cpu_seconds);
+    s.x.push_back(cost);
     s.y.push_back(100.0 * row.error);
-    least = std::min(least, row.rung->cpu_seconds);
-    most = std::max(most, row.rung->cpu_seconds);
+    least = std::min(least, cost);
+    most = std::max(most, cost);
   }
   if (!compaction || !std::isfinite(least)) least = 0.0;
   int colour = 1;
@@ -378,10 +392,10 @@ Chart speed_accuracy_chart(const Advice& advice) {
         {100.0 * *advice.seed_scatter, 100.0 * *advice.seed_scatter},
         SeriesStyle::dashed,
         6});
-  if (advice.pick && advice.rows[*advice.pick].rung->cpu_seconds >= 0.0) {
+  if (advice.pick && advice.rows[*advice.pick].rung->counted_cost >= 0) {
     const AdviceRow& row = advice.rows[*advice.pick];
     chart.series.push_back(Series{fmt::format("pick: {}", row.rung->label),
-                                  {row.rung->cpu_seconds},
+                                  {static_cast<double>(row.rung->counted_cost)},
                                   {100.0 * row.error},
                                   SeriesStyle::points,
                                   7});

@@ -3,7 +3,7 @@
 // rung (a sub-sphere count and a time-step fraction) against the finest stable rung, which rungs
 // hold the answer within a tolerance, the cheapest of them, and the stability map (stable and
 // within tolerance, stable but off, diverged). Running the rungs is the stage's
-// (scenarios/cli_advise.cpp); this is the judgement, on curves and CPU seconds, so a test can
+// (scenarios/cli_advise.cpp); this is the judgement, on curves and counted costs, so a test can
 // hand it a synthetic ladder.
 #include <filesystem>
 #include <memory>
@@ -40,8 +40,12 @@ struct Rung {
   std::string cause;    // a named cause ("overlap", "energy", "non-finite", …) when not finished
   std::string message;  // the run's error line when not finished
   bool stable() const { return end == RunEnd::finished; }
-  Curve curve;                // force against deformation (stress against strain) on loading
-  double cpu_seconds = -1.0;  // of the whole run (< 0: unknown)
+  Curve curve;  // force against deformation (stress against strain) on loading
+  // The run's counted cost (simulate/work_count.hpp: its sub-sphere-steps, contact-steps and
+  // bond-steps summed; its run.json's counted_cost), the same on any machine and under any load:
+  // what the pick goes by. < 0: unknown.
+  std::int64_t counted_cost = -1;
+  double cpu_seconds = -1.0;  // of the whole run, measured, reported beside it (< 0: unknown)
   std::optional<CompactionFigures> compaction;  // a compaction rung's peak, recovery and Py
 };
 
@@ -85,17 +89,17 @@ struct Advice {
 // recovery and Py. With several seeds (packings of the same bed) each rung is compared with its
 // own seed's finest; a setting holds when its rung of every seed does, and the seeds' finest
 // rungs against the first seed's give the seed-to-seed scatter. The pick is the setting that
-// holds of least CPU seconds (summed over the seeds; its row of the first seed; a rung of unknown
-// cost only when no other holds); ties go to fewer sub-spheres, then the larger step. No
-// reference when no rung is stable.
+// holds of least counted cost (summed over the seeds; its row of the first seed; a rung of unknown
+// cost only when no other holds), never of least CPU seconds, which a loaded machine changes;
+// ties go to fewer sub-spheres, then the larger step. No reference when no rung is stable.
 Advice advise(const std::vector<Rung>& rungs, double tolerance, double from = 0.05,
               double to = 0.40);
 
 // advice.csv: label, status, cause ("-" for a finished run), sub_spheres, time_step_fraction,
-// density_scale, seed, cpu_s, rms_vs_reference, max_vs_reference, and for compaction rungs
-// peak_vs_reference, recovery_vs_reference, py_vs_reference (signed), peak_stress_Pa,
-// elastic_recovery, yield_pressure_Pa (nan without a curve or for plate rungs), error (what the
-// tolerance judged), picked (1 or 0).
+// density_scale, seed, counted_cost, cpu_s (nan when unknown), rms_vs_reference, max_vs_reference,
+// and for compaction rungs peak_vs_reference, recovery_vs_reference, py_vs_reference (signed),
+// peak_stress_Pa, elastic_recovery, yield_pressure_Pa (nan without a curve or for plate rungs),
+// error (what the tolerance judged), picked (1 or 0).
 void write_advice_csv(const std::filesystem::path& path, const Advice& advice);
 
 // An advise folder read back (report --advice): advice.csv's rows as rungs without their curves,
@@ -107,14 +111,18 @@ struct AdviceRecord {
   bool compaction = false;          // a bed's ladder (the table has its peak, recovery and Py)
   std::optional<std::string> pick;  // run.json's pick, reference and their numbers
   std::optional<std::string> reference;
-  std::optional<double> pick_error, cost_saved_factor, predicted_full_run_cpu_s;
+  std::optional<double> pick_error;
+  // The reference's counted cost over the pick's, and the full run's predicted counted cost; the
+  // same by the CPU seconds measured, beside them.
+  std::optional<double> cost_saved_factor, predicted_full_run_counted_cost;
+  std::optional<double> cpu_saved_factor, predicted_full_run_cpu_s;
   int full_bodies = 0;  // a bed's ladder: the full bed whose cost is predicted (0: a plate ladder)
 };
 // InputError naming the folder or file when it is not an advise folder (run.json of stage
 // advise, advice.csv with advise's columns).
 AdviceRecord read_advice(const std::filesystem::path& folder);
 
-// Speed against accuracy: the error from the reference against CPU seconds, one series
+// Speed against accuracy: the error from the reference against the counted cost, one series
 // per time-step fraction, the tolerance line and the pick (as the plate study's chart).
 Chart speed_accuracy_chart(const Advice& advice);
 // The stability map: time-step fraction against sub-sphere count, one series per status; at one

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -236,10 +237,13 @@ std::string advice_json(const std::vector<AdviceRecord>& advice) {
     s += fmt::format(
         "{}\n    {{\"folder\": \"{}\", \"pick\": \"{}\", \"reference\": \"{}\", "
         "\"tolerance\": {}, \"pick_error_vs_reference\": {}, \"cost_saved_factor\": {}, "
+        "\"predicted_full_run_counted_cost\": {}, \"cpu_saved_factor\": {}, "
         "\"predicted_full_run_cpu_s\": {}, \"seed_scatter\": {}, \"rungs\": [",
         a == 0 ? "" : ",", json_escape(r.folder.string()), json_escape(r.pick.value_or("")),
         json_escape(r.reference.value_or("")), json_number(r.advice.tolerance),
         json_number(r.pick_error.value_or(NAN)), json_number(r.cost_saved_factor.value_or(NAN)),
+        json_number(r.predicted_full_run_counted_cost.value_or(NAN)),
+        json_number(r.cpu_saved_factor.value_or(NAN)),
         json_number(r.predicted_full_run_cpu_s.value_or(NAN)),
         json_number(r.advice.seed_scatter.value_or(NAN)));
     for (std::size_t k = 0; k < r.advice.rows.size(); ++k) {
@@ -247,11 +251,13 @@ std::string advice_json(const std::vector<AdviceRecord>& advice) {
       s += fmt::format(
           "{}\n      {{\"label\": \"{}\", \"status\": \"{}\", \"cause\": \"{}\", "
           "\"sub_spheres\": {}, \"time_step_fraction\": {}, \"density_scale\": {}, "
-          "\"seed\": {}, \"cpu_s\": {}, \"error\": {}}}",
+          "\"seed\": {}, \"counted_cost\": {}, \"cpu_s\": {}, \"error\": {}}}",
           k == 0 ? "" : ",", json_escape(row.rung->label), status_name(row.status),
           json_escape(row.rung->cause), row.rung->sub_spheres,
           json_number(row.rung->time_step_fraction), json_number(row.rung->density_scale),
-          row.rung->seed, json_number(row.rung->cpu_seconds >= 0 ? row.rung->cpu_seconds : NAN),
+          row.rung->seed,
+          row.rung->counted_cost >= 0 ? std::to_string(row.rung->counted_cost) : "null",
+          json_number(row.rung->cpu_seconds >= 0 ? row.rung->cpu_seconds : NAN),
           json_number(row.error));
     }
     s += "]}";
@@ -272,15 +278,22 @@ std::string advice_html(const AdviceRecord& r) {
                      html_escape(r.reference.value_or("?")), percent_cell(r.advice.tolerance));
   else
     s += "No pick";
-  if (r.cost_saved_factor) s += fmt::format("; {:.3g} times less CPU", *r.cost_saved_factor);
-  if (r.predicted_full_run_cpu_s && r.full_bodies > 0)
-    s += fmt::format("; the full bed of {} bodies predicted at {:.3g} s CPU", r.full_bodies,
-                     *r.predicted_full_run_cpu_s);
+  // The counted cost (what the pick goes by) and the CPU seconds measured beside it.
+  const auto beside = [](std::optional<double> cpu, const char* form) {
+    return cpu ? fmt::format(fmt::runtime(form), *cpu) : std::string();
+  };
+  if (r.cost_saved_factor)
+    s += fmt::format("; {:.3g} times less counted cost{}", *r.cost_saved_factor,
+                     beside(r.cpu_saved_factor, " ({:.3g} times less CPU)"));
+  if (r.predicted_full_run_counted_cost && r.full_bodies > 0)
+    s += fmt::format("; the full bed of {} bodies predicted at a counted cost of {:.3g}{}",
+                     r.full_bodies, *r.predicted_full_run_counted_cost,
+                     beside(r.predicted_full_run_cpu_s, " ({:.3g} s CPU)"));
   if (r.advice.seed_scatter)
     s += fmt::format("; the seeds' finest rungs differ by {} %",
                      percent_cell(*r.advice.seed_scatter));
   s += ".</p>\n<table>\n<tr><th>rung</th><th>status</th><th>cause</th><th>sub-spheres</th>"
-       "<th>step fraction</th><th>mass scaling</th><th>seed</th><th>CPU s</th>"
+       "<th>step fraction</th><th>mass scaling</th><th>seed</th><th>counted cost</th><th>CPU s</th>"
        "<th>curve RMS %</th>";
   if (r.compaction) s += "<th>peak %</th><th>recovery %</th><th>Py %</th>";
   s += "<th>error %</th><th>pick</th></tr>\n";
@@ -290,9 +303,10 @@ std::string advice_html(const AdviceRecord& r) {
     s += fmt::format(
         "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{:g}"
         "</td><td class=\"num\">{:g}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>"
-        "<td class=\"num\">{}</td>",
+        "<td class=\"num\">{}</td><td class=\"num\">{}</td>",
         html_escape(rung.label), status_name(row.status), html_escape(rung.cause), rung.sub_spheres,
         rung.time_step_fraction, rung.density_scale, rung.seed,
+        rung.counted_cost >= 0 ? std::to_string(rung.counted_cost) : std::string(),
         rung.cpu_seconds >= 0 ? fmt::format("{:.3g}", rung.cpu_seconds) : std::string(),
         judged ? percent_cell(row.versus_reference.rms_relative) : std::string());
     if (r.compaction)

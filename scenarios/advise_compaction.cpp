@@ -209,6 +209,7 @@ analysis::Rung load_rung(const RungJob& job, const BedJob& bed, const nlohmann::
     return rung;
   }
   read_pressed_curve(rung, job.folder / "punch.csv", solid_fraction_axis);
+  rung.counted_cost = counted_cost(job.folder, "compact");
   return rung;
 }
 
@@ -559,7 +560,9 @@ analysis::Rung given_rung(const GivenRun& given, const LadderPlan& plan, const B
   rung.time_step_fraction = given.fraction;
   rung.density_scale = given.density_scale;
   rung.seed = seed ? static_cast<int>(*seed) : 0;
-  rung.cpu_seconds = -1.0;  // not measured by advise: never the pick while another holds
+  // Its counted cost is its run.json's, as a rung's; its CPU seconds are not advise's to know.
+  rung.cpu_seconds = -1.0;
+  rung.counted_cost = counted_cost(given.folder, "compact");
   read_pressed_curve(rung, given.folder / "punch.csv", request.curve_axis == "solid_fraction");
   return rung;
 }
@@ -592,7 +595,8 @@ struct BedSizes {
 
 // The pick's facts in run.json (written here) and its line in the log: the full run at the pick's
 // setting costs more as the bodies grow, and in the same die the bed's height, the punch's travel
-// to the same strain and so the steps do too.
+// to the same strain and so the steps do too. The counted cost is scaled, and the CPU seconds
+// measured beside it.
 void report_pick(const analysis::Advice& advice, const std::vector<analysis::Rung>& ladder,
                  const CompactionAdviseRequest& request, BedSizes sizes, const fs::path& out,
                  RunMetadata& meta) {
@@ -600,23 +604,32 @@ void report_pick(const analysis::Advice& advice, const std::vector<analysis::Run
   const analysis::Rung& pick = ladder[*advice.pick];
   const analysis::Rung& reference = ladder[*advice.reference];
   const double body_factor = static_cast<double>(sizes.full_bodies) / sizes.bodies;
-  const double predicted = pick.cpu_seconds * body_factor * body_factor;
+  const double scale = body_factor * body_factor;
   meta.fact("reference", reference.label)
       .fact("pick", pick.label)
       .fact("pick_sub_spheres", pick.sub_spheres)
       .fact("pick_time_step_fraction", pick.time_step_fraction)
       .fact("pick_density_scale", pick.density_scale)
       .fact("pick_error_vs_reference", advice.rows[*advice.pick].error)
-      .fact("cost_scaling", "cpu_s x (full_bodies / bodies)^2");
-  // A given reference run's CPU seconds are not advise's to know (its loop's wall seconds are
-  // stated when compact stated them).
-  if (reference.cpu_seconds >= 0.0)
-    meta.fact("reference_cpu_s", reference.cpu_seconds)
-        .fact("predicted_full_reference_cpu_s", reference.cpu_seconds * body_factor * body_factor);
-  if (pick.cpu_seconds >= 0.0)
-    meta.fact("pick_cpu_s", pick.cpu_seconds).fact("predicted_full_run_cpu_s", predicted);
+      .fact("cost_scaling", "counted_cost (and cpu_s) x (full_bodies / bodies)^2");
+  const auto costs = [&](const analysis::Rung& rung, const char* name, const char* predicted) {
+    if (rung.counted_cost >= 0)
+      meta.fact(fmt::format("{}_counted_cost", name), rung.counted_cost)
+          .fact(fmt::format("{}_counted_cost", predicted),
+                static_cast<double>(rung.counted_cost) * scale);
+    // A given run's CPU seconds are not advise's to know (its loop's wall seconds are stated
+    // when compact stated them).
+    if (rung.cpu_seconds >= 0.0)
+      meta.fact(fmt::format("{}_cpu_s", name), rung.cpu_seconds)
+          .fact(fmt::format("{}_cpu_s", predicted), rung.cpu_seconds * scale);
+  };
+  costs(reference, "reference", "predicted_full_reference");
+  costs(pick, "pick", "predicted_full_run");
+  if (reference.counted_cost >= 0 && pick.counted_cost > 0)
+    meta.fact("cost_saved_factor",
+              static_cast<double>(reference.counted_cost) / static_cast<double>(pick.counted_cost));
   if (reference.cpu_seconds >= 0.0 && pick.cpu_seconds > 0.0)
-    meta.fact("cost_saved_factor", reference.cpu_seconds / pick.cpu_seconds);
+    meta.fact("cpu_saved_factor", reference.cpu_seconds / pick.cpu_seconds);
   meta.write(out / run_metadata_name);
   if (pick.cpu_seconds < 0.0) {
     spdlog::info("advise: no rung of the ladder within {:.2g} % of the given run {}: its setting",
@@ -625,16 +638,18 @@ void report_pick(const analysis::Advice& advice, const std::vector<analysis::Run
   }
   spdlog::info(
       "advise: pick {} ({} sub-spheres per body, step {} of critical, density scale {}): {:.2g} % "
-      "from {} (largest of curve RMS, peak, recovery, Py), {:.3g} s CPU{} on {} bodies; {} bodies "
-      "predicted at {:.3g} s CPU",
+      "from {} (largest of curve RMS, peak, recovery, Py), counted cost {} ({:.3g} s CPU){} on {} "
+      "bodies; {} bodies predicted at {:.3g} ({:.3g} s CPU)",
       pick.label, pick.sub_spheres, number_text(pick.time_step_fraction),
       number_text(pick.density_scale), 100.0 * advice.rows[*advice.pick].error, reference.label,
-      pick.cpu_seconds,
-      reference.cpu_seconds >= 0.0
-          ? fmt::format(" against {:.3g} s ({:.3g}x less)", reference.cpu_seconds,
-                        reference.cpu_seconds / pick.cpu_seconds)
+      pick.counted_cost, pick.cpu_seconds,
+      reference.counted_cost >= 0 && pick.counted_cost > 0
+          ? fmt::format(" against {} ({:.3g}x less)", reference.counted_cost,
+                        static_cast<double>(reference.counted_cost) /
+                            static_cast<double>(pick.counted_cost))
           : std::string(),
-      sizes.bodies, sizes.full_bodies, predicted);
+      sizes.bodies, sizes.full_bodies, static_cast<double>(pick.counted_cost) * scale,
+      pick.cpu_seconds * scale);
 }
 
 }  // namespace

@@ -57,6 +57,11 @@ std::string this_binary() {
   return fs::read_symlink("/proc/self/exe").string();
 }
 
+std::int64_t counted_cost(const std::filesystem::path& folder, std::string_view stage) {
+  const RunRecord run = RunRecord::read(folder / run_metadata_name, stage);
+  return run.has("counted_cost") ? run.integer("counted_cost") : -1;
+}
+
 void write_advice(const analysis::Advice& advice, const std::filesystem::path& out,
                   RunMetadata& meta) {
   analysis::write_advice_csv(out / "advice.csv", advice);

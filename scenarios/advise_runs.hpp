@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -26,6 +27,11 @@ std::string error_line(const std::filesystem::path& log, const std::string& stag
 
 // The named cause of a run's divergence message (simulate/diagnostics.cpp words them).
 std::string divergence_cause(const std::string& message);
+
+// A finished run's counted cost: the counted_cost of its run.json in `folder`, made by `stage`
+// (scenarios/run_facts.hpp); -1 (unknown) when that run.json does not state one (a run from
+// before the count). InputError naming the file when it is not that stage's run.json.
+std::int64_t counted_cost(const std::filesystem::path& folder, std::string_view stage);
 
 // The record of a finished step whose key is `key` (nothing when `record` does not exist).
 // InputError when it holds another step (another config or settings), or when it is finished and

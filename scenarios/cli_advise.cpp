@@ -60,7 +60,8 @@ std::string fraction_text(double f) {
   return fmt::format("{:.4g}", f);
 }
 
-// The finished rung of `job` from its folder (the run's curve and CPU seconds, or its end).
+// The finished rung of `job` from its folder (the run's curve, counted cost and CPU seconds, or
+// its end).
 analysis::Rung load_rung(const RungJob& job, const nlohmann::json& record) {
   analysis::Rung rung;
   rung.label = job.label;
@@ -81,6 +82,7 @@ analysis::Rung load_rung(const RungJob& job, const nlohmann::json& record) {
       rung.curve.y.push_back(c.top_force[i]);
     }
   rung.cpu_seconds = c.cpu_seconds;
+  rung.counted_cost = counted_cost(job.folder, "plate");
   // plate checks divergence at every row; a curve with a non-finite force (a run from before
   // that check) is a diverged run all the same, never a curve to compare.
   if (!std::all_of(c.top_force.begin(), c.top_force.end(),
@@ -218,8 +220,16 @@ int run(const AdviseCli& cli, const RunContext& context) {
   }
   const analysis::Rung& pick = rungs[*advice.pick];
   const analysis::Rung& reference = rungs[*advice.reference];
-  // The full run is the config's own: the pick's CPU seconds scaled to the config's fills.
-  const double predicted = pick.cpu_seconds * static_cast<double>(config_fills) / fills;
+  // The full run is the config's own: the pick's counted cost (and CPU seconds, beside it)
+  // scaled to the config's fills.
+  const double scale = static_cast<double>(config_fills) / fills;
+  const auto ratio = [](double reference_cost, double pick_cost) {
+    return reference_cost >= 0.0 && pick_cost > 0.0 ? reference_cost / pick_cost : NAN;
+  };
+  const double pick_cost = static_cast<double>(pick.counted_cost);
+  const double reference_cost = static_cast<double>(reference.counted_cost);
+  const double saved = ratio(reference_cost, pick_cost);
+  const double cpu_saved = ratio(reference.cpu_seconds, pick.cpu_seconds);
   meta.fact("reference", reference.label)
       .fact("reference_cpu_s", reference.cpu_seconds)
       .fact("pick", pick.label)
@@ -227,16 +237,24 @@ int run(const AdviseCli& cli, const RunContext& context) {
       .fact("pick_time_step_fraction", pick.time_step_fraction)
       .fact("pick_rms_vs_reference", advice.rows[*advice.pick].versus_reference.rms_relative)
       .fact("pick_cpu_s", pick.cpu_seconds)
-      .fact("predicted_full_run_cpu_s", predicted)
-      .fact("cost_saved_factor", reference.cpu_seconds / pick.cpu_seconds);
+      .fact("cost_scaling", "counted_cost (and cpu_s) x config fills / fills")
+      .fact("predicted_full_run_cpu_s", pick.cpu_seconds * scale);
+  // Rungs run before the count (advise --resume of an older folder) state none.
+  if (reference.counted_cost >= 0) meta.fact("reference_counted_cost", reference.counted_cost);
+  if (pick.counted_cost >= 0)
+    meta.fact("pick_counted_cost", pick.counted_cost)
+        .fact("predicted_full_run_counted_cost", pick_cost * scale);
+  if (std::isfinite(saved)) meta.fact("cost_saved_factor", saved);
+  if (std::isfinite(cpu_saved)) meta.fact("cpu_saved_factor", cpu_saved);
   meta.write(out / run_metadata_name);
   spdlog::info(
-      "advise: pick {} ({} sub-spheres, step {} of critical): {:.2g} % RMS from {}, {:.3g} s "
-      "CPU against {:.3g} s ({:.3g}x less); the config's run ({} fills) predicted {:.3g} s CPU",
+      "advise: pick {} ({} sub-spheres, step {} of critical): {:.2g} % RMS from {}, counted cost "
+      "{} ({:.3g} s CPU) against {} ({:.3g} s CPU), {:.3g}x less ({:.3g}x less CPU); the config's "
+      "run ({} fills) predicted {:.3g} ({:.3g} s CPU)",
       pick.label, pick.sub_spheres, fraction_text(pick.time_step_fraction),
       100.0 * advice.rows[*advice.pick].versus_reference.rms_relative, reference.label,
-      pick.cpu_seconds, reference.cpu_seconds, reference.cpu_seconds / pick.cpu_seconds,
-      config_fills, predicted);
+      pick.counted_cost, pick.cpu_seconds, reference.counted_cost, reference.cpu_seconds, saved,
+      cpu_saved, config_fills, pick_cost * scale, pick.cpu_seconds * scale);
   return 0;
 }
 

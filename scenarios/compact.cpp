@@ -192,6 +192,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     // The punch moves down at -velocity against the bed's load on it.
     punch.work -= engine.wall_load(setup.punch_wall) * velocity * engine.settings().time_step;
     ++history.steps;
+    history.work_count += step_work(engine);
     ++summary.loop_steps;
     const std::int64_t step = engine.step_index();
     if (setup.record_every > 0 && step % setup.record_every == 0 && !relaxing())
@@ -216,6 +217,7 @@ CompactionSummary run_compaction(Engine& engine, const CompactionSetup& setup, P
     summary.last = history.records.back();
   }
   summary.steps = history.steps;
+  summary.work_count = history.work_count;
   summary.total_loop_seconds = seconds_before + summary.loop_seconds;
   summary.quasi_static = quasi_static_check(history.records, setup.inertial);
   return summary;

@@ -13,6 +13,7 @@
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/timestep.hpp"
+#include "simulate/work_count.hpp"
 
 namespace shapepress::scenarios {
 
@@ -93,6 +94,7 @@ std::vector<double> punch_csv_row(const PunchRecord& r);
 struct CompactionHistory {
   std::vector<PunchRecord> records;
   std::int64_t steps = 0;
+  WorkCount work_count;  // of the steps taken (simulate/work_count.hpp)
   // Wall seconds of the stepping loop before this process's loop began (a resumed checkpoint's;
   // NaN when a checkpoint older than this count does not say), and when it began: a checkpoint
   // states their sum, so a resumed run states the whole run's wall time.
@@ -148,6 +150,7 @@ struct CompactionSummary {
   double max_stress = 0.0;
   QuasiStaticCheck quasi_static;
   std::int64_t steps = 0;           // steps taken, those before a resumed checkpoint included
+  WorkCount work_count;             // counted over those steps: the run's deterministic cost
   double loop_seconds = 0.0;        // wall time of the stepping loop (after the checkpoint)
   double total_loop_seconds = 0.0;  // the run's, before the checkpoint included (NaN: unknown)
   std::int64_t loop_steps = 0;      // steps taken in it (after the checkpoint when resumed)

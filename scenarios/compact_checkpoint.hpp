@@ -2,9 +2,9 @@
 // Checkpoints of a compaction for `compact --resume` (docs/stages.md, "Checkpoints and
 // --resume"): in OUT/checkpoints/, a snapshot step_N.h5 (the engine and the punch, as --restart
 // reads it) and beside it the record step_N.json (common/checkpoint.hpp) of the
-// CompactionHistory at that step (every punch.csv record with every bit, the steps taken, the
-// loop's wall seconds) and the snapshot index so far. resume.json (common/resume.hpp) says how
-// the run was started, so --resume OUT needs nothing else.
+// CompactionHistory at that step (every punch.csv record with every bit, the steps taken and
+// their work counts, the loop's wall seconds) and the snapshot index so far. resume.json
+// (common/resume.hpp) says how the run was started, so --resume OUT needs nothing else.
 #include <filesystem>
 #include <vector>
 #include "scenarios/namespaces.hpp"

@@ -108,6 +108,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   PlateProgress before;
   if (hooks.resume) before = std::move(hooks.resume->progress);
   std::vector<PlateRow> rows = std::move(before.rows);
+  WorkCount work_count = before.work_count;
   const double cpu_start = cpu_seconds_of_this_run() - before.cpu_seconds;
   const auto wall_start = std::chrono::steady_clock::now();
   const auto wall_seconds = [&] {
@@ -115,7 +116,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
            std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
   const std::function<PlateProgress()> progress = [&] {
-    return PlateProgress{rows, cpu_seconds_of_this_run() - cpu_start, wall_seconds()};
+    return PlateProgress{rows, cpu_seconds_of_this_run() - cpu_start, wall_seconds(), work_count};
   };
   int next = static_cast<int>(rows.size()) + 1;
   // Of the walls' positions (the first touch: gap0).
@@ -126,6 +127,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
     engine.walls()[0].velocity = (1.0 - top_share) * speed;
     engine.walls()[1].velocity = -top_share * speed;
     engine.step();
+    work_count += step_work(engine);
     approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
     if (approach >= final_approach * next / setup.records) {
       // The engine checks every check_every steps; a coarse step can blow up and fill the rows
@@ -146,6 +148,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
       r.work = engine.work_in();
       r.cpu_seconds = cpu_seconds_of_this_run() - cpu_start;
       r.wall_seconds = wall_seconds();
+      r.work_count = work_count;
       if (row) row(r, engine);
       rows.push_back(r);
       ++next;

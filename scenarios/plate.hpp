@@ -17,6 +17,7 @@
 #include "simulate/materials.hpp"
 #include "simulate/snapshot.hpp"
 #include "simulate/state.hpp"
+#include "simulate/work_count.hpp"
 
 namespace shapepress::scenarios {
 
@@ -55,6 +56,7 @@ struct PlateRow {
   double work = 0.0;            // J, done by the plates since the start
   double cpu_seconds = 0.0;     // process CPU time since the run started (all threads)
   double wall_seconds = 0.0;    // elapsed time since the run started
+  WorkCount work_count;         // counted over the steps since the run started
   // An ensemble of fills ([bms] fills): the forces above are the fills' means, these the top
   // force's sample standard deviation, least and largest over the fills (0 for one fill).
   double top_force_sd = 0.0, top_force_min = 0.0, top_force_max = 0.0;
@@ -80,11 +82,13 @@ double smallest_radius(const SphereState& spheres);
 // 1000 steps (the rig's loading is slow).
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
                                 const EngineSettings& engine);
-// How far a run has come: its rows so far and the CPU and wall seconds it spent (a resumed run's
-// cpu_s and wall_s columns go on from those of the attempts before).
+// How far a run has come: its rows so far, the CPU and wall seconds it spent and the work it
+// counted (a resumed run's cpu_s and wall_s columns and its count go on from those of the
+// attempts before).
 struct PlateProgress {
   std::vector<PlateRow> rows;
   double cpu_seconds = 0.0, wall_seconds = 0.0;
+  WorkCount work_count;
 };
 
 // A run continued from a checkpoint: the engine as it was saved and its progress. The particle

@@ -49,6 +49,23 @@ constexpr std::pair<std::string_view, double PlateRow::*> row_numbers[] = {
     {"top_force_max", &PlateRow::top_force_max}};
 constexpr std::pair<std::string_view, std::int64_t PlateRow::*> row_wholes[] = {
     {"contacts", &PlateRow::contacts}, {"intact_bonds", &PlateRow::intact_bonds}};
+constexpr std::pair<std::string_view, std::int64_t WorkCount::*> work_wholes[] = {
+    {"sphere_steps", &WorkCount::sphere_steps},
+    {"contact_steps", &WorkCount::contact_steps},
+    {"bond_steps", &WorkCount::bond_steps}};
+
+CheckpointState& add_work(CheckpointState& state, const WorkCount& work) {
+  for (const auto& [key, field] : work_wholes)
+    state.whole(key, work.*field);
+  return state;
+}
+
+WorkCount read_work(const CheckpointFields& f) {
+  WorkCount work;
+  for (const auto& [key, field] : work_wholes)
+    work.*field = f.whole(key, 0, std::numeric_limits<std::int64_t>::max());
+  return work;
+}
 
 std::vector<CheckpointState> rows_state(const std::vector<PlateRow>& rows) {
   std::vector<CheckpointState> items(rows.size());
@@ -57,6 +74,7 @@ std::vector<CheckpointState> rows_state(const std::vector<PlateRow>& rows) {
       items[k].number(key, rows[k].*field);
     for (const auto& [key, field] : row_wholes)
       items[k].whole(key, rows[k].*field);
+    add_work(items[k], rows[k].work_count);
   }
   return items;
 }
@@ -69,6 +87,7 @@ std::vector<PlateRow> read_rows(const CheckpointFields& state) {
       r.*field = f.number(key);
     for (const auto& [key, field] : row_wholes)
       r.*field = f.whole(key);
+    r.work_count = read_work(f);
   }
   return rows;
 }
@@ -129,6 +148,7 @@ PlateHooks PlateCheckpoints::hooks(int fill) const {
       PlateProgress progress;
       progress.cpu_seconds = state.number("cpu_s");
       progress.wall_seconds = state.number("wall_s");
+      progress.work_count = read_work(state);
       progress.rows = read_rows(state);
       hooks.resume = PlateResumePoint{read_snapshot(latest->snapshot), std::move(progress)};
     }
@@ -139,10 +159,9 @@ PlateHooks PlateCheckpoints::hooks(int fill) const {
                                          const std::function<PlateProgress()>& progress) {
     if (!clock->due(engine.step_index())) return true;
     const PlateProgress p = progress();
-    const CheckpointState state = CheckpointState()
-                                      .number("cpu_s", p.cpu_seconds)
-                                      .number("wall_s", p.wall_seconds)
-                                      .list("rows", rows_state(p.rows));
+    CheckpointState state;
+    state.number("cpu_s", p.cpu_seconds).number("wall_s", p.wall_seconds);
+    add_work(state, p.work_count).list("rows", rows_state(p.rows));
     {
       const std::lock_guard<std::mutex> lock(files_lock());
       simulate::write_checkpoint(folder_, engine, {}, provenance_, plate_stage, state,

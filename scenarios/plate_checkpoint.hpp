@@ -2,7 +2,7 @@
 // Checkpoints of `plate` for `plate --resume` (docs/stages.md, "plate", "Checkpoints and
 // --resume"), in OUT/checkpoints/. A run is fills 0 … K − 1 of an ensemble ([bms] fills = K; one
 // run is fill 0 of 1), each with its own files:
-// - fill<k>_<step>.h5 and .json: the unfinished fill's engine and rows so far, every
+// - fill<k>_<step>.h5 and .json: the unfinished fill's engine, rows and work count so far, every
 //   run.checkpoint_every steps, every run.checkpoint_minutes and on SIGINT/SIGTERM (the newest
 //   two kept, simulate/checkpoint.hpp);
 // - fill<k>.json: a finished fill's rows and facts, with every bit, which a resumed ensemble

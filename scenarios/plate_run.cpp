@@ -76,7 +76,8 @@ namespace {
 
 // The fills' mean curve, row by row: every fill records its rows at the same approaches
 // (plate.hpp), so row j of each is the same point of the loading to within one step's travel.
-// CPU seconds add up; wall seconds add up over the `threads` that ran the fills side by side.
+// CPU seconds and work counts add up; wall seconds add up over the `threads` that ran the fills
+// side by side.
 PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills, int threads) {
   const auto k = static_cast<double>(fills.size());
   double bonds = 0.0, radius = 0.0;
@@ -107,6 +108,7 @@ PlateRunOutcome mean_of_fills(std::vector<PlateRunOutcome> fills, int threads) {
       r.kinetic_energy += q.kinetic_energy / k;
       r.work += q.work / k;
       r.cpu_seconds += q.cpu_seconds;  // the ensemble's cost
+      r.work_count += q.work_count;
       r.wall_seconds += q.wall_seconds / threads;
       r.top_force_min = std::min(r.top_force_min, q.top_force);
       r.top_force_max = std::max(r.top_force_max, q.top_force);

@@ -32,6 +32,8 @@ struct PlateRunOutcome {
   std::vector<std::vector<PlateRow>> fill_rows;
   bool interrupted = false;  // stopped by a signal after a checkpoint (PlateCheckpoints)
   int fills() const { return fill_rows.empty() ? 1 : static_cast<int>(fill_rows.size()); }
+  // The run's counted work, the fills' summed (the last row's: a run ends at its last row).
+  WorkCount work_count() const { return rows.empty() ? WorkCount{} : rows.back().work_count; }
 };
 
 // What `plate --particle` presses: one Hertz sphere, a BMS agglomerate ([bms], [bond]) or a

@@ -33,6 +33,13 @@ nlohmann::json interaction_laws(const MaterialConfig& materials) {
   return laws;
 }
 
+void add_work_facts(RunMetadata& meta, const WorkCount& work) {
+  meta.fact("sphere_steps", work.sphere_steps)
+      .fact("contact_steps", work.contact_steps)
+      .fact("bond_steps", work.bond_steps)
+      .fact("counted_cost", work.total());
+}
+
 void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
                           const CompactionSetup& setup, double reference_gap, const Engine& engine,
                           const CompactionSummary& summary) {
@@ -81,6 +88,7 @@ void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
       .fact("steps", summary.steps)
       .fact("final_step", engine.step_index())
       .fact("record_every", setup.record_every);
+  add_work_facts(meta, summary.work_count);
   // The stepping loop's wall seconds, a resumed run's whole; absent when a checkpoint older than
   // this fact did not keep the part before it.
   if (std::isfinite(summary.total_loop_seconds)) meta.fact("loop_s", summary.total_loop_seconds);
@@ -116,6 +124,7 @@ void add_plate_facts(RunMetadata& meta, const PlateConfig& config, PlateParticle
       .fact("laws", interaction_laws(config.materials))
       .fact("time_step_s", outcome.time_step)
       .fact("rows", outcome.rows.size());
+  add_work_facts(meta, outcome.work_count());
   if (kind != PlateParticleKind::sphere)
     meta.fact("sub_sphere_radius_m", outcome.sub_sphere_radius);
   if (kind == PlateParticleKind::cms) meta.fact("requested_spheres", outcome.requested_spheres);

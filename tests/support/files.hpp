@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -94,6 +95,31 @@ inline std::string read_text(const std::filesystem::path& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+// Rows of a CSV of text cells, '#' lines skipped, each by column name (no quoted commas: the
+// tables the stages write have none).
+inline std::vector<std::map<std::string, std::string>> text_rows(
+    const std::filesystem::path& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream split(line);
+    for (std::string cell; std::getline(split, cell, ',');)
+      cells.push_back(cell);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    auto& row = rows.emplace_back();
+    for (std::size_t k = 0; k < std::min(cells.size(), header.size()); ++k)
+      row[header[k]] = cells[k];
+  }
+  return rows;
 }
 
 // A file of tests/data as text, e.g. the TOML preludes the end-to-end tests share

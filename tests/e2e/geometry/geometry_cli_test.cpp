@@ -24,21 +24,9 @@ const std::string data = std::string(SHAPEPRESS_TEST_DATA) + "/geometry/";
 
 // Rows of a CSV with text columns (read_csv takes numbers only): the cells of `column`.
 std::vector<std::string> csv_column(const fs::path& path, const std::string& column) {
-  std::ifstream in(path);
-  std::vector<std::string> header, cells;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> row;
-    std::stringstream fields(line);
-    for (std::string cell; std::getline(fields, cell, ',');)
-      row.push_back(cell);
-    if (header.empty()) {
-      header = row;
-      continue;
-    }
-    const auto at = std::find(header.begin(), header.end(), column) - header.begin();
-    cells.push_back(row.at(static_cast<std::size_t>(at)));
-  }
+  std::vector<std::string> cells;
+  for (const auto& row : shapepress::testing::text_rows(path))
+    cells.push_back(row.at(column));
   return cells;
 }
 

@@ -31,35 +31,12 @@ using shapepress::testing::read_text;
 using shapepress::testing::repository_root;
 using shapepress::testing::run_command;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::text_rows;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
 const std::string spheres = "compact-demo: 500 spheres";
 const std::string bonded = "compact-bed-demo: 20 BMS bodies of 30 sub-spheres";
-
-// Rows of a CSV of text cells, '#' lines skipped, each by column name (no quoted commas: the
-// demo's labels have none).
-std::vector<std::map<std::string, std::string>> text_rows(const fs::path& path) {
-  std::ifstream in(path);
-  EXPECT_TRUE(in.good()) << path;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream split(line);
-    for (std::string cell; std::getline(split, cell, ',');)
-      cells.push_back(cell);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    auto& row = rows.emplace_back();
-    for (std::size_t k = 0; k < std::min(cells.size(), header.size()); ++k)
-      row[header[k]] = cells[k];
-  }
-  return rows;
-}
 
 // metrics.json's value of `metric` for the run labelled `label` (NaN when absent).
 double metric(const nlohmann::json& metrics, const std::string& label, const std::string& metric) {

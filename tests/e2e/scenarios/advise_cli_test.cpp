@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +21,7 @@ namespace {
 using shapepress::testing::fresh_directory;
 using shapepress::testing::run_shapepress;
 using shapepress::testing::shell_quoted;
+using shapepress::testing::text_rows;
 using ::testing::HasSubstr;
 
 const std::filesystem::path repo = shapepress::testing::repository_root();
@@ -47,6 +49,29 @@ TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
   EXPECT_TRUE(std::filesystem::exists(dir / "advice" / "speed_accuracy.svg"));
   EXPECT_TRUE(std::filesystem::exists(dir / "advice" / "stability_map.svg"));
   const auto stamp = std::filesystem::last_write_time(dir / "advice" / "cms-20-f0.2" / "force.csv");
+  // Every rung's counted cost (its run.json's) beside its CPU seconds, and the pick the holding
+  // rung of least counted cost.
+  const auto rows = text_rows(dir / "advice" / "advice.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  std::int64_t least = -1;
+  for (const auto& row : rows) {
+    ASSERT_TRUE(row.contains("counted_cost") && row.contains("cpu_s"));
+    const std::int64_t cost = std::stoll(row.at("counted_cost"));
+    const nlohmann::json rung = read_json(dir / "advice" / row.at("label") / "run.json");
+    EXPECT_EQ(cost, rung.at("facts").at("counted_cost").get<std::int64_t>()) << row.at("label");
+    EXPECT_GT(cost, 0);
+    EXPECT_GE(std::stod(row.at("cpu_s")), 0.0);
+    if (row.at("status") == "within" || row.at("status") == "reference")
+      least = least < 0 ? cost : std::min(least, cost);
+    if (row.at("picked") == "1") {
+      EXPECT_EQ(row.at("label"), facts.at("pick").get<std::string>());
+      EXPECT_EQ(cost, facts.at("pick_counted_cost").get<std::int64_t>());
+      EXPECT_EQ(facts.at("predicted_full_run_counted_cost").get<double>(), cost);  // one fill
+    }
+  }
+  EXPECT_EQ(facts.at("pick_counted_cost").get<std::int64_t>(), least);
+  EXPECT_TRUE(facts.contains("pick_cpu_s"));
+  EXPECT_TRUE(facts.contains("predicted_full_run_cpu_s"));
 
   // The same ladder again: nothing is re-run, the pick is the same.
   const auto again = run_shapepress(command + " --resume");
@@ -61,6 +86,22 @@ TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
   const auto refused = run_shapepress(command);
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_THAT(refused.output, HasSubstr("--resume"));
+
+  // The same ladder run afresh on one thread (the rungs one after another, timed differently):
+  // every counted cost the same, and so the pick, whatever the CPU seconds came out as.
+  std::string fresh = command;
+  fresh.replace(fresh.find("--threads 2"), 11, "--threads 1");
+  fresh.replace(fresh.find(shell_quoted(dir / "advice")), shell_quoted(dir / "advice").size(),
+                shell_quoted(dir / "again"));
+  const auto repeated = run_shapepress(fresh);
+  ASSERT_EQ(repeated.exit_code, 0) << repeated.output;
+  const auto afresh = text_rows(dir / "again" / "advice.csv");
+  ASSERT_EQ(afresh.size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(afresh[k].at("counted_cost"), rows[k].at("counted_cost")) << rows[k].at("label");
+    EXPECT_EQ(afresh[k].at("picked"), rows[k].at("picked")) << rows[k].at("label");
+  }
+  EXPECT_EQ(read_json(dir / "again" / "run.json").at("facts").at("pick"), facts.at("pick"));
 }
 
 // The rows of advice.csv by label: "status,cause".

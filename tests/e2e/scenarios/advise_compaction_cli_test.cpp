@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -76,6 +78,37 @@ Bed tiny_bed(const fs::path& dir) {
   return bed;
 }
 
+// advice.csv's row of `label` as fields.
+std::vector<std::string> advice_fields(const fs::path& csv, const std::string& label) {
+  std::ifstream in(csv);
+  std::vector<std::string> fields;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(label + ",", 0) == 0) {
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');)
+        fields.push_back(cell);
+    }
+  return fields;
+}
+
+// advice.csv's row of `label` from its counted cost on but for its CPU seconds: what it cost by
+// count and what it measured against the reference.
+std::string judged_fields(const fs::path& csv, const std::string& label) {
+  std::vector<std::string> fields = advice_fields(csv, label);
+  if (fields.size() < 9) return "(no row " + label + ")";
+  fields.erase(fields.begin() + 8);  // cpu_s
+  std::string judged;
+  for (std::size_t k = 7; k < fields.size(); ++k)
+    judged += fields[k] + ",";
+  return judged;
+}
+
+// The counted_cost cell of `label`'s row.
+std::string counted_cost(const fs::path& csv, const std::string& label) {
+  const std::vector<std::string> fields = advice_fields(csv, label);
+  return fields.size() > 7 ? fields[7] : "(no row " + label + ")";
+}
+
 TEST(AdviseCompactionCli, RefillsRepacksPressesAndPicksAndAResumedAdviseRerunsNothing) {
   const fs::path dir = fresh_directory("advise_compaction");
   const Bed bed = tiny_bed(dir);
@@ -97,6 +130,19 @@ TEST(AdviseCompactionCli, RefillsRepacksPressesAndPicksAndAResumedAdviseRerunsNo
   // The full run, twice the bodies in the same die: twice the work per step, twice the steps.
   EXPECT_NEAR(facts.at("predicted_full_run_cpu_s").get<double>(),
               4.0 * facts.at("pick_cpu_s").get<double>(), 1e-9);
+  // The pick goes by the counted cost (its rung's run.json's), scaled the same way; the CPU
+  // seconds are beside it.
+  const auto pick_cost = facts.at("pick_counted_cost").get<std::int64_t>();
+  EXPECT_EQ(pick_cost, read_json(out / facts.at("pick").get<std::string>() / "run.json")
+                           .at("facts")
+                           .at("counted_cost")
+                           .get<std::int64_t>());
+  EXPECT_EQ(facts.at("predicted_full_run_counted_cost").get<double>(), 4.0 * pick_cost);
+  EXPECT_NEAR(facts.at("cost_saved_factor").get<double>(),
+              facts.at("reference_counted_cost").get<double>() / pick_cost, 1e-12);
+  EXPECT_TRUE(facts.contains("cpu_saved_factor"));
+  EXPECT_EQ(counted_cost(out / "advice.csv", facts.at("pick").get<std::string>()),
+            std::to_string(pick_cost));
   for (const char* chart : {"speed_accuracy.svg", "stability_map.svg"})
     EXPECT_TRUE(fs::exists(out / chart)) << chart;
 
@@ -120,6 +166,7 @@ TEST(AdviseCompactionCli, RefillsRepacksPressesAndPicksAndAResumedAdviseRerunsNo
     const nlohmann::json record = read_json(out / label / "rung.json");
     EXPECT_EQ(record.at("exit_code").get<int>(), 1) << label;
     EXPECT_THAT(record.at("message").get<std::string>(), HasSubstr("diverged at step"));
+    EXPECT_EQ(counted_cost(out / "advice.csv", label), "nan") << label;  // never the pick
   }
   const auto stamp = fs::last_write_time(out / "bms-20-f0.2-s100" / "punch.csv");
 
@@ -138,23 +185,10 @@ TEST(AdviseCompactionCli, RefillsRepacksPressesAndPicksAndAResumedAdviseRerunsNo
   EXPECT_THAT(refused.output, HasSubstr("--resume"));
 }
 
-// advice.csv's row of `label` from its cpu_s on: what it measured against the reference.
-std::string judged_fields(const fs::path& csv, const std::string& label) {
-  std::ifstream in(csv);
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(label + ",", 0) == 0) {
-      std::size_t at = 0;
-      for (int comma = 0; comma < 8; ++comma)
-        at = line.find(',', at) + 1;
-      return line.substr(at);
-    }
-  return "(no row " + label + ")";
-}
-
 // A finest run made outside the ladder (a full study's) stands in for the rung it is: the ladder
 // judged against it says what it says against that rung run by advise itself. A run of another
 // bed or config is refused, naming what differs; with nothing within the tolerance its setting is
-// the pick, of no stated cost.
+// the pick, at its run.json's counted cost and of no stated CPU seconds.
 TEST(AdviseCompactionCli, AGivenReferenceRunJudgesTheLadderAsItsOwnRungWould) {
   const fs::path dir = fresh_directory("advise_compaction_reference");
   const Bed bed = tiny_bed(dir);
@@ -175,6 +209,8 @@ TEST(AdviseCompactionCli, AGivenReferenceRunJudgesTheLadderAsItsOwnRungWould) {
   EXPECT_EQ(facts.at("reference").get<std::string>(), "given-bms-30-f0.2-s100");
   EXPECT_EQ(facts.at("rungs_run").get<int>(), 1);
   EXPECT_FALSE(facts.contains("reference_cpu_s"));
+  EXPECT_EQ(facts.at("reference_counted_cost").get<std::int64_t>(),
+            read_json(given / "run.json").at("facts").at("counted_cost").get<std::int64_t>());
   EXPECT_EQ(judged_fields(dir / "coarse" / "advice.csv", "bms-20-f0.2-s100"),
             judged_fields(dir / "both" / "advice.csv", "bms-20-f0.2-s100"));
   EXPECT_EQ(statuses(dir / "coarse" / "advice.csv").at("given-bms-30-f0.2-s100"), "reference,-");
@@ -188,13 +224,14 @@ TEST(AdviseCompactionCli, AGivenReferenceRunJudgesTheLadderAsItsOwnRungWould) {
   EXPECT_EQ(advice.at("reference").get<std::string>(), "given-bms-30-f0.2-s100");
   EXPECT_EQ(advice.at("rungs").size(), 2u);
 
-  // Nothing within 0 %: the given run's setting, with no cost to predict.
+  // Nothing within 0 %: the given run's setting, its counted cost predicted, no CPU seconds.
   const auto strict = run_shapepress(coarse + " --resume --tolerance 0");
   ASSERT_EQ(strict.exit_code, 0) << strict.output;
   const nlohmann::json picked = read_json(dir / "coarse" / "run.json").at("facts");
   EXPECT_EQ(picked.at("pick").get<std::string>(), "given-bms-30-f0.2-s100");
   EXPECT_EQ(picked.at("rungs_run").get<int>(), 0);
   EXPECT_FALSE(picked.contains("predicted_full_run_cpu_s"));
+  EXPECT_EQ(picked.at("pick_counted_cost"), facts.at("reference_counted_cost"));
 
   // Another bed (8 bodies) is refused before anything runs.
   const auto fewer = run_shapepress(ladder + " --counts 20 --bodies 8 --reference-run " +

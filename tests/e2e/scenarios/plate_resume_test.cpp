@@ -133,6 +133,15 @@ TEST(PlateResume, EnsembleKilledThreeTimesEndsAsTheUninterruptedRun) {
   for (const auto* name : {"run.json", "effective.toml", "final.xdmf"})
     EXPECT_EQ(read_text(run / name), read_text(ref / name)) << name;
   expect_same_snapshot(ref / "final.h5", run / "final.h5");
+  // run.json's counted work (advise's cost), the same as the uninterrupted run's above: the
+  // three fills' sub-sphere-, contact- and bond-steps summed, kept across the kills.
+  const auto facts = nlohmann::json::parse(read_text(run / "run.json"))["facts"];
+  const auto count = [&](const char* key) { return facts.at(key).get<std::int64_t>(); };
+  EXPECT_GT(count("sphere_steps"), 3 * steps * 50);  // ~100 sub-spheres per fill
+  EXPECT_GT(count("contact_steps"), 0);
+  EXPECT_GT(count("bond_steps"), count("sphere_steps"));  // bonded: several bonds per sub-sphere
+  EXPECT_EQ(count("counted_cost"),
+            count("sphere_steps") + count("contact_steps") + count("bond_steps"));
 }
 
 TEST(PlateResume, SigtermWritesACheckpointAndExitsWithItsCode) {

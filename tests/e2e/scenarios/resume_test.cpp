@@ -118,6 +118,13 @@ TEST(CompactResume, KilledThreeTimesEndsAsTheUninterruptedRun) {
   EXPECT_GT(resumed["facts"]["loop_s"].get<double>(), 0.0);
   resumed["facts"].erase("loop_s"), uninterrupted["facts"].erase("loop_s");
   EXPECT_EQ(resumed, uninterrupted);
+  // Among them the counted work (advise's cost), kept across the kills: 150 spheres every step
+  // of the compaction (the settle is an engine of its own, not counted), their contacts, no bonds.
+  const auto count = [&](const char* key) { return resumed["facts"].at(key).get<std::int64_t>(); };
+  EXPECT_EQ(count("sphere_steps"), 150 * count("steps"));
+  EXPECT_GT(count("contact_steps"), count("steps"));
+  EXPECT_EQ(count("bond_steps"), 0);
+  EXPECT_EQ(count("counted_cost"), count("sphere_steps") + count("contact_steps"));
   for (const auto& file : files_under(ref / "snapshots"))
     expect_same_snapshot(ref / "snapshots" / file, run / "snapshots" / file);
 }

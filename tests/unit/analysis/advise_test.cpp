@@ -1,6 +1,6 @@
 // The advisor's judgement on synthetic ladders whose errors are known by construction: a rung's
 // curve is the reference's times (1 + e), so its RMS relative difference is exactly e, and the
-// pick must be the cheapest rung with e at most the tolerance.
+// pick must be the cheapest rung with e at most the tolerance, by its counted cost.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -32,13 +32,16 @@ Curve plate_curve(double error) {
   return c;
 }
 
-Rung rung(int n, double fraction, double error, double cpu) {
+// A rung whose counted cost is `cost` thousand steps of work and whose CPU seconds are `cost`
+// (the two agree unless a test sets them apart).
+Rung rung(int n, double fraction, double error, double cost) {
   Rung r;
   r.label = "cms-" + std::to_string(n) + "-f" + std::to_string(fraction);
   r.sub_spheres = n;
   r.time_step_fraction = fraction;
   r.curve = plate_curve(error);
-  r.cpu_seconds = cpu;
+  r.counted_cost = std::llround(1000.0 * cost);
+  r.cpu_seconds = cost;
   return r;
 }
 
@@ -73,10 +76,42 @@ TEST(Advise, PicksTheCheapestRungWithinTheTolerance) {
   EXPECT_EQ(pick(0.01), rungs[3].label);  // nothing but the finest holds 1 %
 }
 
-// A finest run made outside the ladder (advise --reference-run) has no CPU seconds: it is the
-// reference, and picked only when no rung of the ladder holds.
+// The pick goes by the counted cost, not the CPU seconds: on a loaded machine the cheaper rung's
+// CPU seconds can come out above a dearer one's, and the pick must not follow them. Here N = 200
+// (3 % off) counts less work than the doubled step at N = 400 (4 % off) but measured more CPU;
+// the pick stays N = 200, as on an idle machine, and the table keeps both costs.
+TEST(Advise, PicksByTheCountedCostWhenTheCpuSecondsSayOtherwise) {
+  std::vector<Rung> rungs = ladder();
+  rungs[2].cpu_seconds = 9.0;  // measured under load: more than the finest's 8 s
+  const Advice a = advise(rungs, 0.05);
+  ASSERT_TRUE(a.pick.has_value());
+  EXPECT_EQ(rungs[*a.pick].label, rungs[2].label);
+  // And the other way: the counted cost alone moves the pick.
+  rungs[2].counted_cost = 5000;  // above N = 400's doubled step (4400)
+  rungs[2].cpu_seconds = 1.0;
+  const Advice b = advise(rungs, 0.05);
+  ASSERT_TRUE(b.pick.has_value());
+  EXPECT_EQ(rungs[*b.pick].label, rungs[4].label);
+  const std::filesystem::path dir = shapepress::testing::fresh_directory("advise_counted");
+  write_advice_csv(dir / "advice.csv", b);
+  std::ifstream in(dir / "advice.csv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(rungs[2].label + ",within,-,200,0.2,1,0,5000,1,"), std::string::npos) << text;
+  // The speed-accuracy chart's x axis is the counted cost.
+  const Chart chart = speed_accuracy_chart(b);
+  EXPECT_EQ(chart.x_column, "counted_cost");
+  bool drawn = false;
+  for (const Series& s : chart.series)
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      drawn = drawn || (s.x[i] == 5000.0 && std::abs(s.y[i] - 3.0) < 1e-9);
+  EXPECT_TRUE(drawn);
+}
+
+// A finest run whose cost is not known (a run made outside the ladder before runs counted their
+// work): it is the reference, and picked only when no rung of the ladder holds.
 TEST(Advise, AReferenceOfUnknownCostIsPickedOnlyWhenNothingElseHolds) {
   std::vector<Rung> rungs = ladder();
+  rungs[3].counted_cost = -1;
   rungs[3].cpu_seconds = -1.0;
   const Advice loose = advise(rungs, 0.05);
   EXPECT_EQ(loose.reference, 3u);
@@ -86,7 +121,8 @@ TEST(Advise, AReferenceOfUnknownCostIsPickedOnlyWhenNothingElseHolds) {
   write_advice_csv(::testing::TempDir() + "/unknown_cost.csv", strict);
   std::ifstream in(::testing::TempDir() + "/unknown_cost.csv");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(text.find(rungs[3].label + ",reference,-,400,0.2,1,0,nan,"), std::string::npos) << text;
+  EXPECT_NE(text.find(rungs[3].label + ",reference,-,400,0.2,1,0,nan,nan,"), std::string::npos)
+      << text;
   const Chart chart = speed_accuracy_chart(strict);
   for (const Series& s : chart.series)
     for (double x : s.x)
@@ -105,7 +141,8 @@ TEST(Advise, AReportReadsTheAdviceBackAndDrawsItsCharts) {
       .fact("pick", rungs[*advice.pick].label)
       .fact("reference", rungs[*advice.reference].label)
       .fact("pick_error_vs_reference", advice.rows[*advice.pick].error)
-      .fact("cost_saved_factor", 2.0);
+      .fact("cost_saved_factor", 2.0)
+      .fact("cpu_saved_factor", 3.0);
   meta.write(dir / run_metadata_name);
 
   const AdviceRecord read = read_advice(dir);
@@ -118,6 +155,8 @@ TEST(Advise, AReportReadsTheAdviceBackAndDrawsItsCharts) {
       EXPECT_TRUE(std::isnan(read.advice.rows[k].error)) << k;  // a diverged rung has none
     EXPECT_EQ(read.advice.rows[k].rung->label, rungs[k].label);
     EXPECT_EQ(read.advice.rows[k].rung->sub_spheres, rungs[k].sub_spheres);
+    EXPECT_EQ(read.advice.rows[k].rung->counted_cost, rungs[k].counted_cost) << k;
+    EXPECT_EQ(read.advice.rows[k].rung->cpu_seconds, rungs[k].cpu_seconds) << k;
     EXPECT_EQ(read.advice.rows[k].rung->stable(), rungs[k].stable()) << k;
   }
   EXPECT_EQ(read.advice.pick, advice.pick);
@@ -139,7 +178,31 @@ TEST(Advise, AReportReadsTheAdviceBackAndDrawsItsCharts) {
   std::ifstream in(result.html);
   const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(html.find("Pick <b>" + rungs[*advice.pick].label + "</b>"), std::string::npos);
-  EXPECT_NE(html.find("2 times less CPU"), std::string::npos);
+  EXPECT_NE(html.find("2 times less counted cost (3 times less CPU)"), std::string::npos) << html;
+  EXPECT_NE(html.find("<th>counted cost</th><th>CPU s</th>"), std::string::npos);
+
+  // An advice.csv from before the counted cost (no counted_cost column): read, its costs unknown.
+  {
+    std::ifstream counted(dir / "advice.csv");
+    std::string uncounted;
+    for (std::string line; std::getline(counted, line);) {
+      if (!line.empty() && line[0] != '#') {
+        std::size_t at = 0;
+        for (int comma = 0; comma < 7; ++comma)
+          at = line.find(',', at) + 1;
+        line.erase(at, line.find(',', at) + 1 - at);
+      }
+      uncounted += line + "\n";
+    }
+    std::ofstream(dir / "advice.csv") << uncounted;
+  }
+  const AdviceRecord old = read_advice(dir);
+  ASSERT_EQ(old.advice.rows.size(), advice.rows.size());
+  for (std::size_t k = 0; k < rungs.size(); ++k) {
+    EXPECT_EQ(old.advice.rows[k].rung->counted_cost, -1) << k;
+    EXPECT_EQ(old.advice.rows[k].rung->cpu_seconds, rungs[k].cpu_seconds) << k;
+  }
+  EXPECT_EQ(old.advice.pick, advice.pick);
 
   // Not an advise folder: named.
   std::ofstream(dir / "advice.csv") << "label,status\n";
@@ -187,14 +250,16 @@ TEST(Advise, TableNamesEveryRungItsStatusAndThePick) {
     if (!line.empty() && line[0] != '#') lines.push_back(line);
   ASSERT_EQ(lines.size(), rungs.size() + 1);
   EXPECT_EQ(lines[0],
-            "label,status,cause,sub_spheres,time_step_fraction,density_scale,seed,cpu_s,"
+            "label,status,cause,sub_spheres,time_step_fraction,density_scale,seed,counted_cost,"
+            "cpu_s,"
             "rms_vs_reference,max_vs_reference,peak_vs_reference,recovery_vs_reference,"
             "py_vs_reference,peak_stress_Pa,elastic_recovery,yield_pressure_Pa,error,picked");
   EXPECT_EQ(lines[3].substr(0, lines[3].find(',')), rungs[2].label);
   EXPECT_EQ(lines[3].back(), '1');
-  EXPECT_NE(lines[2].find(",off,-,100,0.2,1,0,2,0.08,"), std::string::npos) << lines[2];
-  EXPECT_NE(lines[6].find(",diverged,energy,50,0.8,1,0,nan,nan,nan,nan,nan,nan,nan,nan,nan,nan,0"),
-            std::string::npos)
+  EXPECT_NE(lines[2].find(",off,-,100,0.2,1,0,2000,2,0.08,"), std::string::npos) << lines[2];
+  EXPECT_NE(
+      lines[6].find(",diverged,energy,50,0.8,1,0,nan,nan,nan,nan,nan,nan,nan,nan,nan,nan,nan,0"),
+      std::string::npos)
       << lines[6];
   const Chart map = stability_map_chart(a);
   ASSERT_EQ(map.series.size(), 4u);  // reference, within, off, diverged
@@ -204,7 +269,7 @@ TEST(Advise, TableNamesEveryRungItsStatusAndThePick) {
 
 // A compaction rung: stress 1e6 ε² Pa over 0–30 % strain (times 1 + curve_error), and its
 // figures off the reference's by the given relative amounts.
-Rung bed_rung(int n, double curve_error, double peak, double recovery, double py, double cpu) {
+Rung bed_rung(int n, double curve_error, double peak, double recovery, double py, double cost) {
   Rung r;
   r.label = "bms-" + std::to_string(n);
   r.sub_spheres = n;
@@ -215,7 +280,8 @@ Rung bed_rung(int n, double curve_error, double peak, double recovery, double py
     r.curve.y.push_back(1e6 * strain * strain * (1.0 + curve_error));
   }
   r.compaction = CompactionFigures{9e4 * (1.0 + peak), 0.05 * (1.0 + recovery), 2e5 * (1.0 + py)};
-  r.cpu_seconds = cpu;
+  r.counted_cost = std::llround(1000.0 * cost);
+  r.cpu_seconds = cost;
   return r;
 }
 

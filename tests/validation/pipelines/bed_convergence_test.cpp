@@ -40,22 +40,10 @@ using shapepress::testing::shell_quoted;
 
 // advice.csv's columns by name, as text (its label, status and cause cells are not numbers).
 std::map<std::string, std::vector<std::string>> read_table(const fs::path& path) {
-  std::ifstream in(path);
-  std::vector<std::string> header;
   std::map<std::string, std::vector<std::string>> columns;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');)
-      cells.push_back(cell);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    for (std::size_t i = 0; i < cells.size() && i < header.size(); ++i)
-      columns[header[i]].push_back(cells[i]);
-  }
+  for (const auto& row : shapepress::testing::text_rows(path))
+    for (const auto& [name, cell] : row)
+      columns[name].push_back(cell);
   return columns;
 }
 

@@ -43,6 +43,10 @@ TEST(BodyBedDeterminism, OneAndTwoThreadsGiveTheSameBits) {
   EXPECT_GT(largest_bond_force, 0.0);
   expect_same_bits(one, *runs.two.engine);
   EXPECT_TRUE(one.bonds().history == runs.two.engine->bonds().history);
+  // The counted work (advise's cost) too.
+  EXPECT_EQ(runs.one_summary.work_count, runs.two_summary.work_count);
+  EXPECT_GT(runs.one_summary.work_count.contact_steps, 1000);
+  EXPECT_GT(runs.one_summary.work_count.bond_steps, 0);
 }
 
 TEST(BodyBedDeterminism, RestartFromSnapshotContinuesWithTheSameBits) {

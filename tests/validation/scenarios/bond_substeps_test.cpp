@@ -76,6 +76,17 @@ TEST(BondSubsteps, OneAndTwoThreadsGiveTheSameBits) {
   EXPECT_GT(one.sphere_contacts(), 1000);
   expect_same_bits(one, *runs.two.engine);
   EXPECT_TRUE(one.bonds().history == runs.two.engine->bonds().history);
+  // The counted work (advise's cost) is the same on both: every step's sub-spheres, touching
+  // contacts, and intact bonds once per bond sub-step.
+  const WorkCount& work = runs.one_summary.work_count;
+  EXPECT_EQ(work, runs.two_summary.work_count);
+  EXPECT_EQ(work.sphere_steps, steps * static_cast<std::int64_t>(one.state().size()));
+  EXPECT_GT(work.contact_steps, 0);
+  const int substeps = one.settings().bond_substeps;
+  EXPECT_GT(substeps, 1);
+  EXPECT_EQ(work.bond_steps % substeps, 0);
+  EXPECT_GE(work.bond_steps, steps * substeps * one.bonds().intact_count());
+  EXPECT_EQ(work.total(), work.sphere_steps + work.contact_steps + work.bond_steps);
 }
 
 TEST(BondSubsteps, RestartFromSnapshotContinuesWithTheSameBits) {

@@ -138,9 +138,10 @@ inline std::unique_ptr<Engine> resume_through_snapshot(const Engine& first, cons
 
 // The determinism harness every engine feature's scene goes through: `make_scene()` (a
 // CompactionScene) run for `steps` steps on one thread and on two. The caller compares the two
-// with expect_same_bits (and its own checks).
+// with expect_same_bits (and its own checks, the summaries' work counts among them).
 struct ThreadRuns {
   CompactionScene one, two;
+  CompactionSummary one_summary, two_summary;
 };
 template <class MakeScene>
 ThreadRuns run_on_one_and_two_threads(MakeScene make_scene, int steps) {
@@ -149,11 +150,11 @@ ThreadRuns run_on_one_and_two_threads(MakeScene make_scene, int steps) {
   omp_set_num_threads(1);
   runs.one = make_scene();
   runs.one.setup.max_steps = steps;
-  run_compaction(*runs.one.engine, runs.one.setup, runs.one.punch, {});
+  runs.one_summary = run_compaction(*runs.one.engine, runs.one.setup, runs.one.punch, {});
   omp_set_num_threads(2);
   runs.two = make_scene();
   runs.two.setup.max_steps = steps;
-  run_compaction(*runs.two.engine, runs.two.setup, runs.two.punch, {});
+  runs.two_summary = run_compaction(*runs.two.engine, runs.two.setup, runs.two.punch, {});
   omp_set_num_threads(threads);
   return runs;
 }
