@@ -12,8 +12,8 @@ WorkCount step_work(const Engine& engine) {
   w.contact_steps = engine.sphere_contacts() + engine.wall_contacts();
   // Unbreakable bonds stay intact: no pass over them each step.
   const BondSet& bonds = engine.bonds();
-  const std::int64_t intact = bonds.breakable ? bonds.intact_count()
-                                              : static_cast<std::int64_t>(bonds.size());
+  const std::int64_t intact =
+      bonds.breakable ? bonds.intact_count() : static_cast<std::int64_t>(bonds.size());
   w.bond_steps = intact * std::max(1, engine.settings().bond_substeps);
   return w;
 }
