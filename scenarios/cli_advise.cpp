@@ -236,6 +236,8 @@ int run(const AdviseCli& cli, const RunContext& context) {
       .fact("pick_sub_spheres", pick.sub_spheres)
       .fact("pick_time_step_fraction", pick.time_step_fraction)
       .fact("pick_rms_vs_reference", advice.rows[*advice.pick].versus_reference.rms_relative)
+      // What the tolerance judged, under the name the report reads for every ladder.
+      .fact("pick_error_vs_reference", advice.rows[*advice.pick].error)
       .fact("pick_cpu_s", pick.cpu_seconds)
       .fact("cost_scaling", "counted_cost (and cpu_s) x config fills / fills")
       .fact("predicted_full_run_cpu_s", pick.cpu_seconds * scale);

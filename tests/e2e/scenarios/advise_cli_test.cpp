@@ -71,6 +71,9 @@ TEST(AdviseCli, PicksFromALadderAndAResumedAdviseRerunsNothing) {
   }
   EXPECT_EQ(facts.at("pick_counted_cost").get<std::int64_t>(), least);
   EXPECT_TRUE(facts.contains("pick_cpu_s"));
+  // The report reads the pick's error under one name for plate and bed ladders.
+  EXPECT_LE(facts.at("pick_error_vs_reference").get<double>(), 0.05);
+  EXPECT_EQ(facts.at("pick_error_vs_reference"), facts.at("pick_rms_vs_reference"));
   EXPECT_TRUE(facts.contains("predicted_full_run_cpu_s"));
 
   // The same ladder again: nothing is re-run, the pick is the same.
