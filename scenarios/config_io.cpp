@@ -127,9 +127,9 @@ void add_run_rows(OptionTable<S>& t, Run run, std::string skin_default) {
           [run](auto& c) -> auto& { return run(c).bond_time_step_fraction; },
           Range::open_closed(0.0, 1.0),
           "the bonds' bound on the step as a fraction of their period bound (Gershgorin's); "
-          "above the stability limit of the bed's bonds (0.9 x 2/omega_max, estimated; "
-          "between 1/pi and about 2/pi of the bound) a run is refused; their fastest modes need "
-          "stability, not resolution")
+          "a step above the bed's bonds' stability limit (run.json's bond_stability_step_s: 0.9 "
+          "of the longest stable step from their top frequency and damping rate, by Lanczos) "
+          "is refused; their fastest modes need stability, not resolution")
       .default_text("time_step_fraction")
       .quantity(
           "skin", [run](auto& c) -> auto& { return run(c).skin; }, dim::length,
