@@ -1,6 +1,7 @@
 // The bonded network's highest frequency by Lanczos iteration, and the stable step it gives
 // (bonds.hpp: bond_top_frequency, bond_stability_step).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -50,25 +51,57 @@ double dot(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+// Which matrix a product takes: the bonds' springs, or their dampers (the matrix of damping
+// rates).
+enum class Operator { stiffness, damping };
+
+// The linearised network: S's entries and every bond's direction and arms, built once for any
+// number of products.
+struct LinearisedBonds {
+  std::vector<double> scale;
+  std::vector<BondFrame> frames;
+};
+
+LinearisedBonds linearise(const BondSet& bonds, const SphereState& state, const Box& box) {
+  LinearisedBonds out{std::vector<double>(6 * state.size()), bond_frames(bonds, state, box)};
+  for (std::size_t i = 0; i < state.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      out.scale[6 * i + c] = std::sqrt(state.inverse_mass[i]);
+      out.scale[6 * i + 3 + c] = std::sqrt(state.inverse_inertia[i]);
+    }
+  return out;
+}
+
+// Per bond the operator's coefficients of the normal, shear, twist and bending modes: the springs,
+// or the dampers the bond loop applies (bond_damper_coefficients).
+std::vector<std::array<double, 4>> mode_coefficients(Operator op, const BondSet& bonds,
+                                                     const SphereState& state) {
+  std::vector<std::array<double, 4>> k(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    k[b] = op == Operator::damping
+               ? bond_damper_coefficients(bonds, b, state)
+               : std::array<double, 4>{bonds.normal_spring[b], bonds.shear_spring[b],
+                                       bonds.twist_spring[b], bonds.bend_spring[b]};
+  return k;
+}
+
 // y = S K S x over six entries per sphere (translation, then rotation), K the bonds' stiffness
 // linearised about the present state and S = diag(1/√m, 1/√I). A bond's energy is
 //   ½ kn (δ·n)² + ½ ks |δ − (δ·n) n|² + ½ kt (Δθ·n)² + ½ kb |Δθ − (Δθ·n) n|²,
 //   δ = uj − ui − (rcj θj + rci θi) × n,   Δθ = θj − θi,
 // the relative displacement at the bond's centre and the relative turn that advance_springs
 // integrates as increments; y is its gradient.
-// With `Operator::damping` the same with the dampers' coefficients 2ζ√(k m*) (√(k I*) for the
-// turns, as BondSet::index sets them) in place of the springs: the matrix of damping rates.
-enum class Operator { stiffness, damping };
-
-void apply(Operator op, const BondSet& bonds, const SphereState& s,
-           const std::vector<BondFrame>& frames, const std::vector<double>& scale,
-           const std::vector<double>& x, std::vector<double>& y) {
+// With the dampers' coefficients in place of the springs, y = S C S x.
+void apply(const BondSet& bonds, const LinearisedBonds& network,
+           const std::vector<std::array<double, 4>>& coefficients, const std::vector<double>& x,
+           std::vector<double>& y) {
+  const std::vector<double>& scale = network.scale;
   std::fill(y.begin(), y.end(), 0.0);
   for (std::size_t b = 0; b < bonds.size(); ++b) {
     if (!bonds.intact[b]) continue;
     const auto i = static_cast<std::size_t>(bonds.first[b]);
     const auto j = static_cast<std::size_t>(bonds.second[b]);
-    const BondFrame& f = frames[b];
+    const BondFrame& f = network.frames[b];
     double ui[3], uj[3], ti[3], tj[3];
     for (int c = 0; c < 3; ++c) {
       ui[c] = scale[6 * i + c] * x[6 * i + c];
@@ -85,15 +118,7 @@ void apply(Operator op, const BondSet& bonds, const SphereState& s,
       turn[c] = tj[c] - ti[c];
     }
     const double dn = dot(delta, f.n), tn = dot(turn, f.n);
-    double kn = bonds.normal_spring[b], ks = bonds.shear_spring[b];
-    double kt = bonds.twist_spring[b], kb = bonds.bend_spring[b];
-    if (op == Operator::damping) {
-      const double zeta = bonds.damping_ratio[b];
-      const double m_eff = 1.0 / (s.inverse_mass[i] + s.inverse_mass[j]);
-      const double i_eff = 1.0 / (s.inverse_inertia[i] + s.inverse_inertia[j]);
-      kn = 2.0 * zeta * std::sqrt(kn * m_eff), ks = 2.0 * zeta * std::sqrt(ks * m_eff);
-      kt = 2.0 * zeta * std::sqrt(kt * i_eff), kb = 2.0 * zeta * std::sqrt(kb * i_eff);
-    }
+    const auto [kn, ks, kt, kb] = coefficients[b];
     double g[3], h[3], ng[3];
     for (int c = 0; c < 3; ++c) {
       g[c] = kn * dn * f.n[c] + ks * (delta[c] - dn * f.n[c]);
@@ -159,16 +184,10 @@ double start_entry(std::size_t k) {
 // fastest of all the spectrum, so a few dozen products give it without re-orthogonalisation
 // (lost orthogonality repeats a converged Ritz value; it does not move the largest). It stops
 // when that value has settled to 1e-7 over ten iterations.
-double top_eigenvalue(Operator op, const BondSet& bonds, const SphereState& state, const Box& box) {
-  const std::size_t n = 6 * state.size();
+double top_eigenvalue(const BondSet& bonds, const LinearisedBonds& network,
+                      const std::vector<std::array<double, 4>>& coefficients) {
+  const std::size_t n = network.scale.size();
   if (bonds.intact_count() == 0 || n == 0) return 0.0;
-  std::vector<double> scale(n);
-  for (std::size_t i = 0; i < state.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      scale[6 * i + c] = std::sqrt(state.inverse_mass[i]);
-      scale[6 * i + 3 + c] = std::sqrt(state.inverse_inertia[i]);
-    }
-  const std::vector<BondFrame> frames = bond_frames(bonds, state, box);
   std::vector<double> v(n), previous(n, 0.0), w(n);
   double norm = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -180,7 +199,7 @@ double top_eigenvalue(Operator op, const BondSet& bonds, const SphereState& stat
   std::vector<double> alpha, beta, ritz;
   constexpr int most_iterations = 400, settle = 10;
   for (int it = 0; it < most_iterations; ++it) {
-    apply(op, bonds, state, frames, scale, v, w);
+    apply(bonds, network, coefficients, v, w);
     double a = 0.0;
     for (std::size_t k = 0; k < n; ++k)
       a += w[k] * v[k];
@@ -211,15 +230,19 @@ double top_eigenvalue(Operator op, const BondSet& bonds, const SphereState& stat
 }  // namespace
 
 double bond_top_frequency(const BondSet& bonds, const SphereState& state, const Box& box) {
-  return std::sqrt(top_eigenvalue(Operator::stiffness, bonds, state, box));
+  return std::sqrt(top_eigenvalue(bonds, linearise(bonds, state, box),
+                                  mode_coefficients(Operator::stiffness, bonds, state)));
 }
 
 double bond_top_damping_rate(const BondSet& bonds, const SphereState& state, const Box& box) {
-  return top_eigenvalue(Operator::damping, bonds, state, box);
+  return top_eigenvalue(bonds, linearise(bonds, state, box),
+                        mode_coefficients(Operator::damping, bonds, state));
 }
 
 double bond_stability_step(const BondSet& bonds, const SphereState& state, const Box& box) {
-  const double omega = bond_top_frequency(bonds, state, box);
+  const LinearisedBonds network = linearise(bonds, state, box);
+  const double omega = std::sqrt(
+      top_eigenvalue(bonds, network, mode_coefficients(Operator::stiffness, bonds, state)));
   if (!(omega > 0.0)) return std::numeric_limits<double>::infinity();
   // The engine's dampers read the predicted end-of-step velocity v(t+dt/2) + dt/2 a(t)
   // (forces.cpp), for which an oscillator x'' = -ω²x - γx' is stable while (ω dt)² + 4 γ dt ≤ 4
@@ -227,10 +250,11 @@ double bond_stability_step(const BondSet& bonds, const SphereState& state, const
   // (ω dt)² + 2 γ dt ≤ 4 (Belytschko, Liu & Moran 2000, §6.3)). ω² and γ of every mode are at
   // most the largest eigenvalues of M^-1/2 K M^-1/2 and M^-1/2 C M^-1/2 (each mode's Rayleigh
   // quotient), so dt = 2(√(γ² + ω²) − γ)/ω² with both largest keeps every mode stable.
-  double gamma = 0.0;
-  for (std::size_t b = 0; b < bonds.size() && gamma == 0.0; ++b)
-    if (bonds.intact[b] && bonds.damping_ratio[b] > 0.0)
-      gamma = bond_top_damping_rate(bonds, state, box);
+  const bool damped = std::any_of(bonds.damping_ratio.begin(), bonds.damping_ratio.end(),
+                                  [](double zeta) { return zeta > 0.0; });
+  const double gamma =
+      damped ? top_eigenvalue(bonds, network, mode_coefficients(Operator::damping, bonds, state))
+             : 0.0;
   const double step = 2.0 * (std::sqrt(gamma * gamma + omega * omega) - gamma) / (omega * omega);
   return bond_stability_margin * step;
 }

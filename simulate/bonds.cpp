@@ -60,6 +60,23 @@ std::int64_t BondSet::intact_count() const {
   return n;
 }
 
+std::array<double, 4> bond_damper_coefficients(const BondSet& bonds, std::size_t b,
+                                               const SphereState& state) {
+  const double zeta = bonds.damping_ratio[b];
+  if (zeta <= 0.0) return {0.0, 0.0, 0.0, 0.0};
+  const auto i = static_cast<std::size_t>(bonds.first[b]);
+  const auto j = static_cast<std::size_t>(bonds.second[b]);
+  const double m_eff = 1.0 / (state.inverse_mass[i] + state.inverse_mass[j]);
+  const double i_eff = 1.0 / (state.inverse_inertia[i] + state.inverse_inertia[j]);
+  const double spring[4] = {bonds.normal_spring[b], bonds.shear_spring[b], bonds.twist_spring[b],
+                            bonds.bend_spring[b]};
+  const double inertia[4] = {m_eff, m_eff, i_eff, i_eff};
+  std::array<double, 4> damper;
+  for (std::size_t mode = 0; mode < 4; ++mode)
+    damper[mode] = 2.0 * zeta * std::sqrt(spring[mode] * inertia[mode]);
+  return damper;
+}
+
 void BondSet::index(const SphereState& state) {
   const std::size_t sphere_count = state.size();
   gather_offset.assign(sphere_count + 1, 0);
@@ -92,15 +109,11 @@ void BondSet::index(const SphereState& state) {
     const double ri = state.radius[i], rj = state.radius[j];
     constants.arm[0][b] = ri / (ri + rj), constants.arm[1][b] = rj / (ri + rj);
     const double spring[4] = {normal_spring[b], shear_spring[b], twist_spring[b], bend_spring[b]};
-    for (std::size_t mode = 0; mode < 4; ++mode)
+    const std::array<double, 4> damper = bond_damper_coefficients(*this, b, state);
+    for (std::size_t mode = 0; mode < 4; ++mode) {
       constants.spring[mode][b] = spring[mode];
-    const double zeta = damping_ratio[b];
-    if (zeta <= 0.0) continue;
-    const double m_eff = 1.0 / (state.inverse_mass[i] + state.inverse_mass[j]);
-    const double i_eff = 1.0 / (state.inverse_inertia[i] + state.inverse_inertia[j]);
-    const double inertia[4] = {m_eff, m_eff, i_eff, i_eff};
-    for (std::size_t mode = 0; mode < 4; ++mode)
-      constants.damping[mode][b] = 2.0 * zeta * std::sqrt(spring[mode] * inertia[mode]);
+      constants.damping[mode][b] = damper[mode];
+    }
   }
   damped = with_dampers > 0 && with_dampers == size();
   damping_mix = with_dampers > 0 && with_dampers < size();

@@ -217,6 +217,12 @@ inline void gather_bond_forces(const BondGather& g, std::int64_t i, double f[3],
   if constexpr (with_arm) *arm_force += arm_sum;
 }
 
+// Bond b's damper coefficients per mode (normal, shear, twist, bending): 2ζ√(k m*) with m* the
+// pair's reduced mass, 2ζ√(k I*) for the turns; zeros without dampers. What the bond loop's
+// dampers apply (BondSet::index) and what the stability estimate takes (bond_spectrum.cpp).
+std::array<double, 4> bond_damper_coefficients(const BondSet& bonds, std::size_t b,
+                                               const SphereState& state);
+
 // Elastic energy held by the intact bonds, Σ Fn²/2kn + |Fs|²/2ks + Mt²/2kt + |Mb|²/2kb [J].
 double bond_elastic_energy(const BondSet& bonds);
 
