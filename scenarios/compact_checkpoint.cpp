@@ -78,11 +78,8 @@ void write_compact_checkpoint(const std::filesystem::path& out, const Engine& en
                             .whole("bonds", static_cast<std::int64_t>(e.bonds))
                             .whole("clumps", static_cast<std::int64_t>(e.clumps)));
   CheckpointState state;
-  const WorkCount& work = history.compaction.work_count;
-  state.whole("steps", history.compaction.steps)
-      .whole("sphere_steps", work.sphere_steps)
-      .whole("contact_steps", work.contact_steps)
-      .whole("bond_steps", work.bond_steps)
+  state.whole("steps", history.compaction.steps);
+  add_work_count(state, history.compaction.work_count)
       .number("loop_s", loop_seconds)  // NaN: unknown (resumed from a run that did not say)
       .list("records", std::move(records))
       .list("snapshots", std::move(snapshots));
@@ -102,9 +99,7 @@ CheckpointHistory read_checkpoint_history(const std::filesystem::path& path) {
   const CheckpointFields state = record.state();
   CheckpointHistory h;
   h.compaction.steps = state.whole("steps", 0, most);
-  h.compaction.work_count.sphere_steps = state.whole("sphere_steps", 0, most);
-  h.compaction.work_count.contact_steps = state.whole("contact_steps", 0, most);
-  h.compaction.work_count.bond_steps = state.whole("bond_steps", 0, most);
+  h.compaction.work_count = read_work_count(state);
   h.compaction.loop_seconds = state.number("loop_s");
   for (const CheckpointFields& r : state.list("records"))
     h.compaction.records.push_back(read_record(r));

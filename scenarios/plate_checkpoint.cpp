@@ -49,24 +49,6 @@ constexpr std::pair<std::string_view, double PlateRow::*> row_numbers[] = {
     {"top_force_max", &PlateRow::top_force_max}};
 constexpr std::pair<std::string_view, std::int64_t PlateRow::*> row_wholes[] = {
     {"contacts", &PlateRow::contacts}, {"intact_bonds", &PlateRow::intact_bonds}};
-constexpr std::pair<std::string_view, std::int64_t WorkCount::*> work_wholes[] = {
-    {"sphere_steps", &WorkCount::sphere_steps},
-    {"contact_steps", &WorkCount::contact_steps},
-    {"bond_steps", &WorkCount::bond_steps}};
-
-CheckpointState& add_work(CheckpointState& state, const WorkCount& work) {
-  for (const auto& [key, field] : work_wholes)
-    state.whole(key, work.*field);
-  return state;
-}
-
-WorkCount read_work(const CheckpointFields& f) {
-  WorkCount work;
-  for (const auto& [key, field] : work_wholes)
-    work.*field = f.whole(key, 0, std::numeric_limits<std::int64_t>::max());
-  return work;
-}
-
 std::vector<CheckpointState> rows_state(const std::vector<PlateRow>& rows) {
   std::vector<CheckpointState> items(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -74,7 +56,7 @@ std::vector<CheckpointState> rows_state(const std::vector<PlateRow>& rows) {
       items[k].number(key, rows[k].*field);
     for (const auto& [key, field] : row_wholes)
       items[k].whole(key, rows[k].*field);
-    add_work(items[k], rows[k].work_count);
+    add_work_count(items[k], rows[k].work_count);
   }
   return items;
 }
@@ -87,7 +69,7 @@ std::vector<PlateRow> read_rows(const CheckpointFields& state) {
       r.*field = f.number(key);
     for (const auto& [key, field] : row_wholes)
       r.*field = f.whole(key);
-    r.work_count = read_work(f);
+    r.work_count = read_work_count(f);
   }
   return rows;
 }
@@ -148,7 +130,7 @@ PlateHooks PlateCheckpoints::hooks(int fill) const {
       PlateProgress progress;
       progress.cpu_seconds = state.number("cpu_s");
       progress.wall_seconds = state.number("wall_s");
-      progress.work_count = read_work(state);
+      progress.work_count = read_work_count(state);
       progress.rows = read_rows(state);
       hooks.resume = PlateResumePoint{read_snapshot(latest->snapshot), std::move(progress)};
     }
@@ -161,7 +143,7 @@ PlateHooks PlateCheckpoints::hooks(int fill) const {
     const PlateProgress p = progress();
     CheckpointState state;
     state.number("cpu_s", p.cpu_seconds).number("wall_s", p.wall_seconds);
-    add_work(state, p.work_count).list("rows", rows_state(p.rows));
+    add_work_count(state, p.work_count).list("rows", rows_state(p.rows));
     {
       const std::lock_guard<std::mutex> lock(files_lock());
       simulate::write_checkpoint(folder_, engine, {}, provenance_, plate_stage, state,

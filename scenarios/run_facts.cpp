@@ -34,10 +34,9 @@ nlohmann::json interaction_laws(const MaterialConfig& materials) {
 }
 
 void add_work_facts(RunMetadata& meta, const WorkCount& work) {
-  meta.fact("sphere_steps", work.sphere_steps)
-      .fact("contact_steps", work.contact_steps)
-      .fact("bond_steps", work.bond_steps)
-      .fact("counted_cost", work.total());
+  for (const auto& [key, field] : work_count_fields)
+    meta.fact(std::string(key), work.*field);
+  meta.fact("counted_cost", work.total());
 }
 
 void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,

@@ -1,10 +1,24 @@
 #include "simulate/work_count.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "simulate/engine.hpp"
 
 namespace shapepress::simulate {
+
+CheckpointState& add_work_count(CheckpointState& state, const WorkCount& work) {
+  for (const auto& [key, field] : work_count_fields)
+    state.whole(key, work.*field);
+  return state;
+}
+
+WorkCount read_work_count(const CheckpointFields& state) {
+  WorkCount work;
+  for (const auto& [key, field] : work_count_fields)
+    work.*field = state.whole(key, 0, std::numeric_limits<std::int64_t>::max());
+  return work;
+}
 
 WorkCount step_work(const Engine& engine) {
   WorkCount w;

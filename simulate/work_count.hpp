@@ -5,6 +5,10 @@
 // number of threads, so they are too: a cost that a loaded machine cannot change (`advise` picks
 // by it; CPU seconds are reported beside it).
 #include <cstdint>
+#include <string_view>
+#include <utility>
+
+#include "common/checkpoint.hpp"
 
 namespace shapepress::simulate {
 
@@ -25,6 +29,16 @@ struct WorkCount {
   }
   friend bool operator==(const WorkCount&, const WorkCount&) = default;
 };
+
+// The counts by the keys that run.json facts and checkpoints give them.
+inline constexpr std::pair<std::string_view, std::int64_t WorkCount::*> work_count_fields[] = {
+    {"sphere_steps", &WorkCount::sphere_steps},
+    {"contact_steps", &WorkCount::contact_steps},
+    {"bond_steps", &WorkCount::bond_steps}};
+
+// A count into a checkpoint's state, and back (an InputError naming a missing or negative key).
+CheckpointState& add_work_count(CheckpointState& state, const WorkCount& work);
+WorkCount read_work_count(const CheckpointFields& state);
 
 // The work of the step `engine` has just taken: its spheres, the contacts of its last force
 // evaluation, its intact bonds (the bonds that broke in the step are not counted) times the
