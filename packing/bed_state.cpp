@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <numbers>
+
 #include "common/error.hpp"
 
 namespace shapepress::packing {
@@ -37,10 +40,13 @@ Bed bed_from_packing(const BodyPacking& packing, const BedRequest& request) {
     }
     // A plain sphere's body volume is its own (the factor is 1 to the bit).
     const double density = request.density * (shape.body_volume / shape.sphere_volume);
+    // The particle's size is its shape's: the mesh volume, whatever N fills it.
+    const double body_radius = std::cbrt(3.0 * body.shape_volume / (4.0 * std::numbers::pi));
     for (std::size_t i = first; i < last; ++i) {
       bed.state.add_sphere(packing.particles.x[i], packing.particles.y[i], packing.particles.z[i],
                            packing.particles.radius[i], density, request.material);
       bed.state.body.back() = static_cast<std::int32_t>(first);
+      if (last - first > 1) bed.state.body_radius.back() = body_radius;
     }
   }
   if (!packing.bonds.empty() && !request.bms_as_clumps) {

@@ -61,7 +61,11 @@ const OptionTable<Interaction>& interaction_table() {
         .quantity("effective_modulus", &Interaction::effective_modulus, dim::pressure,
                   Range::positive(),
                   "E* of the pair, replacing the one the materials' E and nu give")
-        .default_text("from the materials");
+        .default_text("from the materials")
+        .choice("contact_radius", &Interaction::body_contact_radius,
+                std::vector<std::pair<std::string, bool>>{{"sphere", false}, {"body", true}},
+                "R* of a contact between sub-spheres of two different bodies: the sub-spheres' "
+                "or the bodies' (volume-equivalent radii)");
     return i;
   }();
   return t;

@@ -27,6 +27,7 @@ template <class Law>
         b.mass_second[l],
         b.inverse_inertia_second[l]};
     PairKinematics k = pair_kinematics(d, b.radius_first[l], b.radius_second[l], first, second);
+    if (b.body_radius[l] > 0.0) k.contact.effective_radius = b.body_radius[l];
     ContactHistory history;
     for (int axis = 0; axis < 3; ++axis)
       history.tangential[axis] = b.spring[axis][l];

@@ -7,6 +7,7 @@
 // pair loop give the same bits (tests/unit/simulate/contact_block_test.cpp).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "simulate/contact_law.hpp"
 #include "simulate/materials.hpp"
@@ -73,6 +74,19 @@ struct PairKinematics {
   return out;
 }
 
+// R* of a touching pair whose interaction states `contact_radius = "body"`: between sub-spheres of
+// two different bodies the bodies' R* = Ri Rj / (Ri + Rj) of their volume-equivalent radii, else 0
+// (the pair keeps its spheres' R*, pair_kinematics). A contact of two bodies' surfaces has their
+// curvature, not the sub-spheres' that touch: with the sub-spheres' R* a body-to-body contact is
+// √(R*_bodies / R*_sub-spheres) times softer than the particles' at the same overlap, and the
+// bodies interpenetrate (docs/models.md, "Contacts between bodies").
+[[gnu::always_inline]] inline double body_contact_radius(bool on, const std::int32_t* body,
+                                                         const double* body_radius, int i, int j) {
+  if (!on || body[i] == body[j]) return 0.0;
+  const double ri = body_radius[i], rj = body_radius[j];
+  return ri * rj / (ri + rj);
+}
+
 // The torques of a contact force F on second (first gets -F) at arms rci n and -rcj n:
 // τi = (rci n) × (-F) = -rci (n × F), τj = (-rcj n) × F = -rcj (n × F), plus the rolling torque
 // (on first; second gets its negative).
@@ -98,6 +112,8 @@ struct ContactBlock {
   alignas(64) double separation[3][capacity];  // x_second - x_first, nearest image
   alignas(64) double radius_first[capacity];
   alignas(64) double radius_second[capacity];
+  alignas(
+      64) double body_radius[capacity];  // the bodies' R* (body_contact_radius), 0: the spheres'
   alignas(64) double velocity_first[3][capacity];  // predicted (PairEnd)
   alignas(64) double spin_first[3][capacity];
   alignas(64) double velocity_second[3][capacity];

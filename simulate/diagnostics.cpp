@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "simulate/contact_block.hpp"
 #include "simulate/engine.hpp"
 
 namespace shapepress::simulate {
@@ -56,8 +57,13 @@ EnergySummary Engine::energy() const {
     const double overlap = pair_overlap(s, pairs_, p);
     if (overlap <= 0.0) continue;
     if (!pair_bond_.empty() && pair_bond_[p] >= 0 && bonds_.intact[pair_bond_[p]]) continue;
-    add_contact(materials_.pair(s.material[i], s.material[j]),
-                s.radius[i] * s.radius[j] / (s.radius[i] + s.radius[j]), overlap, history_[p]);
+    const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
+    const double bodies_radius =
+        body_contact_radius(pc.body_contact_radius, s.body.data(), s.body_radius.data(), i, j);
+    add_contact(pc,
+                bodies_radius > 0.0 ? bodies_radius
+                                    : s.radius[i] * s.radius[j] / (s.radius[i] + s.radius[j]),
+                overlap, history_[p]);
   }
   e.elastic += bond_elastic_energy(bonds_);
   for (std::size_t k = 0; k < walls_.size(); ++k) {

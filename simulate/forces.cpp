@@ -139,6 +139,9 @@ void Engine::pair_forces_with() {
   // contacts, vectorized (contact_block.hpp).
   [[maybe_unused]] const PairConstants* block_pair =
       sphere_material_ >= 0 ? &materials_.pair(sphere_material_, sphere_material_) : nullptr;
+  [[maybe_unused]] const bool body_radii = block_pair != nullptr && block_pair->body_contact_radius;
+  const std::int32_t* __restrict body = s.body.data();
+  const double* __restrict body_radius = s.body_radius.data();
   const int threads = count >= parallel_min_pairs ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads) reduction(+ : touching)
   {
@@ -231,6 +234,8 @@ void Engine::pair_forces_with() {
               block.separation[2][l] = gj[2] - gi[2];
               block.radius_first[l] = gi[3];
               block.radius_second[l] = gj[3];
+              block.body_radius[l] =
+                  body_contact_radius(body_radii, body, body_radius, first[p], second[p]);
               const double* mi = motion + 8 * first[p];
               const double* mj = motion + 8 * second[p];
               for (int axis = 0; axis < 3; ++axis) {
@@ -295,6 +300,9 @@ void Engine::pair_forces_with() {
         ContactKinematics& c = kinematics.contact;
         if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
         const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
+        const double bodies_radius =
+            body_contact_radius(pc.body_contact_radius, body, body_radius, i, j);
+        if (bodies_radius > 0.0) c.effective_radius = bodies_radius;
         const ContactForce f = contact_force<Law>(c, pc, history_[p], dt);
         double arm_first = 0.0, arm_second = 0.0;
         if constexpr (stress_on) {  // for this step's gather of p = Σ rc Fn / (3V)

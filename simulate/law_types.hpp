@@ -43,6 +43,9 @@ struct ElasticPair {
   double tangential_damping_scale = 0.0;  // damping_factor √(8 G*)
   double sliding_friction = 0.0;
   double rolling_friction = 0.0;
+  // R* of a contact between sub-spheres of two different bodies: the bodies' volume-equivalent
+  // radii (SphereState::body_radius) instead of the sub-spheres' (Interaction::contact_radius).
+  bool body_contact_radius = false;
 };
 
 // A normal law's answer for one touching contact.

@@ -81,6 +81,7 @@ PairConstants pair_constants(const Material& a, const Material& b, const Interac
   p.tangential_damping_scale = p.damping_factor * std::sqrt(8.0 * p.effective_shear_modulus);
   p.sliding_friction = in.sliding_friction;
   p.rolling_friction = in.rolling_friction;
+  p.body_contact_radius = in.body_contact_radius;
   p.law = in.normal_law.index();
   std::visit(
       [&](const auto& law) {

@@ -30,6 +30,12 @@ struct Interaction {
   // separate choice from the stiffness between sub-spheres (docs/models.md, "BMS: an elastic
   // network"). Absent: from the materials.
   std::optional<double> effective_modulus = std::nullopt;
+  // `contact_radius = "body"`: a contact between sub-spheres of two different bodies takes R* of
+  // the two bodies (their volume-equivalent radii) in its normal law, so that two bodies touch
+  // with the curvature of the particles they stand for and not of the sub-spheres that happen to
+  // meet; within a body, and against a wall, R* stays the sub-spheres' (docs/models.md, "Contacts
+  // between bodies").
+  bool body_contact_radius = false;
 };
 
 // Precomputed for a pair of material indices: the constants every law reads (ElasticPair) and

@@ -278,6 +278,7 @@ void write_snapshot(const std::filesystem::path& path, const Engine& engine,
   file.write("/particles/inverse_inertia", s.inverse_inertia);
   file.write("/particles/material", s.material);
   file.write("/particles/body", s.body);
+  write_with_unit(file, "/particles/body_radius", s.body_radius, "m");
   const std::vector<std::int32_t> contacts = engine.contacts_per_sphere();
   file.write("/particles/contacts", contacts);
   if (engine.computes_particle_stress()) {
@@ -373,6 +374,10 @@ LoadedSnapshot read_snapshot(const std::filesystem::path& path) {
   s.inverse_inertia = to_sphere_array(file.doubles("/particles/inverse_inertia"));
   s.material = to_sphere_array(file.int32s("/particles/material"));
   s.body = to_sphere_array(file.int32s("/particles/body"));
+  // Absent in a snapshot written before body radii: every sphere its own.
+  s.body_radius = file.has("/particles/body_radius")
+                      ? to_sphere_array(file.doubles("/particles/body_radius"))
+                      : s.radius;
   const std::size_t n = s.radius.size();
 
   EngineCheckpoint& c = out.checkpoint;

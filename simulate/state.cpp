@@ -19,6 +19,7 @@ void SphereState::add_sphere(double x, double y, double z, double r, double dens
   inverse_inertia.push_back(m > 0.0 ? 1.0 / (0.4 * m * r * r) : 0.0);
   material.push_back(material_index);
   body.push_back(static_cast<std::int32_t>(index));
+  body_radius.push_back(r);
 }
 
 }  // namespace shapepress::simulate

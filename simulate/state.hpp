@@ -50,6 +50,9 @@ struct SphereState {
   SphereArray<double> inverse_inertia;  // solid sphere: I = 2/5 m r²
   SphereArray<std::int32_t> material;
   SphereArray<std::int32_t> body;
+  // m: the volume-equivalent radius of the particle the sphere belongs to (its shape's volume);
+  // a plain sphere's own radius. Read by contacts between bodies (Interaction::contact_radius).
+  SphereArray<double> body_radius;
 
   std::size_t size() const { return radius.size(); }
   // A solid sphere at rest; its body id is its own index.

@@ -41,9 +41,14 @@ namespace {
 // 2 E* √(R* δ); normal_laws.hpp) and E* the pair's, stated (Interaction::effective_modulus) or
 // from the materials. Hertz pairs have ratio 1, so a Hertz scene's step is the Rayleigh time of
 // its materials (or of a stated E*), to the bit. The ratio is taken at the smallest R* the sphere
-// can meet: `smallest_radius` for a sphere partner, its own radius for a wall.
+// can meet: `smallest_radius` for a sphere partner, its own radius for a wall. A sub-sphere of a
+// body (`body_radius` > its radius) whose pair takes the bodies' R* (contact_radius = "body")
+// meets another body with that R*, at most R*_b = Rb Rb_max / (Rb + Rb_max) against the largest
+// body: its Hertz tangent 2 E* √(R*_b δ) is √(R*_b / R*) times the sub-spheres' at one overlap.
 double stiffest_contact_modulus(const MaterialTable& materials, int m, double radius,
-                                double smallest_radius, const std::vector<int>& wall_materials) {
+                                double smallest_radius, double body_radius,
+                                double largest_body_radius,
+                                const std::vector<int>& wall_materials) {
   const Material& own = materials.material(m);
   double modulus = own.youngs_modulus;
   const double plane_strain = 1.0 - own.poisson_ratio * own.poisson_ratio;
@@ -55,7 +60,10 @@ double stiffest_contact_modulus(const MaterialTable& materials, int m, double ra
     const double effective_radius =
         wall ? radius : radius * smallest_radius / (radius + smallest_radius);
     const double from_materials = materials_effective_modulus(own, materials.material(k));
-    const double stated = pair.effective_modulus * normal_stiffness_ratio(pair, effective_radius);
+    double stated = pair.effective_modulus * normal_stiffness_ratio(pair, effective_radius);
+    if (!wall && pair.body_contact_radius && body_radius > radius)
+      stated *= std::sqrt(body_radius * largest_body_radius / (body_radius + largest_body_radius) /
+                          effective_radius);
     if (stated <= from_materials * (1.0 + 1e-12)) continue;
     modulus = std::max(modulus, (wall ? 1.0 : 2.0) * plane_strain * stated);
   }
@@ -72,10 +80,13 @@ TimeStepChoice select_with_masses(const SphereState& state, const MaterialTable&
   std::size_t smallest = 0;
   choice.rayleigh_time = std::numeric_limits<double>::infinity();
   const double smallest_radius = *std::min_element(state.radius.begin(), state.radius.end());
+  const double largest_body_radius =
+      *std::max_element(state.body_radius.begin(), state.body_radius.end());
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Material& m = materials.material(state.material[i]);
-    const double modulus = stiffest_contact_modulus(materials, state.material[i], state.radius[i],
-                                                    smallest_radius, wall_materials);
+    const double modulus =
+        stiffest_contact_modulus(materials, state.material[i], state.radius[i], smallest_radius,
+                                 state.body_radius[i], largest_body_radius, wall_materials);
     const double t = rayleigh_time(state.radius[i], m.density, modulus, m.poisson_ratio);
     if (t < choice.rayleigh_time) choice.rayleigh_time = t, smallest = i;
   }
