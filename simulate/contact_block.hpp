@@ -76,14 +76,17 @@ struct PairKinematics {
 
 // R* of a touching pair whose interaction states `contact_radius = "body"`: between sub-spheres of
 // two different bodies the bodies' R* = Ri Rj / (Ri + Rj) of their volume-equivalent radii, else 0
-// (the pair keeps its spheres' R*, pair_kinematics). A contact of two bodies' surfaces has their
+// (the pair keeps its spheres' R*, pair_kinematics); two plain spheres (each its own body radius)
+// keep theirs to the bit. A contact of two bodies' surfaces has their
 // curvature, not the sub-spheres' that touch: with the sub-spheres' R* a body-to-body contact is
 // √(R*_bodies / R*_sub-spheres) times softer than the particles' at the same overlap, and the
 // bodies interpenetrate (docs/models.md, "Contacts between bodies").
 [[gnu::always_inline]] inline double body_contact_radius(bool on, const std::int32_t* body,
-                                                         const double* body_radius, int i, int j) {
+                                                         const double* body_radius,
+                                                         const double* radius, int i, int j) {
   if (!on || body[i] == body[j]) return 0.0;
   const double ri = body_radius[i], rj = body_radius[j];
+  if (ri == radius[i] && rj == radius[j]) return 0.0;
   return ri * rj / (ri + rj);
 }
 

@@ -58,8 +58,8 @@ EnergySummary Engine::energy() const {
     if (overlap <= 0.0) continue;
     if (!pair_bond_.empty() && pair_bond_[p] >= 0 && bonds_.intact[pair_bond_[p]]) continue;
     const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
-    const double bodies_radius =
-        body_contact_radius(pc.body_contact_radius, s.body.data(), s.body_radius.data(), i, j);
+    const double bodies_radius = body_contact_radius(pc.body_contact_radius, s.body.data(),
+                                                     s.body_radius.data(), s.radius.data(), i, j);
     add_contact(pc,
                 bodies_radius > 0.0 ? bodies_radius
                                     : s.radius[i] * s.radius[j] / (s.radius[i] + s.radius[j]),

@@ -142,6 +142,7 @@ void Engine::pair_forces_with() {
   [[maybe_unused]] const bool body_radii = block_pair != nullptr && block_pair->body_contact_radius;
   const std::int32_t* __restrict body = s.body.data();
   const double* __restrict body_radius = s.body_radius.data();
+  const double* __restrict radius = s.radius.data();
   const int threads = count >= parallel_min_pairs ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads) reduction(+ : touching)
   {
@@ -235,7 +236,7 @@ void Engine::pair_forces_with() {
               block.radius_first[l] = gi[3];
               block.radius_second[l] = gj[3];
               block.body_radius[l] =
-                  body_contact_radius(body_radii, body, body_radius, first[p], second[p]);
+                  body_contact_radius(body_radii, body, body_radius, radius, first[p], second[p]);
               const double* mi = motion + 8 * first[p];
               const double* mj = motion + 8 * second[p];
               for (int axis = 0; axis < 3; ++axis) {
@@ -301,7 +302,7 @@ void Engine::pair_forces_with() {
         if constexpr (stress_on) c.pair_pressure = 0.5 * (pressure[i] + pressure[j]);
         const PairConstants& pc = materials_.pair(s.material[i], s.material[j]);
         const double bodies_radius =
-            body_contact_radius(pc.body_contact_radius, body, body_radius, i, j);
+            body_contact_radius(pc.body_contact_radius, body, body_radius, radius, i, j);
         if (bodies_radius > 0.0) c.effective_radius = bodies_radius;
         const ContactForce f = contact_force<Law>(c, pc, history_[p], dt);
         double arm_first = 0.0, arm_second = 0.0;
