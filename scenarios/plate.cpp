@@ -49,6 +49,15 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   return run_plate(materials, setup, engine, std::move(particle));
 }
 
+VerticalExtent vertical_extent(const SphereState& s) {
+  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    low = std::min(low, s.position.z[i] - s.radius[i]);
+    high = std::max(high, s.position.z[i] + s.radius[i]);
+  }
+  return {low, high};
+}
+
 namespace {
 
 void check_plate_setup(const PlateSetup& setup) {
@@ -59,20 +68,6 @@ void check_plate_setup(const PlateSetup& setup) {
   if (setup.records < 1) throw InputError("plate: records must be >= 1");
   if (!(setup.ramp >= 0.0 && setup.ramp < setup.max_deformation))
     throw InputError("plate: ramp must be in [0, max_deformation)");
-}
-
-// The particle's lowest and highest points, where the plates first touch it.
-struct VerticalExtent {
-  double low = 0.0, high = 0.0;
-};
-
-VerticalExtent vertical_extent(const SphereState& s) {
-  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    low = std::min(low, s.position.z[i] - s.radius[i]);
-    high = std::max(high, s.position.z[i] + s.radius[i]);
-  }
-  return {low, high};
 }
 
 // The plates' closing speed at time t and approach: a sin² ramp up to setup.speed over the

@@ -29,11 +29,7 @@ void tighten_for_plates(TimeStepChoice& dt, const PlateParticle& particle,
                         const MaterialTable& table, const PlateSetup& setup,
                         const RunSettings& run) {
   const SphereState& s = particle.spheres;
-  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    low = std::min(low, s.position.z[i] - s.radius[i]);
-    high = std::max(high, s.position.z[i] + s.radius[i]);
-  }
+  const auto [low, high] = vertical_extent(s);
   const double half = 0.5 * setup.max_deformation * 2.0 * setup.radius;
   std::vector<double> overlap(s.size(), 0.0);
   for (std::size_t i = 0; i < s.size(); ++i) {
