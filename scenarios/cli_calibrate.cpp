@@ -241,6 +241,13 @@ void report_evaluation(std::size_t index, const CalibrationEvaluation& e,
   progress.update(static_cast<double>(index));
 }
 
+// Each fitted parameter's value beside its start, on the console.
+void print_fitted_values(const std::vector<std::string>& names, const std::vector<double>& start,
+                         const std::vector<double>& fitted) {
+  for (std::size_t k = 0; k < names.size(); ++k)
+    fmt::print("  {} = {:.6g} (start {:.6g})\n", names[k], fitted[k], start[k]);
+}
+
 // run.json's "fitted" and "start": each parameter's value, by name.
 RunMetadata& add_fitted_values(RunMetadata& meta, const std::vector<std::string>& names,
                                const std::vector<double>& start,
@@ -434,9 +441,7 @@ void print_compaction_calibration(const CalibrateCli& cli,
       "calibrated on {} points of {}: RMS {:.6g}{} ({:.3g} %), largest {:.6g}{} after {} runs\n",
       error.points, cli.reference, error.rms, y_unit, 100.0 * error.rms_relative, error.max, y_unit,
       result.evaluations.size());
-  for (std::size_t k = 0; k < options.parameters.size(); ++k)
-    fmt::print("  {} = {:.6g} (start {:.6g})\n", options.parameters[k], result.values[k],
-               result.start[k]);
+  print_fitted_values(options.parameters, result.start, result.values);
 }
 
 int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
@@ -560,6 +565,61 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config
   return curve;
 }
 
+// The plate search's options: the parameters (modulus and shear_ratio unless --fit), the
+// reference curve, the deformation window (0.05 to 0.40 unless given), the method and its first
+// step (each parameter times 4 unless given).
+CalibrationOptions plate_calibration_options(const CalibrateCli& cli,
+                                             const ReferenceCurve& reference) {
+  CalibrationOptions options;
+  options.parameters = split_names(cli.fit.empty() ? "modulus,shear_ratio" : cli.fit);
+  options.reference_deformation = reference.deformation;
+  options.reference_force = reference.force;
+  options.start = start_values(cli.start);
+  options.from = cli.from.empty() ? 0.05 : window_bound(cli.from, dim::dimensionless, "--from");
+  options.to = cli.to.empty() ? 0.40 : window_bound(cli.to, dim::dimensionless, "--to");
+  options.max_evaluations = cli.max_evaluations;
+  options.method = analysis::search_method_named(cli.method);
+  options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 4.0;
+  return options;
+}
+
+// The fitted bonds' stiffnesses per unit area at the best fill's sub-sphere size (Eq. 10: a
+// modulus over the bond length 2r), to set beside the paper's k̄n and k̄s.
+struct BondStiffness {
+  double normal = 0.0, shear = 0.0;  // N/m^3
+};
+
+BondStiffness fitted_bond_stiffness(const CalibrationResult& result) {
+  const BondParameters& b = result.config.bms->bond;
+  const double two_r = 2.0 * result.best.sub_sphere_radius;
+  const double kn = b.modulus > 0.0 ? b.modulus / two_r : b.normal_stiffness;
+  const double ks = b.modulus > 0.0 ? kn * b.shear_ratio : b.shear_stiffness;
+  return {kn, ks};
+}
+
+// calibration.csv: the fitted values beside the start and the paper's (per unit area k̄n, k̄s at
+// this fill).
+void write_plate_calibration_summary(const std::filesystem::path& out,
+                                     const CalibrationOptions& options,
+                                     const CalibrationResult& result,
+                                     const BondStiffness& stiffness) {
+  CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted", "paper"});
+  summary.comment(fmt::format(
+      "N = {}, fills = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = "
+      "{:.6g} over [{}, {}]; converged = {}; evaluations = {}",
+      result.best.spheres, result.best.fills(), result.best.sub_sphere_radius, result.rms_relative,
+      result.max_relative, options.from, options.to, result.converged ? 1 : 0,
+      result.evaluations.size()));
+  for (std::size_t k = 0; k < options.parameters.size(); ++k)
+    summary.row_text({options.parameters[k], format_number(result.start[k]),
+                      format_number(result.values[k]), ""});
+  summary.row_text({"bond_normal_stiffness_N_per_m3", "", format_number(stiffness.normal),
+                    format_number(paper_normal_stiffness)});
+  summary.row_text({"bond_shear_stiffness_N_per_m3", "", format_number(stiffness.shear),
+                    format_number(paper_shear_stiffness)});
+  summary.commit();
+}
+
 int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation& invocation) {
   RunMetadata meta("calibrate", invocation.command_line);
   meta.options(options_json(cli));
@@ -571,20 +631,8 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   if (cli.fills > 0) config.bms->fills = cli.fills;
   const ReferenceCurve reference = read_plate_reference(cli, config);
   meta.input("reference", reference.csv);
-  CalibrationOptions options;
-  options.parameters = split_names(cli.fit.empty() ? "modulus,shear_ratio" : cli.fit);
-  options.reference_deformation = reference.deformation;
-  const std::string& y_column = reference.force_column;
-  options.reference_force = reference.force;
-  options.start = start_values(cli.start);
-  const double from =
-      cli.from.empty() ? 0.05 : window_bound(cli.from, dim::dimensionless, "--from");
-  const double to = cli.to.empty() ? 0.40 : window_bound(cli.to, dim::dimensionless, "--to");
-  options.from = from;
-  options.to = to;
-  options.max_evaluations = cli.max_evaluations;
-  options.method = analysis::search_method_named(cli.method);
-  options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 4.0;
+  CalibrationOptions options = plate_calibration_options(cli, reference);
+  const double from = options.from, to = options.to;
   const std::filesystem::path out(cli.out);
   ensure_output_folder(out);
   if (invocation.resumed) options.known = known_evaluations(out, options.parameters);
@@ -595,7 +643,7 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
                   config.bms->count,
                   config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
                                         : std::string("one fill"),
-                  config.bms->seed, from, to, reference.csv.string(), y_column));
+                  config.bms->seed, from, to, reference.csv.string(), reference.force_column));
   write_invocation(out, cli, invocation);
   ProgressReporter progress("calibrate", options.max_evaluations,
                             {.quiet = invocation.quiet, .unit = "runs"});
@@ -613,25 +661,8 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
                   result.best.spheres, result.rms_relative, from, to) +
           plate_config_toml(result.config));
   write_force_csv(out / "force.csv", result.best, result.config, true);
-  // Fitted values beside the start and the paper's (per unit area k̄n, k̄s at this fill).
-  CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted", "paper"});
-  summary.comment(fmt::format(
-      "N = {}, fills = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = "
-      "{:.6g} over [{}, {}]; converged = {}; evaluations = {}",
-      result.best.spheres, result.best.fills(), result.best.sub_sphere_radius, result.rms_relative,
-      result.max_relative, from, to, result.converged ? 1 : 0, result.evaluations.size()));
-  for (std::size_t k = 0; k < options.parameters.size(); ++k)
-    summary.row_text({options.parameters[k], format_number(result.start[k]),
-                      format_number(result.values[k]), ""});
-  const BondParameters& b = result.config.bms->bond;
-  const double two_r = 2.0 * result.best.sub_sphere_radius;
-  const double kn = b.modulus > 0.0 ? b.modulus / two_r : b.normal_stiffness;
-  const double ks = b.modulus > 0.0 ? kn * b.shear_ratio : b.shear_stiffness;
-  summary.row_text({"bond_normal_stiffness_N_per_m3", "", format_number(kn),
-                    format_number(paper_normal_stiffness)});
-  summary.row_text({"bond_shear_stiffness_N_per_m3", "", format_number(ks),
-                    format_number(paper_shear_stiffness)});
-  summary.commit();
+  const BondStiffness stiffness = fitted_bond_stiffness(result);
+  write_plate_calibration_summary(out, options, result, stiffness);
   // The folder is also a plate run (force.csv of the best fit): the plate facts, then the fit's.
   add_plate_facts(meta, result.config, PlateParticleKind::bms, result.best);
   add_fitted_values(meta, options.parameters, result.start, result.values)
@@ -640,8 +671,8 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
       .fact("window_deformation", nlohmann::json::array({from, to}))
       .fact("converged", result.converged)
       .fact("evaluations", result.evaluations.size())
-      .fact("bond_normal_stiffness_N_per_m3", kn)
-      .fact("bond_shear_stiffness_N_per_m3", ks);
+      .fact("bond_normal_stiffness_N_per_m3", stiffness.normal)
+      .fact("bond_shear_stiffness_N_per_m3", stiffness.shear);
   for (const char* name :
        {"evaluations.csv", "calibrated.toml", "force.csv", "calibration.csv", invocation_name})
     meta.output(name);
@@ -649,14 +680,12 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   fmt::print("calibrated N = {}: RMS {:.4f}, max {:.4f} over [{}, {}] after {} runs\n",
              result.best.spheres, result.rms_relative, result.max_relative, from, to,
              result.evaluations.size());
-  for (std::size_t k = 0; k < options.parameters.size(); ++k)
-    fmt::print("  {} = {:.6g} (start {:.6g})\n", options.parameters[k], result.values[k],
-               result.start[k]);
+  print_fitted_values(options.parameters, result.start, result.values);
   fmt::print(
       "  k̄n = {:.4g} N/m^3, k̄s = {:.4g} N/m^3 (paper: Table 1, rubber {:.3g}, {:.3g}; Table 4, "
       "Avicel {:.3g}, {:.3g})\n",
-      kn, ks, paper_normal_stiffness, paper_shear_stiffness, paper_avicel_normal_stiffness,
-      paper_avicel_shear_stiffness);
+      stiffness.normal, stiffness.shear, paper_normal_stiffness, paper_shear_stiffness,
+      paper_avicel_normal_stiffness, paper_avicel_shear_stiffness);
   return 0;
 }
 
