@@ -25,10 +25,14 @@ std::span<const Stage> registered_stages() {
             geometry::setup_describe_cli, nullptr, RunOutput::file},
       Stage{"fill", "fill particle meshes with sub-spheres (BMS, CMS)", geometry::setup_fill_cli,
             nullptr, RunOutput::file},
-      Stage{"plate", "one sphere or BMS particle between two plates (validation rig)",
+      Stage{"plate",
+            "one particle between two plates (the validation rig): a Hertz sphere, a BMS "
+            "agglomerate or a CMS clump",
             scenarios::setup_plate_cli, scenarios::plate_options, RunOutput::folder,
             scenarios::plate_command_options},
-      Stage{"fem-plate", "one elastic sphere between rigid plates by FEM (CalculiX)",
+      Stage{"fem-plate",
+            "one elastic particle (a sphere, a spheroid or a closed mesh) between rigid plates "
+            "by FEM (CalculiX)",
             fem::setup_fem_plate_cli, fem::fem_plate_options},
       Stage{"advise",
             "the cheapest sub-sphere count and time step within a tolerance of the finest "

@@ -145,6 +145,118 @@ std::optional<Generated> generate_resumably(const GenerateCli& cli, const ShapeT
   return generated;
 }
 
+// The population's means and every projected ASR (the views of all particles), for the summary
+// and the KS distance to the image distribution.
+struct PopulationMeans {
+  std::vector<double> projected;
+  double asr = 0.0, elongation = 0.0, flatness = 0.0, roughness = 0.0;
+};
+
+PopulationMeans population_means(const Generated& generated) {
+  PopulationMeans m;
+  const double n = static_cast<double>(generated.particles.size());
+  for (std::size_t i = 0; i < generated.particles.size(); ++i) {
+    const ShapeDescriptors& d = generated.measured[i];
+    m.projected.insert(m.projected.end(), d.projected_asr.begin(), d.projected_asr.end());
+    m.asr += d.asr / n;
+    m.elongation += d.elongation / n;
+    m.flatness += d.flatness / n;
+    m.roughness += generated.particles[i].roughness / n;
+  }
+  return m;
+}
+
+// How the population meets its targets: a line of means, the KS distance of the projected ASR
+// to the image distribution when the targets hold one, and a warning when it exceeds the
+// tolerance.
+struct TargetFit {
+  std::string summary;
+  std::vector<std::string> warnings;
+  double ks = 0.0;
+};
+
+TargetFit target_fit(const PopulationMeans& means, const ShapeTargets& targets,
+                     double ks_tolerance) {
+  TargetFit fit;
+  fit.summary = fmt::format("means: ASR {:.4f}, elongation {:.4f}, flatness {:.4f}", means.asr,
+                            means.elongation, means.flatness);
+  if (targets.projected_distribution()) {
+    fit.ks = ks_distance(means.projected, targets);
+    fit.summary +=
+        fmt::format("; KS distance of projected ASR to the image distribution {:.4f}", fit.ks);
+    if (fit.ks > ks_tolerance)
+      fit.warnings.push_back(fmt::format(
+          "the projected ASR misses the image distribution: KS distance {:.4f} > {:.4f} "
+          "(--ks-tolerance); compare projected_asr_quantiles with the targets in run.json",
+          fit.ks, ks_tolerance));
+  } else {
+    fit.summary += fmt::format(" (targets {:.4f}, {:.4f}, {:.4f})",
+                               targets.target_elongation() * targets.target_flatness(),
+                               targets.target_elongation(), targets.target_flatness());
+  }
+  return fit;
+}
+
+std::string mesh_file(std::size_t i, const std::string& format) {
+  return fmt::format("particle_{:04d}.{}", i, format);
+}
+
+// Every particle's mesh, and shapes.csv: its targets and measured descriptors, one row each.
+void write_shapes(const std::filesystem::path& out, const GenerateCli& cli,
+                  const Generated& generated, const TargetFit& fit) {
+  CsvWriter csv(
+      out / "shapes.csv",
+      {"file", "seed", "redraws", "size_target_m", "elongation_target", "flatness_target",
+       "volume_m3", "L_m", "I_m", "S_m", "asr", "elongation", "flatness", "sphericity", "convexity",
+       "projected_equivalent_diameter_m", "projected_asr_mean", "roughness"});
+  csv.comment(fmt::format("shapepress generate from '{}' ({} particles, seed {})", cli.targets,
+                          generated.particles.size(), cli.options.seed));
+  csv.comment(fit.summary);
+  for (const std::string& warning : fit.warnings)
+    csv.comment("warning: " + warning);
+  for (std::size_t i = 0; i < generated.particles.size(); ++i) {
+    const GeneratedParticle& p = generated.particles[i];
+    const ShapeDescriptors& d = generated.measured[i];
+    const std::string file = mesh_file(i, cli.format);
+    write_mesh(p.mesh, out / file);
+    std::vector<std::string> cells = {file, std::to_string(p.seed), std::to_string(p.redraws)};
+    for (double v : {p.size_m, p.elongation_target, p.flatness_target, d.volume_m3, d.L_m, d.I_m,
+                     d.S_m, d.asr, d.elongation, d.flatness, d.sphericity, d.convexity,
+                     d.projected_equivalent_diameter_m, d.projected_asr_mean, p.roughness})
+      cells.push_back(format_number(v));
+    csv.row_text(cells);
+  }
+  csv.commit();
+}
+
+// run.json's facts: the run's settings, the means, and the projected ASR's quantiles beside the
+// targets' when they hold a distribution.
+void add_generate_facts(RunMetadata& meta, const GenerateCli& cli, const ShapeTargets& targets,
+                        std::size_t particles, PopulationMeans means, const TargetFit& fit) {
+  meta.fact("particles", particles)
+      .fact("seed", cli.options.seed)
+      .fact("subdivisions", cli.options.subdivisions)
+      .fact("max_degree", cli.options.max_degree)
+      .fact("format", cli.format)
+      .fact("directions", cli.directions)
+      .fact("mean_asr", means.asr)
+      .fact("mean_elongation", means.elongation)
+      .fact("mean_flatness", means.flatness)
+      .fact("mean_roughness", means.roughness);
+  if (targets.projected_distribution()) {
+    std::sort(means.projected.begin(), means.projected.end());
+    std::vector<double> quantiles;
+    for (double level : targets.asr_levels)
+      quantiles.push_back(sample_quantile(means.projected, level));
+    meta.fact("projected_asr_ks", fit.ks)
+        .fact("projected_asr_ks_tolerance", cli.ks_tolerance)
+        .fact("projected_asr_levels", targets.asr_levels)
+        .fact("projected_asr_quantiles", quantiles)
+        .fact("projected_asr_target_quantiles", targets.asr_quantiles);
+  }
+  meta.fact("warnings", fit.warnings);
+}
+
 int run(const GenerateCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
   const std::filesystem::path resumed(given.resume);
@@ -167,93 +279,24 @@ int run(const GenerateCli& given, const RunContext& context) {
       generate_resumably(cli, targets, resumable, !given.resume.empty(),
                          generate_command(cli).invocation(command_line), context.quiet);
   if (!generated) return resumable.stopped();
-  const std::vector<GeneratedParticle>& particles = generated->particles;
-  const std::vector<ShapeDescriptors>& measured = generated->measured;
   // The targets the run used, as TOML (`generate --targets effective.toml` reads them back).
   write_file_atomically(out / "effective.toml",
                         fmt::format("# {}\n# the targets of this generate run\n", command_line) +
                             shape_targets_toml(targets));
-  CsvWriter csv(
-      out / "shapes.csv",
-      {"file", "seed", "redraws", "size_target_m", "elongation_target", "flatness_target",
-       "volume_m3", "L_m", "I_m", "S_m", "asr", "elongation", "flatness", "sphericity", "convexity",
-       "projected_equivalent_diameter_m", "projected_asr_mean", "roughness"});
-  csv.comment(fmt::format("shapepress generate from '{}' ({} particles, seed {})", cli.targets,
-                          particles.size(), cli.options.seed));
-  std::vector<double> projected;
-  double asr = 0.0, elongation = 0.0, flatness = 0.0, roughness = 0.0;
-  const double n = static_cast<double>(particles.size());
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const ShapeDescriptors& d = measured[i];
-    projected.insert(projected.end(), d.projected_asr.begin(), d.projected_asr.end());
-    asr += d.asr / n;
-    elongation += d.elongation / n;
-    flatness += d.flatness / n;
-    roughness += particles[i].roughness / n;
-  }
-  std::string summary = fmt::format("means: ASR {:.4f}, elongation {:.4f}, flatness {:.4f}", asr,
-                                    elongation, flatness);
-  std::vector<std::string> warnings;
-  double ks = 0.0;
-  if (targets.projected_distribution()) {
-    ks = ks_distance(projected, targets);
-    summary += fmt::format("; KS distance of projected ASR to the image distribution {:.4f}", ks);
-    if (ks > cli.ks_tolerance)
-      warnings.push_back(fmt::format(
-          "the projected ASR misses the image distribution: KS distance {:.4f} > {:.4f} "
-          "(--ks-tolerance); compare projected_asr_quantiles with the targets in run.json",
-          ks, cli.ks_tolerance));
-  } else {
-    summary += fmt::format(" (targets {:.4f}, {:.4f}, {:.4f})",
-                           targets.target_elongation() * targets.target_flatness(),
-                           targets.target_elongation(), targets.target_flatness());
-  }
-  csv.comment(summary);
-  for (const std::string& warning : warnings)
-    csv.comment("warning: " + warning);
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const GeneratedParticle& p = particles[i];
-    const ShapeDescriptors& d = measured[i];
-    const std::string file = fmt::format("particle_{:04d}.{}", i, cli.format);
-    write_mesh(p.mesh, out / file);
-    std::vector<std::string> cells = {file, std::to_string(p.seed), std::to_string(p.redraws)};
-    for (double v : {p.size_m, p.elongation_target, p.flatness_target, d.volume_m3, d.L_m, d.I_m,
-                     d.S_m, d.asr, d.elongation, d.flatness, d.sphericity, d.convexity,
-                     d.projected_equivalent_diameter_m, d.projected_asr_mean, p.roughness})
-      cells.push_back(format_number(v));
-    csv.row_text(cells);
-  }
-  csv.commit();
+  PopulationMeans means = population_means(*generated);
+  const TargetFit fit = target_fit(means, targets, cli.ks_tolerance);
+  write_shapes(out, cli, *generated, fit);
+  const std::size_t particles = generated->particles.size();
   RunMetadata meta("generate", command_line);
   meta.options(generate_command(cli).json());
   meta.input("targets", cli.targets).output("shapes.csv");
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    meta.output(fmt::format("particle_{:04d}.{}", i, cli.format));
-  meta.fact("particles", particles.size())
-      .fact("seed", cli.options.seed)
-      .fact("subdivisions", cli.options.subdivisions)
-      .fact("max_degree", cli.options.max_degree)
-      .fact("format", cli.format)
-      .fact("directions", cli.directions)
-      .fact("mean_asr", asr)
-      .fact("mean_elongation", elongation)
-      .fact("mean_flatness", flatness)
-      .fact("mean_roughness", roughness);
-  if (targets.projected_distribution()) {
-    std::sort(projected.begin(), projected.end());
-    std::vector<double> quantiles;
-    for (double level : targets.asr_levels)
-      quantiles.push_back(sample_quantile(projected, level));
-    meta.fact("projected_asr_ks", ks)
-        .fact("projected_asr_ks_tolerance", cli.ks_tolerance)
-        .fact("projected_asr_levels", targets.asr_levels)
-        .fact("projected_asr_quantiles", quantiles)
-        .fact("projected_asr_target_quantiles", targets.asr_quantiles);
-  }
-  meta.fact("warnings", warnings).write(out / run_metadata_name);
+  for (std::size_t i = 0; i < particles; ++i)
+    meta.output(mesh_file(i, cli.format));
+  add_generate_facts(meta, cli, targets, particles, std::move(means), fit);
+  meta.write(out / run_metadata_name);
   resumable.finish();
-  spdlog::info("generate: {} particles in {}; {}", particles.size(), out.string(), summary);
-  for (const std::string& warning : warnings)
+  spdlog::info("generate: {} particles in {}; {}", particles, out.string(), fit.summary);
+  for (const std::string& warning : fit.warnings)
     spdlog::warn("generate: {}", warning);
   return 0;
 }

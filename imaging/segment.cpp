@@ -707,31 +707,38 @@ void filter_particles(Segmentation& result, const SegmentOptions& options) {
   labels.count = kept;
 }
 
-}  // namespace
-
-Segmentation segment_particles(const GrayImage& image, const SegmentOptions& options) {
-  options.check();
-  Segmentation result;
-  cv::Mat smooth = denoise(to_mat(image), options);
-
+// Whether the particles are the bright side of the level: as options say, or (automatic) when
+// the image's border, mostly background, lies at or below Otsu's level.
+bool bright_particles(const cv::Mat& smooth, const SegmentOptions& options) {
   cv::Mat smooth8 = to_8bit(smooth), ignored;
   double otsu = cv::threshold(smooth8, ignored, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
-  result.bright_particles =
-      options.polarity == Polarity::automatic
-          ? median_of_border(smooth8) <= otsu  // THRESH_BINARY keeps values > otsu
-          : options.polarity == Polarity::bright;
-  if (!result.bright_particles) smooth = 1.0 - smooth;  // particles are bright from here on
+  return options.polarity == Polarity::automatic
+             ? median_of_border(smooth8) <= otsu  // THRESH_BINARY keeps values > otsu
+             : options.polarity == Polarity::bright;
+}
 
-  cv::Mat flat = smooth;
+// The image with its background removed as options say (the image itself without); result
+// states the background that was fitted.
+cv::Mat flatten_background(const cv::Mat& smooth, const SegmentOptions& options,
+                           Segmentation& result) {
   if (options.background == Background::quadratic) {
     Flattened flattened = subtract_quadratic_background(smooth, options.background_min_fraction);
-    flat = flattened.image;
     result.background = flattened.fitted ? Background::quadratic : Background::none;
     result.background_fraction = flattened.background_fraction;
-  } else if (options.background == Background::rolling) {
-    flat = subtract_rolling_background(smooth, options.rolling_radius_px);
-    result.background = Background::rolling;
+    return flattened.image;
   }
+  if (options.background == Background::rolling) {
+    result.background = Background::rolling;
+    return subtract_rolling_background(smooth, options.rolling_radius_px);
+  }
+  return smooth;
+}
+
+// The particle pixels of the flattened image by options.threshold (255 inside). result.threshold
+// becomes the level on the flattened image scaled to [0, 1], with that image in
+// result.flattened, or -1 when no single level separates the particles.
+cv::Mat threshold_particles(const cv::Mat& flat, const cv::Mat& smooth,
+                            const SegmentOptions& options, Segmentation& result) {
   cv::Mat flat8 = to_8bit(flat), mask, unit;
   cv::normalize(flat, unit, 0.0, 1.0, cv::NORM_MINMAX, CV_32F);
   switch (options.threshold) {
@@ -791,6 +798,32 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
     for (int y = 0; y < unit.rows; ++y)
       std::copy_n(unit.ptr<float>(y), unit.cols, &result.flattened.at(0, y));
   }
+  return mask;
+}
+
+// The same background and level applied to the image before smoothing: pixels that are
+// particle there. The smoothing lifts a gap of one or two pixels between touching particles
+// above the level; before it, the gap is below. Only in concave blobs (touching particles): in
+// a convex one, the dark pixels of the unsmoothed image are the particle's relief (a coin's
+// design), not gaps.
+std::vector<std::uint8_t> open_before_smoothing(const GrayImage& image, const cv::Mat& smooth,
+                                                const cv::Mat& flat, const cv::Mat& convex_blobs,
+                                                const Segmentation& result) {
+  cv::Mat raw = to_mat(image);
+  if (!result.bright_particles) raw = 1.0 - raw;
+  double low = 0, high = 1;
+  cv::minMaxLoc(flat, &low, &high);
+  cv::Mat raw_unit = (raw - (smooth - flat) - low) / std::max(high - low, 1e-12);
+  cv::Mat open = (raw_unit > result.threshold) | convex_blobs;
+  return std::vector<std::uint8_t>(open.ptr<std::uint8_t>(0),
+                                   open.ptr<std::uint8_t>(0) + open.total());
+}
+
+// One label per particle of the mask: split where particles touch when options say, holes
+// filled before or after the split.
+LabelImage label_particles(cv::Mat mask, const GrayImage& image, const cv::Mat& smooth,
+                           const cv::Mat& flat, const SegmentOptions& options,
+                           const Segmentation& result) {
   // ImageJ's order for its watershed: split the mask as thresholded, then fill each piece's
   // holes ("include holes" of Analyze Particles). Otherwise a blob's holes are filled first
   // when the blob is convex (a bright coin's dark relief makes no distance-map maxima to split
@@ -804,46 +837,44 @@ Segmentation segment_particles(const GrayImage& image, const SegmentOptions& opt
   } else if (options.fill_holes && !imagej_order) {
     fill_holes(mask);
   }
+  if (!options.split_touching) return connected_particles(mask);
 
-  if (options.split_touching) {
-    std::vector<std::uint8_t> bits(mask.ptr<std::uint8_t>(0),
-                                   mask.ptr<std::uint8_t>(0) + mask.total());
-    const bool unsmoothed_gaps = options.split_gaps_unsmoothed &&
-                                 options.denoise != Denoise::none && result.threshold >= 0 &&
-                                 !imagej_order;
-    if (unsmoothed_gaps) {
-      // The same background and level applied to the image before smoothing: pixels that are
-      // particle there. The smoothing lifts a gap of one or two pixels between touching
-      // particles above the level; before it, the gap is below.
-      cv::Mat raw = to_mat(image);
-      if (!result.bright_particles) raw = 1.0 - raw;
-      double low = 0, high = 1;
-      cv::minMaxLoc(flat, &low, &high);
-      cv::Mat raw_unit = (raw - (smooth - flat) - low) / std::max(high - low, 1e-12);
-      // Only in concave blobs (touching particles): in a convex one, the dark pixels of the
-      // unsmoothed image are the particle's relief (a coin's design), not gaps.
-      cv::Mat open = (raw_unit > result.threshold) | convex_blobs;
-      std::vector<std::uint8_t> gaps_open(open.ptr<std::uint8_t>(0),
-                                          open.ptr<std::uint8_t>(0) + open.total());
-      const std::vector<std::uint8_t> none(bits.size(), 0);
-      result.labels =
-          split_touching_particles(bits, mask.cols, mask.rows, options, gaps_open, none);
-      split_pores_of_clusters(result.labels, bits, thresholded, convex_blobs, gaps_open, options);
-    } else if (imagej_order) {
-      // ImageJ's own watershed, not the prominence flood: that flood cuts elsewhere and clears
-      // a line on either side of a border, and on gravel its pieces differ from ImageJ's in
-      // 5 % of the particle pixels (docs/imaging.md, "Dense fields").
-      std::vector<std::uint8_t> kept =
-          imagej_watershed(bits, mask.cols, mask.rows, options.split_prominence_px);
-      result.labels = connected_particles(cv::Mat(mask.rows, mask.cols, CV_8U, kept.data()));
-    } else {
-      result.labels = split_touching_particles(bits, mask.cols, mask.rows, options);
-    }
-    if (options.fill_holes && (imagej_order || by_convexity))
-      fill_holes_per_particle(result.labels);
+  std::vector<std::uint8_t> bits(mask.ptr<std::uint8_t>(0),
+                                 mask.ptr<std::uint8_t>(0) + mask.total());
+  const bool unsmoothed_gaps = options.split_gaps_unsmoothed && options.denoise != Denoise::none &&
+                               result.threshold >= 0 && !imagej_order;
+  LabelImage labels;
+  if (unsmoothed_gaps) {
+    const std::vector<std::uint8_t> gaps_open =
+        open_before_smoothing(image, smooth, flat, convex_blobs, result);
+    const std::vector<std::uint8_t> none(bits.size(), 0);
+    labels = split_touching_particles(bits, mask.cols, mask.rows, options, gaps_open, none);
+    split_pores_of_clusters(labels, bits, thresholded, convex_blobs, gaps_open, options);
+  } else if (imagej_order) {
+    // ImageJ's own watershed, not the prominence flood: that flood cuts elsewhere and clears
+    // a line on either side of a border, and on gravel its pieces differ from ImageJ's in
+    // 5 % of the particle pixels (docs/imaging.md, "Dense fields").
+    std::vector<std::uint8_t> kept =
+        imagej_watershed(bits, mask.cols, mask.rows, options.split_prominence_px);
+    labels = connected_particles(cv::Mat(mask.rows, mask.cols, CV_8U, kept.data()));
   } else {
-    result.labels = connected_particles(mask);
+    labels = split_touching_particles(bits, mask.cols, mask.rows, options);
   }
+  if (options.fill_holes && (imagej_order || by_convexity)) fill_holes_per_particle(labels);
+  return labels;
+}
+
+}  // namespace
+
+Segmentation segment_particles(const GrayImage& image, const SegmentOptions& options) {
+  options.check();
+  Segmentation result;
+  cv::Mat smooth = denoise(to_mat(image), options);
+  result.bright_particles = bright_particles(smooth, options);
+  if (!result.bright_particles) smooth = 1.0 - smooth;  // particles are bright from here on
+  const cv::Mat flat = flatten_background(smooth, options, result);
+  cv::Mat mask = threshold_particles(flat, smooth, options, result);
+  result.labels = label_particles(mask, image, smooth, flat, options, result);
   filter_particles(result, options);
   return result;
 }

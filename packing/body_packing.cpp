@@ -269,67 +269,56 @@ struct Reader {
   }
 };
 
-}  // namespace
-
-bool is_body_packing(const std::filesystem::path& path) {
-  const std::string ext = path.extension().string();
-  if (ext != ".h5" && ext != ".hdf5") return false;
-  const H5Reader file(path);
-  return file.has_attribute("/", "format") && file.attribute_string("/", "format") == format_name;
+// One template of /templates/<t>: its sub-spheres, bonds, volumes and inertia.
+BodyTemplate read_template(const Reader& read, std::size_t t, const std::string& name,
+                           const std::string& source, std::int32_t kind) {
+  const H5Reader& file = read.file;
+  BodyTemplate shape;
+  shape.name = name, shape.source = source;
+  if (kind < 0 || kind > 2) read.fail(fmt::format("/templates/kind[{}] = {}", t, kind));
+  shape.kind = static_cast<BodyKind>(kind);
+  const std::string group = fmt::format("/templates/{}", t);
+  shape.radii = file.doubles(group + "/radii");
+  const std::vector<double> c = read.rows(group + "/centres", 3, shape.radii.size());
+  for (std::size_t i = 0; i < shape.radii.size(); ++i) {
+    shape.centres.push_back({c[3 * i], c[3 * i + 1], c[3 * i + 2]});
+    if (!(shape.radii[i] > 0.0)) read.fail(fmt::format("{}/radii[{}] must be > 0", group, i));
+  }
+  shape.bonds = read.pairs(group + "/bonds");
+  for (const auto& [i, j] : shape.bonds)
+    if (i < 0 || j <= i || static_cast<std::size_t>(j) >= shape.radii.size())
+      read.fail(fmt::format("{}/bonds: pair ({}, {}) is not i < j < {}", group, i, j,
+                            shape.radii.size()));
+  shape.shape_volume = file.attribute_double(group, "shape_volume");
+  shape.sphere_volume = file.attribute_double(group, "sphere_volume");
+  const std::vector<double> inertia = read.sized(group + "/principal_inertia", 3);
+  std::copy(inertia.begin(), inertia.end(), shape.principal_inertia.begin());
+  if (shape.radii.empty() || !(shape.shape_volume > 0.0) || !(shape.sphere_volume > 0.0))
+    read.fail(group + ": a template needs sub-spheres and volumes > 0");
+  if (file.has_attribute(group, "body_volume")) {
+    shape.body_volume = file.attribute_double(group, "body_volume");
+    const std::vector<double> body = read.sized(group + "/body_inertia", 3);
+    std::copy(body.begin(), body.end(), shape.body_inertia.begin());
+    if (!(shape.body_volume > 0.0)) read.fail(group + ": body_volume must be > 0");
+  }
+  return shape;
 }
 
-BodyPacking read_packing(const std::filesystem::path& path) {
-  const H5Reader file(path);
-  const Reader read{file};
-  if (!file.has_attribute("/", "format") || file.attribute_string("/", "format") != format_name)
-    read.fail(fmt::format("not a packing written by `shapepress pack` (no format = \"{}\")",
-                          format_name));
-  BodyPacking p;
-  p.box.length_x = file.attribute_double("/", "box_x");
-  p.box.length_y = file.attribute_double("/", "box_y");
-  p.floor = file.attribute_double("/", "floor");
-  p.top = file.attribute_double("/", "top");
-  if (!(p.box.length_x > 0.0 && p.box.length_y > 0.0 && p.top > p.floor))
-    read.fail("box_x and box_y must be > 0 and top above floor");
-
+void read_templates(const Reader& read, BodyPacking& p) {
+  const H5Reader& file = read.file;
   const std::vector<std::string> names = file.strings("/templates/name");
   const std::vector<std::string> sources = file.strings("/templates/source");
   const std::vector<std::int32_t> kinds = file.int32s("/templates/kind");
   if (sources.size() != names.size() || kinds.size() != names.size())
     read.fail("/templates/name, /templates/source and /templates/kind differ in length");
-  for (std::size_t t = 0; t < names.size(); ++t) {
-    BodyTemplate shape;
-    shape.name = names[t], shape.source = sources[t];
-    if (kinds[t] < 0 || kinds[t] > 2)
-      read.fail(fmt::format("/templates/kind[{}] = {}", t, kinds[t]));
-    shape.kind = static_cast<BodyKind>(kinds[t]);
-    const std::string group = fmt::format("/templates/{}", t);
-    shape.radii = file.doubles(group + "/radii");
-    const std::vector<double> c = read.rows(group + "/centres", 3, shape.radii.size());
-    for (std::size_t i = 0; i < shape.radii.size(); ++i) {
-      shape.centres.push_back({c[3 * i], c[3 * i + 1], c[3 * i + 2]});
-      if (!(shape.radii[i] > 0.0)) read.fail(fmt::format("{}/radii[{}] must be > 0", group, i));
-    }
-    shape.bonds = read.pairs(group + "/bonds");
-    for (const auto& [i, j] : shape.bonds)
-      if (i < 0 || j <= i || static_cast<std::size_t>(j) >= shape.radii.size())
-        read.fail(fmt::format("{}/bonds: pair ({}, {}) is not i < j < {}", group, i, j,
-                              shape.radii.size()));
-    shape.shape_volume = file.attribute_double(group, "shape_volume");
-    shape.sphere_volume = file.attribute_double(group, "sphere_volume");
-    const std::vector<double> inertia = read.sized(group + "/principal_inertia", 3);
-    std::copy(inertia.begin(), inertia.end(), shape.principal_inertia.begin());
-    if (shape.radii.empty() || !(shape.shape_volume > 0.0) || !(shape.sphere_volume > 0.0))
-      read.fail(group + ": a template needs sub-spheres and volumes > 0");
-    if (file.has_attribute(group, "body_volume")) {
-      shape.body_volume = file.attribute_double(group, "body_volume");
-      const std::vector<double> body = read.sized(group + "/body_inertia", 3);
-      std::copy(body.begin(), body.end(), shape.body_inertia.begin());
-      if (!(shape.body_volume > 0.0)) read.fail(group + ": body_volume must be > 0");
-    }
-    p.templates.push_back(std::move(shape));
-  }
+  for (std::size_t t = 0; t < names.size(); ++t)
+    p.templates.push_back(read_template(read, t, names[t], sources[t], kinds[t]));
+}
 
+// The bodies (after the templates they name): template, scale, pose, volumes, and where their
+// particles start.
+void read_bodies(const Reader& read, BodyPacking& p) {
+  const H5Reader& file = read.file;
   const std::vector<std::int32_t> body_template = file.int32s("/bodies/template");
   const std::size_t m = body_template.size();
   const std::vector<double> scale = read.sized("/bodies/scale", m);
@@ -357,7 +346,12 @@ BodyPacking read_packing(const std::filesystem::path& path) {
     if (has_body_volume) body.body_volume = body_volume[b];
     p.bodies.push_back(body);
   }
+}
 
+// The particles (after the bodies): positions and radii, each body's run of them as many as its
+// template's sub-spheres.
+void read_particles(const Reader& read, BodyPacking& p) {
+  const H5Reader& file = read.file;
   p.particles.radius = file.doubles("/particles/radius");
   const std::size_t n = p.particles.size();
   const std::vector<double> position = read.rows("/particles/position", 3, n);
@@ -371,7 +365,7 @@ BodyPacking read_packing(const std::filesystem::path& path) {
   if (p.particle_body.size() != n) read.fail("/particles/body must hold one value per particle");
   if (p.first_particle.front() != 0 || static_cast<std::size_t>(p.first_particle.back()) != n)
     read.fail("/bodies/first_particle must run from 0 to the particle count");
-  for (std::size_t b = 0; b < m; ++b) {
+  for (std::size_t b = 0; b < p.bodies.size(); ++b) {
     const auto count = static_cast<std::size_t>(
         p.templates[static_cast<std::size_t>(p.bodies[b].template_index)].radii.size());
     if (p.first_particle[b + 1] - p.first_particle[b] != static_cast<std::int32_t>(count))
@@ -381,6 +375,11 @@ BodyPacking read_packing(const std::filesystem::path& path) {
       if (p.particle_body[static_cast<std::size_t>(i)] != static_cast<std::int32_t>(b))
         read.fail(fmt::format("/particles/body[{}] is not {}", i, b));
   }
+}
+
+// The bonds (after the particles): each within one body, with a rest length > 0.
+void read_bonds(const Reader& read, BodyPacking& p) {
+  const std::size_t n = p.particles.size();
   p.bonds = read.pairs("/bonds/pairs");
   p.bond_rest_length = read.sized("/bonds/rest_length", p.bonds.size());
   for (std::size_t k = 0; k < p.bonds.size(); ++k) {
@@ -397,6 +396,34 @@ BodyPacking read_packing(const std::filesystem::path& path) {
     if (!(p.bond_rest_length[k] > 0.0))
       read.fail(fmt::format("/bonds/rest_length[{}] must be > 0", k));
   }
+}
+
+}  // namespace
+
+bool is_body_packing(const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext != ".h5" && ext != ".hdf5") return false;
+  const H5Reader file(path);
+  return file.has_attribute("/", "format") && file.attribute_string("/", "format") == format_name;
+}
+
+BodyPacking read_packing(const std::filesystem::path& path) {
+  const H5Reader file(path);
+  const Reader read{file};
+  if (!file.has_attribute("/", "format") || file.attribute_string("/", "format") != format_name)
+    read.fail(fmt::format("not a packing written by `shapepress pack` (no format = \"{}\")",
+                          format_name));
+  BodyPacking p;
+  p.box.length_x = file.attribute_double("/", "box_x");
+  p.box.length_y = file.attribute_double("/", "box_y");
+  p.floor = file.attribute_double("/", "floor");
+  p.top = file.attribute_double("/", "top");
+  if (!(p.box.length_x > 0.0 && p.box.length_y > 0.0 && p.top > p.floor))
+    read.fail("box_x and box_y must be > 0 and top above floor");
+  read_templates(read, p);
+  read_bodies(read, p);
+  read_particles(read, p);
+  read_bonds(read, p);
   if (file.has("/measures"))
     for_each_measure(p.measures, [&](const char* name, const char*, double& value) {
       const std::string dataset = fmt::format("/measures/{}", name);

@@ -98,6 +98,81 @@ void add_measures(RunMetadata& meta, const PackMeasures& m) {
   });
 }
 
+// The command line's overrides of the config: seed, body count and templates. A study packs
+// one config at several sizes and with several shapes without copying it.
+void apply_overrides(const PackCli& cli, PackConfig& config) {
+  if (cli.seed) config.request.seed = *cli.seed;
+  if (cli.count) {
+    if (*cli.count <= 0) throw InputError(fmt::format("pack: --count {} must be > 0", *cli.count));
+    config.request.count = *cli.count;
+    config.request.target_mass.reset();
+  }
+  if (!cli.template_names.empty()) {
+    config.request.templates.clear();
+    for (const std::string& name : cli.template_names)
+      config.request.templates.push_back({name, 1.0});
+  }
+}
+
+// Where a resumed run starts: its latest checkpoint's bed and phase, or none (the run starts
+// again). Temporaries a killed write left beside `out` go first.
+std::optional<PackResume> resume_point(const std::filesystem::path& out,
+                                       const std::filesystem::path& checkpoints) {
+  remove_stale_temporaries(out.has_parent_path() ? out.parent_path() : ".",
+                           out.stem().string() + ".");
+  if (const auto latest = latest_checkpoint(checkpoints)) {
+    spdlog::info("pack: resuming {} from the checkpoint at step {}", out.string(), latest->step);
+    return PackResume{read_snapshot(latest->snapshot), read_phase(latest->record)};
+  }
+  spdlog::info("pack: {} has no checkpoint yet: starting the run again", out.string());
+  return std::nullopt;
+}
+
+// run.json's facts of the packed bed and the run that packed it.
+void add_pack_facts(RunMetadata& meta, const PackRun& result, const PackConfig& config) {
+  meta.fact("bodies", static_cast<std::int64_t>(result.packing.size()))
+      .fact("sub_spheres", static_cast<std::int64_t>(result.packing.particles.size()))
+      .fact("bonds", static_cast<std::int64_t>(result.packing.bonds.size()))
+      .fact("box_x_m", result.packing.box.length_x)
+      .fact("box_y_m", result.packing.box.length_y)
+      .fact("floor_m", result.packing.floor)
+      .fact("top_m", result.packing.top)
+      .fact("seed", static_cast<std::int64_t>(config.request.seed))
+      .fact("time_step_s", result.time_step)
+      .fact("settle_density_scale", config.request.settle_density_scale)
+      .fact("settle_time_step_s", result.settle_time_step)
+      .fact("steps", result.steps)
+      .fact("loop_s", result.loop_seconds)
+      .fact("settled", result.settled)
+      .fact("settled_solid_fraction", result.settled_solid_fraction);
+  // Absent when there was no press, or the bed settled denser than its target.
+  if (result.precompression_solid_fraction > 0.0)
+    meta.fact("precompression_solid_fraction", result.precompression_solid_fraction);
+}
+
+void print_pack_summary(const PackRun& result, const PackConfig& config) {
+  const PackMeasures& m = result.packing.measures;
+  std::printf(
+      "pack: %zu bodies, %zu sub-spheres, %zu bonds; bed height %.4g m\n"
+      "  solid fraction %.4f by body volume, %.4f by shape volume, %.4f by sub-sphere volume\n"
+      "  coordination %.3f; orientation order <P2> %.4f; largest overlap %.3g m (%.3g of a "
+      "radius)\n"
+      "  x10/x50/x90 %.4g/%.4g/%.4g m (target %.4g/%.4g/%.4g, %s-weighted)\n"
+      "  %lld steps of %.3g s%s in %.1f s%s\n",
+      result.packing.size(), result.packing.particles.size(), result.packing.bonds.size(),
+      m.bed_height, m.solid_fraction, m.solid_fraction_shape, m.solid_fraction_spheres,
+      m.coordination, m.orientation_order, m.largest_overlap, m.largest_overlap_relative, m.x10,
+      m.x50, m.x90, m.target_x10, m.target_x50, m.target_x90,
+      config.request.sizes.volume_weighted ? "volume" : "number",
+      static_cast<long long>(result.steps), result.time_step,
+      config.request.settle_density_scale == 1.0
+          ? ""
+          : fmt::format(" (the settle's of {:.3g} s at {:g} × density)", result.settle_time_step,
+                        config.request.settle_density_scale)
+                .c_str(),
+      result.loop_seconds, result.settled ? "" : " (not at rest: see the warning)");
+}
+
 int run(const PackCli& given, const RunContext& context) {
   std::string command_line = context.command_line;
   if (finished_before_resume("pack", given.resume, checkpoint_folder(given.resume),
@@ -114,18 +189,7 @@ int run(const PackCli& given, const RunContext& context) {
   meta.input("config", cli.config);
   PackConfig config = read_pack_config(root, cli.config, cli.summary);
   root.check_unknown_keys();
-  if (cli.seed) config.request.seed = *cli.seed;
-  // A study packs one config at several sizes and with several shapes without copying it.
-  if (cli.count) {
-    if (*cli.count <= 0) throw InputError(fmt::format("pack: --count {} must be > 0", *cli.count));
-    config.request.count = *cli.count;
-    config.request.target_mass.reset();
-  }
-  if (!cli.template_names.empty()) {
-    config.request.templates.clear();
-    for (const std::string& name : cli.template_names)
-      config.request.templates.push_back({name, 1.0});
-  }
+  apply_overrides(cli, config);
   std::vector<std::filesystem::path> files(cli.templates.begin(), cli.templates.end());
   const std::vector<BodyTemplate> templates = load_body_templates(files, config.request.templates);
   for (const std::filesystem::path& f : files)
@@ -139,16 +203,7 @@ int run(const PackCli& given, const RunContext& context) {
   if (out.has_parent_path()) ensure_output_folder(out.parent_path());
   const std::filesystem::path checkpoints = checkpoint_folder(out);
   std::optional<PackResume> resume;
-  if (!given.resume.empty()) {
-    remove_stale_temporaries(out.has_parent_path() ? out.parent_path() : ".",
-                             out.stem().string() + ".");
-    if (const auto latest = latest_checkpoint(checkpoints)) {
-      spdlog::info("pack: resuming {} from the checkpoint at step {}", out.string(), latest->step);
-      resume = PackResume{read_snapshot(latest->snapshot), read_phase(latest->record)};
-    } else {
-      spdlog::info("pack: {} has no checkpoint yet: starting the run again", out.string());
-    }
-  }
+  if (!given.resume.empty()) resume = resume_point(out, checkpoints);
   ResumableRun resumable("pack", out, checkpoints, config.checkpoints);
   resumable.start(!given.resume.empty(), pack_command(cli).invocation(command_line));
   const Provenance provenance{command_line, root.text(), config.request.seed};
@@ -176,50 +231,14 @@ int run(const PackCli& given, const RunContext& context) {
   write_packing(out, result.packing, provenance);
   std::filesystem::path sidecar = out;
   sidecar.replace_extension(".xmf");
-  const PackMeasures& m = result.packing.measures;
   meta.output(out.filename()).output(sidecar.filename());
-  meta.fact("bodies", static_cast<std::int64_t>(result.packing.size()))
-      .fact("sub_spheres", static_cast<std::int64_t>(result.packing.particles.size()))
-      .fact("bonds", static_cast<std::int64_t>(result.packing.bonds.size()))
-      .fact("box_x_m", result.packing.box.length_x)
-      .fact("box_y_m", result.packing.box.length_y)
-      .fact("floor_m", result.packing.floor)
-      .fact("top_m", result.packing.top)
-      .fact("seed", static_cast<std::int64_t>(config.request.seed))
-      .fact("time_step_s", result.time_step)
-      .fact("settle_density_scale", config.request.settle_density_scale)
-      .fact("settle_time_step_s", result.settle_time_step)
-      .fact("steps", result.steps)
-      .fact("loop_s", result.loop_seconds)
-      .fact("settled", result.settled)
-      .fact("settled_solid_fraction", result.settled_solid_fraction);
-  // Absent when there was no press, or the bed settled denser than its target.
-  if (result.precompression_solid_fraction > 0.0)
-    meta.fact("precompression_solid_fraction", result.precompression_solid_fraction);
+  add_pack_facts(meta, result, config);
   meta.options(pack_command(cli).json());
-  add_measures(meta, m);
+  add_measures(meta, result.packing.measures);
   meta.fact("effective_config", pack_config_toml(config));
   meta.write(run_metadata_beside(out));
   resumable.finish();
-  std::printf(
-      "pack: %zu bodies, %zu sub-spheres, %zu bonds; bed height %.4g m\n"
-      "  solid fraction %.4f by body volume, %.4f by shape volume, %.4f by sub-sphere volume\n"
-      "  coordination %.3f; orientation order <P2> %.4f; largest overlap %.3g m (%.3g of a "
-      "radius)\n"
-      "  x10/x50/x90 %.4g/%.4g/%.4g m (target %.4g/%.4g/%.4g, %s-weighted)\n"
-      "  %lld steps of %.3g s%s in %.1f s%s\n",
-      result.packing.size(), result.packing.particles.size(), result.packing.bonds.size(),
-      m.bed_height, m.solid_fraction, m.solid_fraction_shape, m.solid_fraction_spheres,
-      m.coordination, m.orientation_order, m.largest_overlap, m.largest_overlap_relative, m.x10,
-      m.x50, m.x90, m.target_x10, m.target_x50, m.target_x90,
-      config.request.sizes.volume_weighted ? "volume" : "number",
-      static_cast<long long>(result.steps), result.time_step,
-      config.request.settle_density_scale == 1.0
-          ? ""
-          : fmt::format(" (the settle's of {:.3g} s at {:g} × density)", result.settle_time_step,
-                        config.request.settle_density_scale)
-                .c_str(),
-      result.loop_seconds, result.settled ? "" : " (not at rest: see the warning)");
+  print_pack_summary(result, config);
   return 0;
 }
 

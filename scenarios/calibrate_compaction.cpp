@@ -212,17 +212,19 @@ analysis::MeasuredMismatch trial_mismatch(const CompactionTrial& trial,
       to);
 }
 
-CompactionCalibrationResult calibrate_compaction(
-    const CompactConfig& config, const std::filesystem::path& packing,
-    const CompactionCalibrationOptions& options, int threads,
-    const std::function<void(const CalibrationEvaluation&)>& progress) {
+namespace {
+
+void check_calibration_options(const CompactionCalibrationOptions& options) {
   if (options.parameters.empty()) throw InputError("calibrate: no parameter to fit");
   if (!(options.to > options.from))
     throw InputError(
         fmt::format("calibrate: window [{}, {}] must have from < to", options.from, options.to));
   if (options.max_evaluations < 2) throw InputError("calibrate: --max-evaluations must be >= 2");
-  CompactionCalibrationResult result;
-  result.config = config;
+}
+
+// The config the evaluations run: the evaluations' mass scaling and the stated start values.
+CompactConfig evaluation_base(const CompactConfig& config,
+                              const CompactionCalibrationOptions& options) {
   CompactConfig base = config;
   if (options.density_scale) base.density_scale = *options.density_scale;
   for (const auto& [name, value] : options.start) {
@@ -230,90 +232,140 @@ CompactionCalibrationResult calibrate_compaction(
       throw InputError(fmt::format("calibrate: start value of {} = {} must be > 0", name, value));
     set_parameter(base, name, value);
   }
-  analysis::SearchOptions search;
+  return base;
+}
+
+// The search runs in the logarithms of the parameters (all positive, over decades).
+struct LogSearch {
+  analysis::SearchOptions options;
+  std::vector<double> start;  // the parameters' start values themselves
   std::vector<double> start_log;
+};
+
+// Each fitted parameter's start (a k1 taken from E becomes the stated start in `base`), its
+// bounds and first step.
+LogSearch log_search(CompactConfig& base, const CompactionCalibrationOptions& options) {
+  LogSearch search;
   for (const std::string& name : options.parameters) {
     const double v = get_parameter(base, name);
     if (!(v > 0.0))
       throw InputError(fmt::format("calibrate: start value of {} = {} must be > 0", name, v));
-    result.start.push_back(v);
-    set_parameter(base, name, v);  // a k1 taken from E becomes the stated start
-    start_log.push_back(std::log(v));
+    search.start.push_back(v);
+    set_parameter(base, name, v);
+    search.start_log.push_back(std::log(v));
     const auto [lower, upper] = log_bounds(name, v);
-    search.lower.push_back(lower);
-    search.upper.push_back(upper);
-    search.initial_step.push_back(std::log(options.initial_factor));
+    search.options.lower.push_back(lower);
+    search.options.upper.push_back(upper);
+    search.options.initial_step.push_back(std::log(options.initial_factor));
   }
-  search.max_evaluations = options.max_evaluations;
-  search.value_tolerance = 1e-4;      // 0.01 % RMS, below the curve's resolution
-  search.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
+  search.options.max_evaluations = options.max_evaluations;
+  search.options.value_tolerance = 1e-4;      // 0.01 % RMS, below the curve's resolution
+  search.options.parameter_tolerance = 1e-3;  // 0.1 % in each parameter
+  return search;
+}
+
+CompactConfig with_values(const CompactConfig& from, const std::vector<std::string>& parameters,
+                          const std::vector<double>& values) {
+  CompactConfig c = from;
+  for (std::size_t k = 0; k < values.size(); ++k)
+    set_parameter(c, parameters[k], values[k]);
+  return c;
+}
+
+// The trial's mismatch in the options' window; a window with no point on the run's loading
+// curve is an input error.
+analysis::MeasuredMismatch window_error(const CompactionTrial& trial,
+                                        const CompactionCalibrationOptions& options) {
+  const analysis::MeasuredMismatch m =
+      trial_mismatch(trial, options.reference, options.from, options.to);
+  if (m.points == 0)
+    throw InputError(fmt::format(
+        "calibrate: no point of {} in the window [{}, {}] lies on the run's loading curve",
+        options.reference.source.string(), options.from, options.to));
+  return m;
+}
+
+// A batch's evaluations at the search's points (in log space). A point of a resumed
+// calibration's file, or one this search has run before (a contraction can land on an earlier
+// vertex), takes that value: the same run would give the same value. Returns the indices of
+// the points still to run.
+std::vector<std::size_t> reuse_known(const std::vector<std::vector<double>>& points,
+                                     const std::vector<CalibrationEvaluation>& from_file,
+                                     const std::vector<CalibrationEvaluation>& made,
+                                     std::vector<CalibrationEvaluation>& evaluations) {
+  std::vector<std::size_t> to_run;
+  evaluations.assign(points.size(), CalibrationEvaluation{});
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (double v : points[i])
+      evaluations[i].values.push_back(std::exp(v));
+    const CalibrationEvaluation* known = known_evaluation(from_file, evaluations[i].values);
+    if (!known) known = known_evaluation(made, evaluations[i].values);
+    if (known) {
+      evaluations[i] = *known;
+      evaluations[i].reused = true;
+    } else {
+      to_run.push_back(i);
+    }
+  }
+  return to_run;
+}
+
+// One trial: its run and its RMS in the window. The search's start must meet the reference
+// (`first`); a later point whose curve misses it (a bed too soft to reach the reference's
+// stress) is a bad point, as a diverged one is.
+void run_evaluation(const CompactConfig& scene, const CompactionBed& bed,
+                    const CompactionCalibrationOptions& options, bool first,
+                    CalibrationEvaluation& evaluation, std::optional<CompactionTrial>& trial) {
+  try {
+    trial = run_compaction_trial(scene, bed);
+    evaluation.wall_seconds = trial->wall_seconds;
+    if (!first && trial_mismatch(*trial, options.reference, options.from, options.to).points == 0) {
+      evaluation.rms_relative = std::numeric_limits<double>::infinity();
+      return;
+    }
+    evaluation.rms_relative = window_error(*trial, options).rms_relative;
+  } catch (const ComputationError&) {
+    // A diverged trial is a bad point, not the end of the search.
+    evaluation.rms_relative = std::numeric_limits<double>::infinity();
+  }
+}
+
+}  // namespace
+
+CompactionCalibrationResult calibrate_compaction(
+    const CompactConfig& config, const std::filesystem::path& packing,
+    const CompactionCalibrationOptions& options, int threads,
+    const std::function<void(const CalibrationEvaluation&)>& progress) {
+  check_calibration_options(options);
+  CompactionCalibrationResult result;
+  result.config = config;
+  CompactConfig base = evaluation_base(config, options);
+  const LogSearch search = log_search(base, options);
+  result.start = search.start;
   // The bed is the config's: poured and settled with its own values (the start values are the
   // search's, not the powder's), so a `compact` run of the config presses the same bed.
   CompactConfig pour = config;
   pour.density_scale = base.density_scale;
   const CompactionBed bed = compaction_bed(pour, packing);
-  const auto configured = [&](const CompactConfig& from, const std::vector<double>& values) {
-    CompactConfig c = from;
-    for (std::size_t k = 0; k < values.size(); ++k)
-      set_parameter(c, options.parameters[k], values[k]);
-    return c;
-  };
-  const auto window_error = [&](const CompactionTrial& trial) {
-    const analysis::MeasuredMismatch m =
-        trial_mismatch(trial, options.reference, options.from, options.to);
-    if (m.points == 0)
-      throw InputError(fmt::format(
-          "calibrate: no point of {} in the window [{}, {}] lies on the run's loading curve",
-          options.reference.source.string(), options.from, options.to));
-    return m;
-  };
   std::optional<CompactionTrial> best;
   std::vector<double> best_values;
   double best_value = HUGE_VAL;
   const analysis::BatchObjective objective = [&](const std::vector<std::vector<double>>& points) {
     const std::size_t n = points.size();
-    std::vector<CalibrationEvaluation> evaluations(n);
+    std::vector<CalibrationEvaluation> evaluations;
+    const std::vector<std::size_t> to_run =
+        reuse_known(points, options.known, result.evaluations, evaluations);
     std::vector<std::optional<CompactionTrial>> trials(n);
-    std::vector<std::size_t> to_run;
-    for (std::size_t i = 0; i < n; ++i) {
-      for (double v : points[i])
-        evaluations[i].values.push_back(std::exp(v));
-      // A point of a resumed calibration's file, or one this search has run before (a
-      // contraction can land on an earlier vertex): the same run would give the same value.
-      const CalibrationEvaluation* known = known_evaluation(options.known, evaluations[i].values);
-      if (!known) known = known_evaluation(result.evaluations, evaluations[i].values);
-      if (known) {
-        evaluations[i] = *known;
-        evaluations[i].reused = true;
-      } else {
-        to_run.push_back(i);
-      }
-    }
-    // The search's start must meet the reference; a later point whose curve misses it (a bed too
-    // soft to reach the reference's stress) is a bad point, as a diverged one is.
     const bool first_batch = result.evaluations.empty();
-    const auto run_one = [&](std::size_t i) {
-      try {
-        trials[i] = run_compaction_trial(configured(base, evaluations[i].values), bed);
-        evaluations[i].wall_seconds = trials[i]->wall_seconds;
-        if (!(first_batch && i == 0) &&
-            trial_mismatch(*trials[i], options.reference, options.from, options.to).points == 0) {
-          evaluations[i].rms_relative = std::numeric_limits<double>::infinity();
-          return;
-        }
-        evaluations[i].rms_relative = window_error(*trials[i]).rms_relative;
-      } catch (const ComputationError&) {
-        // A diverged trial is a bad point, not the end of the search.
-        evaluations[i].rms_relative = std::numeric_limits<double>::infinity();
-      }
-    };
     // Trials side by side each run their engine on one thread (the same bits as alone); a
     // single trial runs on this thread and its engine takes the threads. Another error ends
     // the search (run_jobs rethrows it).
     const int side_by_side = std::min(threads, static_cast<int>(to_run.size()));
     run_jobs(to_run.size(), side_by_side, [&](std::size_t k) {
       if (side_by_side > 1) omp_set_num_threads(1);  // on the pool's own thread
-      run_one(to_run[k]);
+      const std::size_t i = to_run[k];
+      run_evaluation(with_values(base, options.parameters, evaluations[i].values), bed, options,
+                     first_batch && i == 0, evaluations[i], trials[i]);
     });
     std::vector<double> values;
     for (std::size_t i = 0; i < n; ++i) {
@@ -333,15 +385,15 @@ CompactionCalibrationResult calibrate_compaction(
     return values;
   };
   const analysis::MinimumResult found =
-      analysis::minimize(options.method, objective, start_log, search);
+      analysis::minimize(options.method, objective, search.start_log, search.options);
   for (double v : found.parameters)
     result.values.push_back(std::exp(v));
   result.converged = found.converged;
-  result.config = configured(config, result.values);
+  result.config = with_values(config, options.parameters, result.values);
   // The best point's run, unless a resumed calibration took its value from the file.
-  const CompactConfig scene = configured(base, result.values);
+  const CompactConfig scene = with_values(base, options.parameters, result.values);
   if (!best || best_values != result.values) best = run_compaction_trial(scene, bed);
-  result.error = window_error(*best);
+  result.error = window_error(*best, options);
   result.best = std::move(*best);
   return result;
 }

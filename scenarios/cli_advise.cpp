@@ -95,8 +95,8 @@ analysis::Rung load_rung(const RungJob& job, const nlohmann::json& record) {
   return rung;
 }
 
-std::vector<RungJob> ladder(const AdviseCli& cli, const std::string& particle,
-                            const std::string& config_hash, int fills) {
+std::vector<RungJob> ladder_jobs(const AdviseCli& cli, const std::string& particle,
+                                 const std::string& config_hash, int fills) {
   std::vector<RungJob> jobs;
   for (int count : cli.counts)
     for (double fraction : cli.fractions) {
@@ -115,48 +115,91 @@ std::vector<RungJob> ladder(const AdviseCli& cli, const std::string& particle,
   return jobs;
 }
 
-int run(const AdviseCli& cli, const RunContext& context) {
-  if (!cli.compaction.templates.empty()) {
-    if (!cli.particle.empty() || cli.fills > 0)
-      throw InputError(
-          "advise: --particle and --fills are a plate config's; a compaction bed's "
-          "kind is its templates'");
-    CompactionAdviseRequest request = cli.compaction;
-    request.config = cli.config;
-    request.out = cli.out;
-    request.counts = cli.counts;
-    request.fractions = cli.fractions;
-    request.tolerance = cli.tolerance;
-    request.resume = cli.resume;
-    return run_compaction_advise(request, context);
-  }
-  RunMetadata meta("advise", context.command_line);
-  const ConfigTable root = ConfigTable::load_file(cli.config);
-  meta.input("config", cli.config);
-  if (root.has("punch"))
-    throw InputError(cli.config +
-                     ": a compaction config: advise re-fills and re-packs its bed, so give "
-                     "--templates (fill's templates.h5) and --pack-config (pack's config)");
-  const PlateConfig config = read_plate_config(root, std::nullopt);
-  root.check_unknown_keys();
-  const std::string particle = !cli.particle.empty() ? cli.particle : config.bms ? "bms" : "cms";
-  if (particle == "bms" && !config.bms)
+// A compaction config's ladder: the bed re-filled and re-packed at each rung
+// (advise_compaction.hpp).
+int run_compaction_ladder(const AdviseCli& cli, const RunContext& context) {
+  if (!cli.particle.empty() || cli.fills > 0)
+    throw InputError(
+        "advise: --particle and --fills are a plate config's; a compaction bed's "
+        "kind is its templates'");
+  CompactionAdviseRequest request = cli.compaction;
+  request.config = cli.config;
+  request.out = cli.out;
+  request.counts = cli.counts;
+  request.fractions = cli.fractions;
+  request.tolerance = cli.tolerance;
+  request.resume = cli.resume;
+  return run_compaction_advise(request, context);
+}
+
+// What every rung of a plate ladder shares: the particle kind and the fills each rung runs
+// (config_fills: the config's own, which the full run's predicted cost is scaled to).
+struct PlateLadder {
+  std::string particle;
+  int fills = 1;
+  int config_fills = 1;
+};
+
+PlateLadder plate_ladder(const AdviseCli& cli, const PlateConfig& config) {
+  PlateLadder ladder;
+  ladder.particle = !cli.particle.empty() ? cli.particle : config.bms ? "bms" : "cms";
+  if (ladder.particle == "bms" && !config.bms)
     throw InputError(cli.config + ": advise --particle bms needs a [bms] table (and [bond])");
-  if (particle != "bms" && cli.fills > 0)
+  if (ladder.particle != "bms" && cli.fills > 0)
     throw InputError("--fills is the random fills of --particle bms");
   if (config.run.time_step)
     throw InputError(cli.config +
                      ": advise varies run.time_step_fraction, but the config fixes "
                      "run.time_step");
-  const int config_fills = config.bms ? config.bms->fills : 1;
-  const int fills = particle == "bms" ? (cli.fills > 0 ? cli.fills : config_fills) : 1;
-  AdviseCli effective = cli;
-  if (effective.fractions.empty()) effective.fractions = {config.run.time_step_fraction};
-  const fs::path out(cli.out);
-  ensure_output_folder(out);
-  const std::vector<RungJob> jobs = ladder(effective, particle, sha256_file(cli.config), fills);
+  ladder.config_fills = config.bms ? config.bms->fills : 1;
+  ladder.fills = ladder.particle == "bms" ? (cli.fills > 0 ? cli.fills : ladder.config_fills) : 1;
+  return ladder;
+}
 
-  std::vector<std::optional<nlohmann::json>> records(jobs.size());
+// The `shapepress plate` command line of one rung, on one thread.
+std::vector<std::string> plate_rung_arguments(const std::string& binary,
+                                              const fs::path& config_path,
+                                              const PlateLadder& ladder, const RungJob& job) {
+  std::vector<std::string> args = {binary,
+                                   "--quiet",
+                                   "--threads",
+                                   "1",
+                                   "plate",
+                                   "--config",
+                                   config_path,
+                                   "--particle",
+                                   ladder.particle,
+                                   ladder.particle == "bms" ? "--count" : "--spheres",
+                                   std::to_string(job.count),
+                                   "--time-step-fraction",
+                                   fmt::format("{:.17g}", job.fraction),
+                                   "--out",
+                                   job.folder.string()};
+  if (ladder.particle == "bms") args.insert(args.end(), {"--fills", std::to_string(ladder.fills)});
+  return args;
+}
+
+// Runs one rung's plate process and writes its rung.json: exit 0 done, 1 diverged, 2 refused
+// (each with plate's error line); any other end stops the ladder.
+nlohmann::json run_plate_rung(const std::vector<std::string>& args, const RungJob& job) {
+  ensure_output_folder(job.folder);
+  const ChildEnd end = run_process(args, job.folder / "log.txt");
+  const int code = end.exit_code;
+  nlohmann::json record = {{"key", job.key}, {"exit_code", code}};
+  if (code != 0) record["message"] = error_line(job.folder / "log.txt", "plate");
+  if (code != 0 && code != 1 && code != 2)
+    throw ComputationError(fmt::format("advise: rung {} ended with {} (log: {})", job.label,
+                                       end.how(), (job.folder / "log.txt").string()));
+  write_file_atomically(job.folder / "rung.json", record.dump(1) + "\n");
+  return record;
+}
+
+// Every rung's record: a finished folder's (--resume), else its plate run's, the pending ones
+// side by side on the threads. Returns how many were run.
+std::size_t run_plate_ladder(const std::vector<RungJob>& jobs, const AdviseCli& cli,
+                             const PlateLadder& ladder, const RunContext& context,
+                             std::vector<std::optional<nlohmann::json>>& records) {
+  records.assign(jobs.size(), std::nullopt);
   std::vector<std::size_t> pending;
   for (std::size_t k = 0; k < jobs.size(); ++k) {
     records[k] = finished_record(jobs[k].folder / "rung.json", jobs[k].key, cli.resume);
@@ -169,31 +212,9 @@ int run(const AdviseCli& cli, const RunContext& context) {
   std::mutex lock;
   const auto run_rung = [&](std::size_t i) {
     const RungJob& job = jobs[pending[i]];
-    ensure_output_folder(job.folder);
-    std::vector<std::string> args = {binary,
-                                     "--quiet",
-                                     "--threads",
-                                     "1",
-                                     "plate",
-                                     "--config",
-                                     config_path,
-                                     "--particle",
-                                     particle,
-                                     particle == "bms" ? "--count" : "--spheres",
-                                     std::to_string(job.count),
-                                     "--time-step-fraction",
-                                     fmt::format("{:.17g}", job.fraction),
-                                     "--out",
-                                     job.folder.string()};
-    if (particle == "bms") args.insert(args.end(), {"--fills", std::to_string(fills)});
-    const ChildEnd end = run_process(args, job.folder / "log.txt");
-    const int code = end.exit_code;
-    nlohmann::json record = {{"key", job.key}, {"exit_code", code}};
-    if (code != 0) record["message"] = error_line(job.folder / "log.txt", "plate");
-    if (code != 0 && code != 1 && code != 2)
-      throw ComputationError(fmt::format("advise: rung {} ended with {} (log: {})", job.label,
-                                         end.how(), (job.folder / "log.txt").string()));
-    write_file_atomically(job.folder / "rung.json", record.dump(1) + "\n");
+    const nlohmann::json record =
+        run_plate_rung(plate_rung_arguments(binary, config_path, ladder, job), job);
+    const int code = record["exit_code"].get<int>();
     const std::lock_guard guard(lock);
     records[pending[i]] = record;
     spdlog::info("advise: {} {}", job.label,
@@ -202,27 +223,17 @@ int run(const AdviseCli& cli, const RunContext& context) {
                              : "refused: " + record["message"].get<std::string>());
   };
   run_jobs(pending.size(), context.threads > 0 ? context.threads : omp_get_max_threads(), run_rung);
+  return pending.size();
+}
 
-  std::vector<analysis::Rung> rungs;
-  for (std::size_t k = 0; k < jobs.size(); ++k)
-    rungs.push_back(load_rung(jobs[k], *records[k]));
-  const analysis::Advice advice = analysis::advise(rungs, cli.tolerance);
-  write_advice(advice, out, meta);
-  meta.fact("particle_kind", particle)
-      .fact("tolerance", cli.tolerance)
-      .fact("rungs", static_cast<int>(jobs.size()))
-      .fact("rungs_run", static_cast<int>(pending.size()))
-      .fact("rungs_reused", static_cast<int>(jobs.size() - pending.size()))
-      .fact("fills", fills);
-  if (!advice.pick) {
-    meta.write(out / run_metadata_name);
-    throw ComputationError("advise: no rung finished, so none can be recommended (advice.csv)");
-  }
+// run.json's facts on the pick against the reference, and the log line that says them. The
+// full run is the config's own: the pick's counted cost (and CPU seconds, beside it) scaled to
+// the config's fills.
+void report_pick(const analysis::Advice& advice, const std::vector<analysis::Rung>& rungs,
+                 const PlateLadder& ladder, RunMetadata& meta) {
   const analysis::Rung& pick = rungs[*advice.pick];
   const analysis::Rung& reference = rungs[*advice.reference];
-  // The full run is the config's own: the pick's counted cost (and CPU seconds, beside it)
-  // scaled to the config's fills.
-  const double scale = static_cast<double>(config_fills) / fills;
+  const double scale = static_cast<double>(ladder.config_fills) / ladder.fills;
   const auto ratio = [](double reference_cost, double pick_cost) {
     return reference_cost >= 0.0 && pick_cost > 0.0 ? reference_cost / pick_cost : NAN;
   };
@@ -248,7 +259,6 @@ int run(const AdviseCli& cli, const RunContext& context) {
         .fact("predicted_full_run_counted_cost", pick_cost * scale);
   if (std::isfinite(saved)) meta.fact("cost_saved_factor", saved);
   if (std::isfinite(cpu_saved)) meta.fact("cpu_saved_factor", cpu_saved);
-  meta.write(out / run_metadata_name);
   spdlog::info(
       "advise: pick {} ({} sub-spheres, step {} of critical): {:.2g} % RMS from {}, counted cost "
       "{} ({:.3g} s CPU) against {} ({:.3g} s CPU), {:.3g}x less ({:.3g}x less CPU); the config's "
@@ -256,7 +266,47 @@ int run(const AdviseCli& cli, const RunContext& context) {
       pick.label, pick.sub_spheres, fraction_text(pick.time_step_fraction),
       100.0 * advice.rows[*advice.pick].versus_reference.rms_relative, reference.label,
       pick.counted_cost, pick.cpu_seconds, reference.counted_cost, reference.cpu_seconds, saved,
-      cpu_saved, config_fills, pick_cost * scale, pick.cpu_seconds * scale);
+      cpu_saved, ladder.config_fills, pick_cost * scale, pick.cpu_seconds * scale);
+}
+
+int run(const AdviseCli& cli, const RunContext& context) {
+  if (!cli.compaction.templates.empty()) return run_compaction_ladder(cli, context);
+  RunMetadata meta("advise", context.command_line);
+  const ConfigTable root = ConfigTable::load_file(cli.config);
+  meta.input("config", cli.config);
+  if (root.has("punch"))
+    throw InputError(cli.config +
+                     ": a compaction config: advise re-fills and re-packs its bed, so give "
+                     "--templates (fill's templates.h5) and --pack-config (pack's config)");
+  const PlateConfig config = read_plate_config(root, std::nullopt);
+  root.check_unknown_keys();
+  const PlateLadder ladder = plate_ladder(cli, config);
+  AdviseCli effective = cli;
+  if (effective.fractions.empty()) effective.fractions = {config.run.time_step_fraction};
+  const fs::path out(cli.out);
+  ensure_output_folder(out);
+  const std::vector<RungJob> jobs =
+      ladder_jobs(effective, ladder.particle, sha256_file(cli.config), ladder.fills);
+  std::vector<std::optional<nlohmann::json>> records;
+  const std::size_t rungs_run = run_plate_ladder(jobs, cli, ladder, context, records);
+
+  std::vector<analysis::Rung> rungs;
+  for (std::size_t k = 0; k < jobs.size(); ++k)
+    rungs.push_back(load_rung(jobs[k], *records[k]));
+  const analysis::Advice advice = analysis::advise(rungs, cli.tolerance);
+  write_advice(advice, out, meta);
+  meta.fact("particle_kind", ladder.particle)
+      .fact("tolerance", cli.tolerance)
+      .fact("rungs", static_cast<int>(jobs.size()))
+      .fact("rungs_run", static_cast<int>(rungs_run))
+      .fact("rungs_reused", static_cast<int>(jobs.size() - rungs_run))
+      .fact("fills", ladder.fills);
+  if (!advice.pick) {
+    meta.write(out / run_metadata_name);
+    throw ComputationError("advise: no rung finished, so none can be recommended (advice.csv)");
+  }
+  report_pick(advice, rungs, ladder, meta);
+  meta.write(out / run_metadata_name);
   return 0;
 }
 

@@ -241,6 +241,13 @@ void report_evaluation(std::size_t index, const CalibrationEvaluation& e,
   progress.update(static_cast<double>(index));
 }
 
+// Each fitted parameter's value beside its start, on the console.
+void print_fitted_values(const std::vector<std::string>& names, const std::vector<double>& start,
+                         const std::vector<double>& fitted) {
+  for (std::size_t k = 0; k < names.size(); ++k)
+    fmt::print("  {} = {:.6g} (start {:.6g})\n", names[k], fitted[k], start[k]);
+}
+
 // run.json's "fitted" and "start": each parameter's value, by name.
 RunMetadata& add_fitted_values(RunMetadata& meta, const std::vector<std::string>& names,
                                const std::vector<double>& start,
@@ -253,73 +260,80 @@ RunMetadata& add_fitted_values(RunMetadata& meta, const std::vector<std::string>
   return meta.fact("fitted", fitted_json).fact("start", start_json);
 }
 
-int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
-                               const Invocation& invocation) {
-  RunMetadata meta("calibrate", invocation.command_line);
-  meta.options(options_json(cli));
-  meta.input("config", cli.config);
-  CompactConfig config = read_compact_config(root);
-  root.check_unknown_keys();
-  if (cli.count > 0 || cli.fills > 0)
-    throw InputError("calibrate: --count and --fills are for a plate config's [bms] particle");
+// The x axis of a measured curve: strain (dimensionless) or solid fraction against stress (Pa).
+Dimension x_dimension_of(const analysis::MeasuredCurve& reference) {
+  return reference.axes == analysis::MeasuredAxes::stress_strain ? dim::dimensionless
+                                                                 : dim::pressure;
+}
+
+// The search's options from the command line: reference, parameters and their start values,
+// the objective window, the method and its first step, the evaluations' mass scaling. The
+// reference and the bed go into run.json's inputs as they are named.
+CompactionCalibrationOptions compaction_calibration_options(const CalibrateCli& cli,
+                                                            RunMetadata& meta) {
   CompactionCalibrationOptions options;
   options.reference = analysis::read_measured_curve(cli.reference, cli.x_column, cli.y_column);
   meta.input("reference", cli.reference);
   if (!cli.packing.empty()) meta.input("packing", cli.packing);
   options.parameters = split_names(cli.fit.empty() ? "loading_stiffness" : cli.fit);
   options.start = start_values(cli.start);
-  const Dimension x_dimension = options.reference.axes == analysis::MeasuredAxes::stress_strain
-                                    ? dim::dimensionless
-                                    : dim::pressure;
+  const Dimension x_dimension = x_dimension_of(options.reference);
   options.from = cli.from.empty() ? -HUGE_VAL : window_bound(cli.from, x_dimension, "--from");
   options.to = cli.to.empty() ? HUGE_VAL : window_bound(cli.to, x_dimension, "--to");
   options.max_evaluations = cli.max_evaluations;
   options.method = analysis::search_method_named(cli.method);
   options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 2.0;
   if (cli.density_scale > 0.0) options.density_scale = cli.density_scale;
-  const std::filesystem::path out(cli.out);
-  ensure_output_folder(out);
-  if (invocation.resumed) options.known = known_evaluations(out, options.parameters);
-  const std::string x_unit = x_dimension == dim::pressure ? " Pa" : "";  // solid fraction: none
-  EvaluationLog log(
-      out / "evaluations.csv", options.parameters,
-      fmt::format("shapepress calibrate: RMS relative {} error against {} ({}, {}) "
-                  "over x in [{:g}, {:g}]{}{}",
-                  analysis::axes_name(options.reference.axes), cli.reference,
-                  options.reference.x_column, options.reference.y_column, options.from, options.to,
-                  x_unit,
-                  options.density_scale
-                      ? fmt::format("; evaluations with density_scale {}", *options.density_scale)
-                      : std::string()));
-  write_invocation(out, cli, invocation);
-  ProgressReporter progress("calibrate", options.max_evaluations,
-                            {.quiet = invocation.quiet, .unit = "runs"});
-  const int threads = omp_get_max_threads();
-  const CompactionCalibrationResult result = calibrate_compaction(
-      config, cli.packing, options, threads, [&](const CalibrationEvaluation& e) {
-        log.add(e);
-        report_evaluation(log.size(), e, progress);
-      });
-  progress.finish();
+  return options;
+}
+
+// The units the report prints beside x and y: stress in Pa, strain and solid fraction none.
+struct CurveUnits {
+  std::string x, y;
+};
+
+CurveUnits curve_units(const analysis::MeasuredCurve& reference) {
+  return {x_dimension_of(reference) == dim::pressure ? " Pa" : "",
+          reference.axes == analysis::MeasuredAxes::stress_strain ? " Pa" : ""};
+}
+
+// evaluations.csv's comment: what each row's RMS compares.
+std::string evaluation_log_comment(const CalibrateCli& cli,
+                                   const CompactionCalibrationOptions& options) {
+  return fmt::format(
+      "shapepress calibrate: RMS relative {} error against {} ({}, {}) "
+      "over x in [{:g}, {:g}]{}{}",
+      analysis::axes_name(options.reference.axes), cli.reference, options.reference.x_column,
+      options.reference.y_column, options.from, options.to, curve_units(options.reference).x,
+      options.density_scale
+          ? fmt::format("; evaluations with density_scale {}", *options.density_scale)
+          : std::string());
+}
+
+// calibrated.toml's header: the command, the fitted values and the best run's mismatch.
+std::string calibrated_toml_header(const CalibrateCli& cli,
+                                   const CompactionCalibrationOptions& options,
+                                   const CompactionCalibrationResult& result) {
   const analysis::MeasuredMismatch& error = result.error;
-  const std::string y_unit =
-      options.reference.axes == analysis::MeasuredAxes::stress_strain ? " Pa" : "";
-  std::string header = fmt::format(
+  const CurveUnits units = curve_units(options.reference);
+  std::vector<std::string> fitted;
+  for (std::size_t k = 0; k < options.parameters.size(); ++k)
+    fitted.push_back(fmt::format("{} = {:.6g}", options.parameters[k], result.values[k]));
+  return fmt::format(
       "# shapepress calibrate --config {} --reference {} --fit {}{}\n"
       "# fitted: {}\n"
       "# {} against the reference at {} points, x in [{:g}, {:g}]{}: RMS {:.6g}{} ({:.4g} %), "
       "largest {:.6g}{} at x = {:g}\n",
       cli.config, cli.reference, fmt::join(options.parameters, ","),
       cli.density_scale > 0.0 ? fmt::format(" --density-scale {}", cli.density_scale) : "",
-      [&] {
-        std::vector<std::string> items;
-        for (std::size_t k = 0; k < options.parameters.size(); ++k)
-          items.push_back(fmt::format("{} = {:.6g}", options.parameters[k], result.values[k]));
-        return fmt::format("{}", fmt::join(items, ", "));
-      }(),
-      analysis::axes_name(options.reference.axes), error.points, error.from, error.to, x_unit,
-      error.rms, y_unit, 100.0 * error.rms_relative, error.max, y_unit, error.at_max);
-  write_file_atomically(out / "calibrated.toml", header + compact_config_toml(result.config));
+      fmt::format("{}", fmt::join(fitted, ", ")), analysis::axes_name(options.reference.axes),
+      error.points, error.from, error.to, units.x, error.rms, units.y, 100.0 * error.rms_relative,
+      error.max, units.y, error.at_max);
+}
+
+// punch.csv of the run with the fitted values, on the evaluations' scene.
+void write_best_punch(const std::filesystem::path& out, const CompactionCalibrationOptions& options,
+                      const CompactionCalibrationResult& result) {
   CsvWriter punch(out / "punch.csv", punch_csv_columns());
   const PreparedCompaction& best = result.best.prepared;
   punch.comment(fmt::format(
@@ -333,45 +347,73 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
   for (const PunchRecord& r : result.best.records)
     punch.row(punch_csv_row(r));
   punch.commit();
-  CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted"});
-  summary.comment(fmt::format(
-      "{} points of {} in [{:g}, {:g}]{}; rms = {:.6g}{}, rms_relative = {:.6g}, max = {:.6g}"
-      "{}, max_relative = {:.6g}; converged = {}; evaluations = {}",
-      error.points, cli.reference, error.from, error.to, x_unit, error.rms, y_unit,
-      error.rms_relative, error.max, y_unit, error.max_relative, result.converged ? 1 : 0,
-      result.evaluations.size()));
-  // A fitted k1 is a statement about the material at the bed's size: the loading modulus it
-  // implies carries it to another size of contact (sub-spheres, walls), and the other way round.
-  const double diameter = best.setup.inertial.diameter;
+}
+
+// A fitted k1 is a statement about the material at the bed's size: the loading modulus it
+// implies carries it to another size of contact (sub-spheres, walls), and the other way round.
+struct ImpliedLoading {
+  double diameter = 0.0;  // the bed's mean particle diameter (m)
+  double poisson_ratio = 0.0;
+  nlohmann::json fitted = nlohmann::json::object();  // by name, at the fitted value
+  std::vector<std::vector<std::string>> rows;        // name, at the start, fitted
+};
+
+ImpliedLoading implied_loading(const CompactionCalibrationOptions& options,
+                               const CompactionCalibrationResult& result) {
+  ImpliedLoading implied;
+  implied.diameter = result.best.prepared.setup.inertial.diameter;
   const Material* particle = result.config.materials.find(result.config.particle_material);
-  const double poisson_ratio = particle ? particle->poisson_ratio : 0.0;
-  nlohmann::json implied = nlohmann::json::object();
-  std::vector<std::vector<std::string>> implied_rows;
-  for (std::size_t k = 0; k < options.parameters.size() && diameter > 0.0; ++k) {
+  implied.poisson_ratio = particle ? particle->poisson_ratio : 0.0;
+  for (std::size_t k = 0; k < options.parameters.size() && implied.diameter > 0.0; ++k) {
     const std::string& name = options.parameters[k];
     if (name != "loading_stiffness" && name != "loading_modulus") continue;
     const bool stiffness = name == "loading_stiffness";
     const auto carry = [&](double v) {
-      return stiffness ? implied_loading_modulus(v, diameter, poisson_ratio)
-                       : implied_loading_stiffness(v, diameter, poisson_ratio);
+      return stiffness ? implied_loading_modulus(v, implied.diameter, implied.poisson_ratio)
+                       : implied_loading_stiffness(v, implied.diameter, implied.poisson_ratio);
     };
     const std::string other = stiffness ? "implied_loading_modulus" : "implied_loading_stiffness";
-    implied_rows.push_back({other, fmt::format("{:.10g}", carry(result.start[k])),
+    implied.rows.push_back({other, fmt::format("{:.10g}", carry(result.start[k])),
                             fmt::format("{:.10g}", carry(result.values[k]))});
-    implied[other] = carry(result.values[k]);
+    implied.fitted[other] = carry(result.values[k]);
   }
-  if (!implied.empty())
+  return implied;
+}
+
+// calibration.csv: each parameter at the start and fitted, then the loading constants they imply.
+void write_calibration_summary(const std::filesystem::path& out, const CalibrateCli& cli,
+                               const CompactionCalibrationOptions& options,
+                               const CompactionCalibrationResult& result,
+                               const ImpliedLoading& implied) {
+  const analysis::MeasuredMismatch& error = result.error;
+  const CurveUnits units = curve_units(options.reference);
+  CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted"});
+  summary.comment(fmt::format(
+      "{} points of {} in [{:g}, {:g}]{}; rms = {:.6g}{}, rms_relative = {:.6g}, max = {:.6g}"
+      "{}, max_relative = {:.6g}; converged = {}; evaluations = {}",
+      error.points, cli.reference, error.from, error.to, units.x, error.rms, units.y,
+      error.rms_relative, error.max, units.y, error.max_relative, result.converged ? 1 : 0,
+      result.evaluations.size()));
+  if (!implied.fitted.empty())
     summary.comment(fmt::format(
         "implied_*: k1 = 4/3 E*_L sqrt(R*) between two particles of the bed's mean diameter "
         "{:.6g} m (R* = d/4, E*_L = E_L / (2 (1 - nu^2)), nu = {})",
-        diameter, poisson_ratio));
+        implied.diameter, implied.poisson_ratio));
   for (std::size_t k = 0; k < options.parameters.size(); ++k)
     summary.row_text({options.parameters[k], fmt::format("{:.10g}", result.start[k]),
                       fmt::format("{:.10g}", result.values[k])});
-  for (const std::vector<std::string>& row : implied_rows)
+  for (const std::vector<std::string>& row : implied.rows)
     summary.row_text(row);
   summary.commit();
-  // The folder is also a compaction run (punch.csv of the best fit), so `report` reads it.
+}
+
+// run.json's facts: the folder is also a compaction run (punch.csv of the best fit), so
+// `report` reads it, and the fit's values and mismatch.
+void add_calibration_facts(RunMetadata& meta, const CompactionCalibrationOptions& options,
+                           const CompactionCalibrationResult& result,
+                           const ImpliedLoading& implied) {
+  const PreparedCompaction& best = result.best.prepared;
+  const analysis::MeasuredMismatch& error = result.error;
   CompactConfig scene = result.config;
   if (options.density_scale) scene.density_scale = *options.density_scale;
   add_compaction_facts(meta, scene, best.setup, best.punch.reference_gap, *best.engine,
@@ -386,18 +428,58 @@ int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
       .fact("window", nlohmann::json::array({error.from, error.to}))
       .fact("converged", result.converged)
       .fact("evaluations", result.evaluations.size());
-  if (!implied.empty()) meta.fact("implied", implied).fact("implied_at_diameter_m", diameter);
-  for (const char* name :
-       {"evaluations.csv", "calibrated.toml", "punch.csv", "calibration.csv", invocation_name})
-    meta.output(name);
-  meta.write(out / run_metadata_name);
+  if (!implied.fitted.empty())
+    meta.fact("implied", implied.fitted).fact("implied_at_diameter_m", implied.diameter);
+}
+
+void print_compaction_calibration(const CalibrateCli& cli,
+                                  const CompactionCalibrationOptions& options,
+                                  const CompactionCalibrationResult& result) {
+  const analysis::MeasuredMismatch& error = result.error;
+  const std::string& y_unit = curve_units(options.reference).y;
   fmt::print(
       "calibrated on {} points of {}: RMS {:.6g}{} ({:.3g} %), largest {:.6g}{} after {} runs\n",
       error.points, cli.reference, error.rms, y_unit, 100.0 * error.rms_relative, error.max, y_unit,
       result.evaluations.size());
-  for (std::size_t k = 0; k < options.parameters.size(); ++k)
-    fmt::print("  {} = {:.6g} (start {:.6g})\n", options.parameters[k], result.values[k],
-               result.start[k]);
+  print_fitted_values(options.parameters, result.start, result.values);
+}
+
+int run_compaction_calibration(const CalibrateCli& cli, const ConfigTable& root,
+                               const Invocation& invocation) {
+  RunMetadata meta("calibrate", invocation.command_line);
+  meta.options(options_json(cli));
+  meta.input("config", cli.config);
+  CompactConfig config = read_compact_config(root);
+  root.check_unknown_keys();
+  if (cli.count > 0 || cli.fills > 0)
+    throw InputError("calibrate: --count and --fills are for a plate config's [bms] particle");
+  CompactionCalibrationOptions options = compaction_calibration_options(cli, meta);
+  const std::filesystem::path out(cli.out);
+  ensure_output_folder(out);
+  if (invocation.resumed) options.known = known_evaluations(out, options.parameters);
+  EvaluationLog log(out / "evaluations.csv", options.parameters,
+                    evaluation_log_comment(cli, options));
+  write_invocation(out, cli, invocation);
+  ProgressReporter progress("calibrate", options.max_evaluations,
+                            {.quiet = invocation.quiet, .unit = "runs"});
+  const int threads = omp_get_max_threads();
+  const CompactionCalibrationResult result = calibrate_compaction(
+      config, cli.packing, options, threads, [&](const CalibrationEvaluation& e) {
+        log.add(e);
+        report_evaluation(log.size(), e, progress);
+      });
+  progress.finish();
+  write_file_atomically(out / "calibrated.toml", calibrated_toml_header(cli, options, result) +
+                                                     compact_config_toml(result.config));
+  write_best_punch(out, options, result);
+  const ImpliedLoading implied = implied_loading(options, result);
+  write_calibration_summary(out, cli, options, result, implied);
+  add_calibration_facts(meta, options, result, implied);
+  for (const char* name :
+       {"evaluations.csv", "calibrated.toml", "punch.csv", "calibration.csv", invocation_name})
+    meta.output(name);
+  meta.write(out / run_metadata_name);
+  print_compaction_calibration(cli, options, result);
   return 0;
 }
 
@@ -483,6 +565,61 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config
   return curve;
 }
 
+// The plate search's options: the parameters (modulus and shear_ratio unless --fit), the
+// reference curve, the deformation window (0.05 to 0.40 unless given), the method and its first
+// step (each parameter times 4 unless given).
+CalibrationOptions plate_calibration_options(const CalibrateCli& cli,
+                                             const ReferenceCurve& reference) {
+  CalibrationOptions options;
+  options.parameters = split_names(cli.fit.empty() ? "modulus,shear_ratio" : cli.fit);
+  options.reference_deformation = reference.deformation;
+  options.reference_force = reference.force;
+  options.start = start_values(cli.start);
+  options.from = cli.from.empty() ? 0.05 : window_bound(cli.from, dim::dimensionless, "--from");
+  options.to = cli.to.empty() ? 0.40 : window_bound(cli.to, dim::dimensionless, "--to");
+  options.max_evaluations = cli.max_evaluations;
+  options.method = analysis::search_method_named(cli.method);
+  options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 4.0;
+  return options;
+}
+
+// The fitted bonds' stiffnesses per unit area at the best fill's sub-sphere size (Eq. 10: a
+// modulus over the bond length 2r), to set beside the paper's k̄n and k̄s.
+struct BondStiffness {
+  double normal = 0.0, shear = 0.0;  // N/m^3
+};
+
+BondStiffness fitted_bond_stiffness(const CalibrationResult& result) {
+  const BondParameters& b = result.config.bms->bond;
+  const double two_r = 2.0 * result.best.sub_sphere_radius;
+  const double kn = b.modulus > 0.0 ? b.modulus / two_r : b.normal_stiffness;
+  const double ks = b.modulus > 0.0 ? kn * b.shear_ratio : b.shear_stiffness;
+  return {kn, ks};
+}
+
+// calibration.csv: the fitted values beside the start and the paper's (per unit area k̄n, k̄s at
+// this fill).
+void write_plate_calibration_summary(const std::filesystem::path& out,
+                                     const CalibrationOptions& options,
+                                     const CalibrationResult& result,
+                                     const BondStiffness& stiffness) {
+  CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted", "paper"});
+  summary.comment(fmt::format(
+      "N = {}, fills = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = "
+      "{:.6g} over [{}, {}]; converged = {}; evaluations = {}",
+      result.best.spheres, result.best.fills(), result.best.sub_sphere_radius, result.rms_relative,
+      result.max_relative, options.from, options.to, result.converged ? 1 : 0,
+      result.evaluations.size()));
+  for (std::size_t k = 0; k < options.parameters.size(); ++k)
+    summary.row_text({options.parameters[k], format_number(result.start[k]),
+                      format_number(result.values[k]), ""});
+  summary.row_text({"bond_normal_stiffness_N_per_m3", "", format_number(stiffness.normal),
+                    format_number(paper_normal_stiffness)});
+  summary.row_text({"bond_shear_stiffness_N_per_m3", "", format_number(stiffness.shear),
+                    format_number(paper_shear_stiffness)});
+  summary.commit();
+}
+
 int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation& invocation) {
   RunMetadata meta("calibrate", invocation.command_line);
   meta.options(options_json(cli));
@@ -494,20 +631,8 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   if (cli.fills > 0) config.bms->fills = cli.fills;
   const ReferenceCurve reference = read_plate_reference(cli, config);
   meta.input("reference", reference.csv);
-  CalibrationOptions options;
-  options.parameters = split_names(cli.fit.empty() ? "modulus,shear_ratio" : cli.fit);
-  options.reference_deformation = reference.deformation;
-  const std::string& y_column = reference.force_column;
-  options.reference_force = reference.force;
-  options.start = start_values(cli.start);
-  const double from =
-      cli.from.empty() ? 0.05 : window_bound(cli.from, dim::dimensionless, "--from");
-  const double to = cli.to.empty() ? 0.40 : window_bound(cli.to, dim::dimensionless, "--to");
-  options.from = from;
-  options.to = to;
-  options.max_evaluations = cli.max_evaluations;
-  options.method = analysis::search_method_named(cli.method);
-  options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 4.0;
+  CalibrationOptions options = plate_calibration_options(cli, reference);
+  const double from = options.from, to = options.to;
   const std::filesystem::path out(cli.out);
   ensure_output_folder(out);
   if (invocation.resumed) options.known = known_evaluations(out, options.parameters);
@@ -518,7 +643,7 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
                   config.bms->count,
                   config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
                                         : std::string("one fill"),
-                  config.bms->seed, from, to, reference.csv.string(), y_column));
+                  config.bms->seed, from, to, reference.csv.string(), reference.force_column));
   write_invocation(out, cli, invocation);
   ProgressReporter progress("calibrate", options.max_evaluations,
                             {.quiet = invocation.quiet, .unit = "runs"});
@@ -536,25 +661,8 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
                   result.best.spheres, result.rms_relative, from, to) +
           plate_config_toml(result.config));
   write_force_csv(out / "force.csv", result.best, result.config, true);
-  // Fitted values beside the start and the paper's (per unit area k̄n, k̄s at this fill).
-  CsvWriter summary(out / "calibration.csv", {"parameter", "start", "fitted", "paper"});
-  summary.comment(fmt::format(
-      "N = {}, fills = {}, sub-sphere radius {:.6g} m; rms_relative = {:.6g}, max_relative = "
-      "{:.6g} over [{}, {}]; converged = {}; evaluations = {}",
-      result.best.spheres, result.best.fills(), result.best.sub_sphere_radius, result.rms_relative,
-      result.max_relative, from, to, result.converged ? 1 : 0, result.evaluations.size()));
-  for (std::size_t k = 0; k < options.parameters.size(); ++k)
-    summary.row_text({options.parameters[k], format_number(result.start[k]),
-                      format_number(result.values[k]), ""});
-  const BondParameters& b = result.config.bms->bond;
-  const double two_r = 2.0 * result.best.sub_sphere_radius;
-  const double kn = b.modulus > 0.0 ? b.modulus / two_r : b.normal_stiffness;
-  const double ks = b.modulus > 0.0 ? kn * b.shear_ratio : b.shear_stiffness;
-  summary.row_text({"bond_normal_stiffness_N_per_m3", "", format_number(kn),
-                    format_number(paper_normal_stiffness)});
-  summary.row_text({"bond_shear_stiffness_N_per_m3", "", format_number(ks),
-                    format_number(paper_shear_stiffness)});
-  summary.commit();
+  const BondStiffness stiffness = fitted_bond_stiffness(result);
+  write_plate_calibration_summary(out, options, result, stiffness);
   // The folder is also a plate run (force.csv of the best fit): the plate facts, then the fit's.
   add_plate_facts(meta, result.config, PlateParticleKind::bms, result.best);
   add_fitted_values(meta, options.parameters, result.start, result.values)
@@ -563,8 +671,8 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
       .fact("window_deformation", nlohmann::json::array({from, to}))
       .fact("converged", result.converged)
       .fact("evaluations", result.evaluations.size())
-      .fact("bond_normal_stiffness_N_per_m3", kn)
-      .fact("bond_shear_stiffness_N_per_m3", ks);
+      .fact("bond_normal_stiffness_N_per_m3", stiffness.normal)
+      .fact("bond_shear_stiffness_N_per_m3", stiffness.shear);
   for (const char* name :
        {"evaluations.csv", "calibrated.toml", "force.csv", "calibration.csv", invocation_name})
     meta.output(name);
@@ -572,14 +680,12 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
   fmt::print("calibrated N = {}: RMS {:.4f}, max {:.4f} over [{}, {}] after {} runs\n",
              result.best.spheres, result.rms_relative, result.max_relative, from, to,
              result.evaluations.size());
-  for (std::size_t k = 0; k < options.parameters.size(); ++k)
-    fmt::print("  {} = {:.6g} (start {:.6g})\n", options.parameters[k], result.values[k],
-               result.start[k]);
+  print_fitted_values(options.parameters, result.start, result.values);
   fmt::print(
       "  k̄n = {:.4g} N/m^3, k̄s = {:.4g} N/m^3 (paper: Table 1, rubber {:.3g}, {:.3g}; Table 4, "
       "Avicel {:.3g}, {:.3g})\n",
-      kn, ks, paper_normal_stiffness, paper_shear_stiffness, paper_avicel_normal_stiffness,
-      paper_avicel_shear_stiffness);
+      stiffness.normal, stiffness.shear, paper_normal_stiffness, paper_shear_stiffness,
+      paper_avicel_normal_stiffness, paper_avicel_shear_stiffness);
   return 0;
 }
 

@@ -49,10 +49,18 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   return run_plate(materials, setup, engine, std::move(particle));
 }
 
-std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
-                                const EngineSettings& engine_settings, PlateParticle particle,
-                                const std::function<void(const PlateRow&, const Engine&)>& row,
-                                PlateHooks hooks) {
+VerticalExtent vertical_extent(const SphereState& s) {
+  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    low = std::min(low, s.position.z[i] - s.radius[i]);
+    high = std::max(high, s.position.z[i] + s.radius[i]);
+  }
+  return {low, high};
+}
+
+namespace {
+
+void check_plate_setup(const PlateSetup& setup) {
   if (!(setup.radius > 0.0)) throw InputError("plate: sphere radius must be > 0");
   if (!(setup.speed > 0.0)) throw InputError("plate: speed must be > 0");
   if (!(setup.max_deformation > 0.0 && setup.max_deformation < 0.5))
@@ -60,23 +68,18 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   if (setup.records < 1) throw InputError("plate: records must be >= 1");
   if (!(setup.ramp >= 0.0 && setup.ramp < setup.max_deformation))
     throw InputError("plate: ramp must be in [0, max_deformation)");
-  SphereState& s = particle.spheres;
-  if (s.size() == 0) throw InputError("plate: no sphere to press");
-  // Plates touch the particle's lowest and highest points: a BMS agglomerate is a little
-  // shorter than the sphere it fills. The approach counts from that first touch; the deformation
-  // is the approach over the diameter 2R of the sphere the particle stands for (paper §3.1,
-  // δ/2R), so every particle's curve lies on the axis of the Hertz and Tatara curves.
-  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    low = std::min(low, s.position.z[i] - s.radius[i]);
-    high = std::max(high, s.position.z[i] + s.radius[i]);
-  }
-  const double gap0 = high - low;
-  // The sin² ramp covers approach speed t_ramp / 2 (the mean of sin² is 1/2).
-  const double ramp_time = 2.0 * setup.ramp * 2.0 * setup.radius / setup.speed;
-  const double diameter = 2.0 * setup.radius;
-  const double final_speed = setup.final_speed > 0.0 ? setup.final_speed : setup.speed;
-  const auto plate_speed = [&](double t, double approach) {
+}
+
+// The plates' closing speed at time t and approach: a sin² ramp up to setup.speed over the
+// first setup.ramp of deformation (it covers approach speed t_ramp / 2, the mean of sin² being
+// 1/2), then linear in the deformation to final_speed at max_deformation.
+struct PlateSpeed {
+  const PlateSetup& setup;
+  double diameter = 2.0 * setup.radius;
+  double ramp_time = 2.0 * setup.ramp * 2.0 * setup.radius / setup.speed;
+  double final_speed = setup.final_speed > 0.0 ? setup.final_speed : setup.speed;
+
+  double operator()(double t, double approach) const {
     if (t < ramp_time) {
       const double s = std::sin(0.5 * std::numbers::pi * t / ramp_time);
       return setup.speed * s * s;
@@ -84,7 +87,42 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
     const double rise = setup.max_deformation - setup.ramp;
     const double along = rise > 0.0 ? (approach / diameter - setup.ramp) / rise : 0.0;
     return setup.speed + (final_speed - setup.speed) * std::clamp(along, 0.0, 1.0);
-  };
+  }
+};
+
+// A row of the force curve at the engine's state: forces on both plates beside Hertz's at the
+// same approach (e_star of sphere and plate), contacts, bonds, energy and work.
+PlateRow plate_row(const Engine& engine, const PlateSetup& setup, double approach, double e_star) {
+  PlateRow r;
+  r.time = engine.time();
+  r.approach = approach;
+  r.deformation = approach / (2.0 * setup.radius);
+  r.top_force = engine.wall_load(1);
+  r.bottom_force = engine.wall_load(0);
+  r.hertz_force = hertz_plate_force(e_star, setup.radius, approach);
+  r.contacts = engine.sphere_contacts() + engine.wall_contacts();
+  r.intact_bonds = engine.bonds().intact_count();
+  r.kinetic_energy = engine.energy().kinetic;
+  r.work = engine.work_in();
+  return r;
+}
+
+}  // namespace
+
+std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
+                                const EngineSettings& engine_settings, PlateParticle particle,
+                                const std::function<void(const PlateRow&, const Engine&)>& row,
+                                PlateHooks hooks) {
+  check_plate_setup(setup);
+  SphereState& s = particle.spheres;
+  if (s.size() == 0) throw InputError("plate: no sphere to press");
+  // Plates touch the particle's lowest and highest points: a BMS agglomerate is a little
+  // shorter than the sphere it fills. The approach counts from that first touch; the deformation
+  // is the approach over the diameter 2R of the sphere the particle stands for (paper §3.1,
+  // δ/2R), so every particle's curve lies on the axis of the Hertz and Tatara curves.
+  const auto [low, high] = vertical_extent(s);
+  const double gap0 = high - low;
+  const PlateSpeed plate_speed{setup};
   const double top_share = setup.symmetric ? 0.5 : 1.0;
   std::vector<PlaneWall> walls = {
       PlaneWall{low, 1, (1.0 - top_share) * plate_speed(0.0, 0.0), setup.plate_material},
@@ -100,7 +138,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
                                std::move(particle.bonds), std::move(particle.clumps));
   const double e_star =
       materials.pair(setup.sphere_material, setup.plate_material).effective_modulus;
-  const double final_approach = setup.max_deformation * diameter;
+  const double final_approach = setup.max_deformation * plate_speed.diameter;
   if (final_approach >= 0.9 * gap0)
     throw InputError(
         "plate: max_deformation leaves the plates less than 10 % of the particle's "
@@ -135,17 +173,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
       // takes ~260 steps). Checked again at every row, a run that diverged stops with its
       // named cause (exit 1) and never writes a non-finite curve.
       engine.check_divergence();
-      PlateRow r;
-      r.time = engine.time();
-      r.approach = approach;
-      r.deformation = approach / diameter;
-      r.top_force = engine.wall_load(1);
-      r.bottom_force = engine.wall_load(0);
-      r.hertz_force = hertz_plate_force(e_star, setup.radius, approach);
-      r.contacts = engine.sphere_contacts() + engine.wall_contacts();
-      r.intact_bonds = engine.bonds().intact_count();
-      r.kinetic_energy = engine.energy().kinetic;
-      r.work = engine.work_in();
+      PlateRow r = plate_row(engine, setup, approach, e_star);
       r.cpu_seconds = cpu_seconds_of_this_run() - cpu_start;
       r.wall_seconds = wall_seconds();
       r.work_count = work_count;

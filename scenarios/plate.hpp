@@ -77,6 +77,13 @@ double hertz_plate_force(double effective_modulus, double radius, double approac
 // gives one.
 double smallest_radius(const SphereState& spheres);
 
+// The particle's lowest and highest points (z), where the plates first touch it. At least one
+// sphere.
+struct VerticalExtent {
+  double low = 0.0, high = 0.0;
+};
+VerticalExtent vertical_extent(const SphereState& spheres);
+
 // A single sphere of setup.radius and setup.sphere_material. `engine` is the engine's settings
 // as they are (time step, skin, overlap check, local damping), but for its divergence check every
 // 1000 steps (the rig's loading is slow).

@@ -29,11 +29,7 @@ void tighten_for_plates(TimeStepChoice& dt, const PlateParticle& particle,
                         const MaterialTable& table, const PlateSetup& setup,
                         const RunSettings& run) {
   const SphereState& s = particle.spheres;
-  double low = s.position.z[0] - s.radius[0], high = s.position.z[0] + s.radius[0];
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    low = std::min(low, s.position.z[i] - s.radius[i]);
-    high = std::max(high, s.position.z[i] + s.radius[i]);
-  }
+  const auto [low, high] = vertical_extent(s);
   const double half = 0.5 * setup.max_deformation * 2.0 * setup.radius;
   std::vector<double> overlap(s.size(), 0.0);
   for (std::size_t i = 0; i < s.size(); ++i) {
@@ -177,25 +173,115 @@ PlateRunOutcome run_plate_config(const PlateConfig& config, PlateParticleKind ki
 
 namespace {
 
+using RunLog = std::function<void(const std::string&)>;
+
+// A fill that an interrupted run finished (its rows, reused), or that a signal stops before it
+// starts (nothing of it to keep); none when the fill is to run.
+std::optional<PlateRunOutcome> finished_or_stopped(const PlateCheckpoints* checkpoints, int fill,
+                                                   const RunLog& notes) {
+  if (!checkpoints) return std::nullopt;
+  if (std::optional<PlateRunOutcome> done = checkpoints->finished(fill)) {
+    if (notes) notes(fmt::format("plate: fill {} finished before: its rows reused", fill));
+    return done;
+  }
+  if (SignalCheckpoints::received() != 0) {
+    PlateRunOutcome stopped;
+    stopped.interrupted = true;
+    return stopped;
+  }
+  return std::nullopt;
+}
+
+// The CMS sphere: one rigid clump of overlapping sub-spheres. A rigid clump cannot flatten: at
+// the end each plate has passed Δ/2 into the clump, deeper into its small outer sub-spheres
+// than their radius. That is the method's failure the study shows (paper §3.3), not a
+// divergence: the overlap check widens to cover it.
+PlateParticle cms_plate_particle(const PlateConfig& config, const MaterialTable& table,
+                                 const RunLog& log, PlateRunOutcome& outcome,
+                                 double& overlap_fraction) {
+  const PlateSetup& setup = config.setup;
+  CmsConfig cms = config.cms.value_or(CmsConfig{});
+  if (cms.material.empty()) cms.material = table.material(setup.sphere_material).name;
+  CmsParticleInfo info;
+  PlateParticle particle = cms_sphere(table, setup.radius, cms, "CMS sphere", &info);
+  outcome.requested_spheres = static_cast<std::size_t>(cms.count);
+  outcome.sub_sphere_radius = info.max_radius;
+  outcome.description = fmt::format(
+      "CMS sphere R = {:.6g} m, one rigid clump of {} overlapping sub-spheres (asked {}) of r "
+      "= {:.6g}…{:.6g} m, union volume {:.6g} m^3 ({:.4g} of the sphere's)",
+      setup.radius, info.spheres, cms.count, info.min_radius, info.max_radius, info.volume,
+      info.volume / (4.0 / 3.0 * std::numbers::pi * std::pow(setup.radius, 3)));
+  if (info.spheres != static_cast<std::size_t>(cms.count) && log)
+    log(fmt::format("plate: the CMS filler gave {} sub-spheres for the {} asked", info.spheres,
+                    cms.count));
+  const double r_min = smallest_radius(particle.spheres);
+  const double deepest = 0.5 * setup.max_deformation * 2.0 * setup.radius;
+  const double fraction = 1.0 + 2.0 * deepest / r_min;
+  if (fraction > overlap_fraction) {
+    overlap_fraction = fraction;
+    if (log)
+      log(
+          fmt::format("plate: overlap check widened to {:.3g} sub-sphere radii (the plates "
+                      "pass {:.3g} m into a rigid clump whose smallest sub-sphere has r = "
+                      "{:.3g} m)",
+                      fraction, deepest, r_min));
+  }
+  return particle;
+}
+
+// The BMS sphere (or template): sub-spheres joined by bonds.
+PlateParticle bms_plate_particle(const PlateConfig& config, const MaterialTable& table,
+                                 BmsFillCache* cache, PlateRunOutcome& outcome) {
+  const PlateSetup& setup = config.setup;
+  BmsParticleInfo info;
+  PlateParticle particle =
+      bms_particle(table, setup.radius, *config.bms,
+                   fmt::format("BMS sphere (seed {})", config.bms->seed), &info, cache);
+  outcome.sub_sphere_radius = info.sub_sphere_radius;
+  outcome.description =
+      config.bms->templates.empty()
+          ? fmt::format("BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m, {} bonds",
+                        setup.radius, info.spheres, info.sub_sphere_radius, info.bonds)
+          : fmt::format(
+                "BMS template {}{} along its {} axis, height 2R = {:.6g} m, {} "
+                "sub-spheres of mean r = {:.6g} m, {} bonds",
+                config.bms->templates,
+                config.bms->template_name.empty() ? "" : " /bms/" + config.bms->template_name,
+                geometry::press_axis_name(config.bms->axis), 2.0 * setup.radius, info.spheres,
+                info.sub_sphere_radius, info.bonds);
+  return particle;
+}
+
+PlateParticle hertz_plate_particle(const PlateConfig& config, const MaterialTable& table,
+                                   PlateRunOutcome& outcome) {
+  const PlateSetup& setup = config.setup;
+  PlateParticle particle;
+  particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
+                              table.material(setup.sphere_material).density, setup.sphere_material);
+  outcome.description = fmt::format("Hertz sphere R = {:.6g} m", setup.radius);
+  return particle;
+}
+
+// The step against the bounds that chose it: the Rayleigh time, and the bond period or the
+// clump's contact period where one applies.
+std::string time_step_note(const TimeStepChoice& dt) {
+  return fmt::format(
+      "plate: time step {:.3g} s ({:.3g} of the Rayleigh time{})", dt.time_step,
+      dt.time_step / dt.rayleigh_time,
+      std::isfinite(dt.bond_period)
+          ? fmt::format(", {:.3g} of the bond period bound", dt.time_step / dt.bond_period)
+      : std::isfinite(dt.clump_period) ? fmt::format(", {:.3g} of the clump's contact period bound",
+                                                     dt.time_step / dt.clump_period)
+                                       : std::string());
+}
+
 // One run, fill `fill` of an ensemble (0 of 1 alone). Every fill logs what it resumes; only the
 // first what it presses and with which step (the others' are the same but for the seed).
-PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
-                        const std::function<void(const std::string&)>& notes, BmsFillCache* cache,
-                        const PlateCheckpoints* checkpoints, int fill) {
-  const std::function<void(const std::string&)> log =
-      fill == 0 ? notes : std::function<void(const std::string&)>{};
-  if (checkpoints) {
-    if (std::optional<PlateRunOutcome> done = checkpoints->finished(fill)) {
-      if (notes) notes(fmt::format("plate: fill {} finished before: its rows reused", fill));
-      return std::move(*done);
-    }
-    // A signal before this fill started: nothing of it to keep.
-    if (SignalCheckpoints::received() != 0) {
-      PlateRunOutcome stopped;
-      stopped.interrupted = true;
-      return stopped;
-    }
-  }
+PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind, const RunLog& notes,
+                        BmsFillCache* cache, const PlateCheckpoints* checkpoints, int fill) {
+  const RunLog log = fill == 0 ? notes : RunLog{};
+  if (std::optional<PlateRunOutcome> ended = finished_or_stopped(checkpoints, fill, notes))
+    return std::move(*ended);
   PlateHooks hooks;
   if (checkpoints) {
     hooks = checkpoints->hooks(fill);
@@ -206,60 +292,12 @@ PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
   const MaterialTable table = config.materials.table();
   const PlateSetup& setup = config.setup;
   double overlap_fraction = config.run.engine.max_overlap_fraction;
-  PlateParticle particle;
   PlateRunOutcome outcome;
-  if (kind == PlateParticleKind::cms) {
-    CmsConfig cms = config.cms.value_or(CmsConfig{});
-    if (cms.material.empty()) cms.material = table.material(setup.sphere_material).name;
-    CmsParticleInfo info;
-    particle = cms_sphere(table, setup.radius, cms, "CMS sphere", &info);
-    outcome.requested_spheres = static_cast<std::size_t>(cms.count);
-    outcome.sub_sphere_radius = info.max_radius;
-    outcome.description = fmt::format(
-        "CMS sphere R = {:.6g} m, one rigid clump of {} overlapping sub-spheres (asked {}) of r "
-        "= {:.6g}…{:.6g} m, union volume {:.6g} m^3 ({:.4g} of the sphere's)",
-        setup.radius, info.spheres, cms.count, info.min_radius, info.max_radius, info.volume,
-        info.volume / (4.0 / 3.0 * std::numbers::pi * std::pow(setup.radius, 3)));
-    if (info.spheres != static_cast<std::size_t>(cms.count) && log)
-      log(fmt::format("plate: the CMS filler gave {} sub-spheres for the {} asked", info.spheres,
-                      cms.count));
-    // A rigid clump cannot flatten: at the end each plate has passed Δ/2 into the clump, deeper
-    // into its small outer sub-spheres than their radius. That is the method's failure the study
-    // shows (paper §3.3), not a divergence: widen the overlap check to cover it.
-    const double r_min = smallest_radius(particle.spheres);
-    const double deepest = 0.5 * setup.max_deformation * 2.0 * setup.radius;
-    const double fraction = 1.0 + 2.0 * deepest / r_min;
-    if (fraction > overlap_fraction) {
-      overlap_fraction = fraction;
-      if (log)
-        log(
-            fmt::format("plate: overlap check widened to {:.3g} sub-sphere radii (the plates "
-                        "pass {:.3g} m into a rigid clump whose smallest sub-sphere has r = "
-                        "{:.3g} m)",
-                        fraction, deepest, r_min));
-    }
-  } else if (kind == PlateParticleKind::bms) {
-    BmsParticleInfo info;
-    particle = bms_particle(table, setup.radius, *config.bms,
-                            fmt::format("BMS sphere (seed {})", config.bms->seed), &info, cache);
-    outcome.sub_sphere_radius = info.sub_sphere_radius;
-    outcome.description =
-        config.bms->templates.empty()
-            ? fmt::format("BMS sphere R = {:.6g} m, {} sub-spheres of r = {:.6g} m, {} bonds",
-                          setup.radius, info.spheres, info.sub_sphere_radius, info.bonds)
-            : fmt::format(
-                  "BMS template {}{} along its {} axis, height 2R = {:.6g} m, {} "
-                  "sub-spheres of mean r = {:.6g} m, {} bonds",
-                  config.bms->templates,
-                  config.bms->template_name.empty() ? "" : " /bms/" + config.bms->template_name,
-                  geometry::press_axis_name(config.bms->axis), 2.0 * setup.radius, info.spheres,
-                  info.sub_sphere_radius, info.bonds);
-  } else {
-    particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
-                                table.material(setup.sphere_material).density,
-                                setup.sphere_material);
-    outcome.description = fmt::format("Hertz sphere R = {:.6g} m", setup.radius);
-  }
+  PlateParticle particle = kind == PlateParticleKind::cms
+                               ? cms_plate_particle(config, table, log, outcome, overlap_fraction)
+                           : kind == PlateParticleKind::bms
+                               ? bms_plate_particle(config, table, cache, outcome)
+                               : hertz_plate_particle(config, table, outcome);
   outcome.spheres = particle.spheres.size();
   outcome.bonds = particle.bonds.size();
   const TimeStepChoice dt = plate_time_step(particle, table, setup, config.run);
@@ -269,14 +307,7 @@ PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind,
   outcome.time_step = dt.time_step;
   if (log) {
     log("plate: " + outcome.description);
-    log(fmt::format("plate: time step {:.3g} s ({:.3g} of the Rayleigh time{})", dt.time_step,
-                    dt.time_step / dt.rayleigh_time,
-                    std::isfinite(dt.bond_period) ? fmt::format(", {:.3g} of the bond period bound",
-                                                                dt.time_step / dt.bond_period)
-                    : std::isfinite(dt.clump_period)
-                        ? fmt::format(", {:.3g} of the clump's contact period bound",
-                                      dt.time_step / dt.clump_period)
-                        : std::string()));
+    log(time_step_note(dt));
   }
   int recorded = hooks.resume ? static_cast<int>(hooks.resume->progress.rows.size()) : 0;
   std::int64_t last_step = 0;

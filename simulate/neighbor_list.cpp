@@ -69,25 +69,35 @@ std::uint8_t image_code(int ix, int iy) {
   return static_cast<std::uint8_t>(3 * (ix + 1) + iy + 1);
 }
 
-}  // namespace
-
-PairList build_pair_list(const SphereState& state, const Box& box, double skin,
-                         std::span<const std::int32_t> rigid_group) {
-  const int count = static_cast<int>(state.size());
-  PairList list;
+// The shift (x, y) of each periodic image code (image_code), for the force loops.
+void set_image_shifts(PairList& list, const Box& box) {
   for (int ix = -1; ix <= 1; ++ix)
     for (int iy = -1; iy <= 1; ++iy) {
       list.image_shift[2 * image_code(ix, iy)] = ix * std::max(box.length_x, 0.0);
       list.image_shift[2 * image_code(ix, iy) + 1] = iy * std::max(box.length_y, 0.0);
     }
-  list.first_offset.assign(static_cast<std::size_t>(count) + 1, 0);
-  list.second_offset.assign(static_cast<std::size_t>(count) + 1, 0);
-  if (count == 0) return list;
-  const double r_max = *std::max_element(state.radius.begin(), state.radius.end());
-  const CellGrid g = make_grid(state, box, 2.0 * r_max + skin);
-  const int cells = g.n[0] * g.n[1] * g.n[2];
+}
 
-  // Counting sort of spheres into cells, keeping index order within a cell.
+void append_pairs(PairList& list, const PairList& part) {
+  list.first.insert(list.first.end(), part.first.begin(), part.first.end());
+  list.second.insert(list.second.end(), part.second.begin(), part.second.end());
+  list.image.insert(list.image.end(), part.image.begin(), part.image.end());
+}
+
+// The spheres sorted into the grid's cells by a counting sort, keeping index order within a
+// cell: each sphere's cell coordinates, where each cell's members start, and the members in cell
+// order with packed copies of their x, y, z, r (a cell's candidates are then read as one stream
+// instead of four scattered arrays).
+struct CellSort {
+  std::vector<std::int32_t> cell_x, cell_y, cell_z;
+  std::vector<std::int32_t> cell_start;  // cells + 1 offsets into members
+  std::vector<std::int32_t> members;
+  std::vector<double> packed;  // x, y, z, r of members[m] at 4 m
+};
+
+CellSort sort_into_cells(const SphereState& state, const CellGrid& g) {
+  const int count = static_cast<int>(state.size());
+  const int cells = g.n[0] * g.n[1] * g.n[2];
   std::vector<std::int32_t> cell_of(count), cell_x(count), cell_y(count), cell_z(count);
   std::vector<std::int32_t> cell_start(static_cast<std::size_t>(cells) + 1, 0);
   for (int i = 0; i < count; ++i) {
@@ -100,21 +110,58 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin,
   }
   for (int c = 0; c < cells; ++c)
     cell_start[c + 1] += cell_start[c];
-  // Members of each cell in cell order, with packed copies of their x, y, z, r: a cell's
-  // candidates are then read as one stream instead of four scattered arrays.
   std::vector<std::int32_t> members(count);
   std::vector<double> packed(4 * static_cast<std::size_t>(count));
-  {
-    std::vector<std::int32_t> fill(cell_start.begin(), cell_start.end() - 1);
-    for (int i = 0; i < count; ++i) {
-      const int m = fill[cell_of[i]]++;
-      members[m] = i;
-      packed[4 * m] = state.position.x[i];
-      packed[4 * m + 1] = state.position.y[i];
-      packed[4 * m + 2] = state.position.z[i];
-      packed[4 * m + 3] = state.radius[i];
-    }
+  std::vector<std::int32_t> fill(cell_start.begin(), cell_start.end() - 1);
+  for (int i = 0; i < count; ++i) {
+    const int m = fill[cell_of[i]]++;
+    members[m] = i;
+    packed[4 * m] = state.position.x[i];
+    packed[4 * m + 1] = state.position.y[i];
+    packed[4 * m + 2] = state.position.z[i];
+    packed[4 * m + 3] = state.radius[i];
   }
+  return {std::move(cell_x),     std::move(cell_y),  std::move(cell_z),
+          std::move(cell_start), std::move(members), std::move(packed)};
+}
+
+// The gather lists of a list sorted by first: each sphere's pairs as first and as second
+// (second_pairs filled in pair order, so each sphere's are sorted by pair index).
+void add_gather_lists(PairList& list, int count) {
+  const std::size_t pairs = list.size();
+  for (std::size_t p = 0; p < pairs; ++p) {
+    ++list.first_offset[list.first[p] + 1];
+    ++list.second_offset[list.second[p] + 1];
+  }
+  for (int i = 0; i < count; ++i) {
+    list.first_offset[i + 1] += list.first_offset[i];
+    list.second_offset[i + 1] += list.second_offset[i];
+  }
+  list.second_pairs.resize(pairs);
+  std::vector<std::int32_t> fill(list.second_offset.begin(), list.second_offset.end() - 1);
+  for (std::size_t p = 0; p < pairs; ++p)
+    list.second_pairs[fill[list.second[p]]++] = static_cast<std::int32_t>(p);
+}
+
+}  // namespace
+
+PairList build_pair_list(const SphereState& state, const Box& box, double skin,
+                         std::span<const std::int32_t> rigid_group) {
+  const int count = static_cast<int>(state.size());
+  PairList list;
+  set_image_shifts(list, box);
+  list.first_offset.assign(static_cast<std::size_t>(count) + 1, 0);
+  list.second_offset.assign(static_cast<std::size_t>(count) + 1, 0);
+  if (count == 0) return list;
+  const double r_max = *std::max_element(state.radius.begin(), state.radius.end());
+  const CellGrid g = make_grid(state, box, 2.0 * r_max + skin);
+  const CellSort sorted = sort_into_cells(state, g);
+  const std::vector<std::int32_t>& cell_x = sorted.cell_x;
+  const std::vector<std::int32_t>& cell_y = sorted.cell_y;
+  const std::vector<std::int32_t>& cell_z = sorted.cell_z;
+  const std::vector<std::int32_t>& cell_start = sorted.cell_start;
+  const std::vector<std::int32_t>& members = sorted.members;
+  const std::vector<double>& packed = sorted.packed;
 
   // Offsets -1..last per axis: with fewer than three periodic cells, -1 and +1 (and 0) name the
   // same cell, which must be searched once.
@@ -192,26 +239,9 @@ PairList build_pair_list(const SphereState& state, const Box& box, double skin,
       }
     }
   }
-  for (const PairList& part : parts) {
-    list.first.insert(list.first.end(), part.first.begin(), part.first.end());
-    list.second.insert(list.second.end(), part.second.begin(), part.second.end());
-    list.image.insert(list.image.end(), part.image.begin(), part.image.end());
-  }
-
-  // Gather lists: second_pairs filled in pair order, so each sphere's are sorted by pair index.
-  const std::size_t pairs = list.size();
-  for (std::size_t p = 0; p < pairs; ++p) {
-    ++list.first_offset[list.first[p] + 1];
-    ++list.second_offset[list.second[p] + 1];
-  }
-  for (int i = 0; i < count; ++i) {
-    list.first_offset[i + 1] += list.first_offset[i];
-    list.second_offset[i + 1] += list.second_offset[i];
-  }
-  list.second_pairs.resize(pairs);
-  std::vector<std::int32_t> fill(list.second_offset.begin(), list.second_offset.end() - 1);
-  for (std::size_t p = 0; p < pairs; ++p)
-    list.second_pairs[fill[list.second[p]]++] = static_cast<std::int32_t>(p);
+  for (const PairList& part : parts)
+    append_pairs(list, part);
+  add_gather_lists(list, count);
   return list;
 }
 
