@@ -77,10 +77,10 @@ struct PairKinematics {
 // R* of a touching pair whose interaction states `contact_radius = "body"`: between sub-spheres of
 // two different bodies the bodies' R* = Ri Rj / (Ri + Rj) of their volume-equivalent radii, else 0
 // (the pair keeps its spheres' R*, pair_kinematics); two plain spheres (each its own body radius)
-// keep theirs to the bit. A contact of two bodies' surfaces has their
-// curvature, not the sub-spheres' that touch: with the sub-spheres' R* a body-to-body contact is
-// √(R*_bodies / R*_sub-spheres) times softer than the particles' at the same overlap, and the
-// bodies interpenetrate (docs/models.md, "Contacts between bodies").
+// keep theirs to the bit. A contact of two bodies' surfaces has their curvature, not that of the
+// sub-spheres that touch: with the sub-spheres' R* a body-to-body contact is √(R*_bodies /
+// R*_sub-spheres) times softer than the particles' at the same overlap, and the bodies are
+// crushed through each other (docs/models.md, "Contacts between bodies").
 [[gnu::always_inline]] inline double body_contact_radius(bool on, const std::int32_t* body,
                                                          const double* body_radius,
                                                          const double* radius, int i, int j) {
@@ -115,8 +115,8 @@ struct ContactBlock {
   alignas(64) double separation[3][capacity];  // x_second - x_first, nearest image
   alignas(64) double radius_first[capacity];
   alignas(64) double radius_second[capacity];
-  alignas(
-      64) double body_radius[capacity];  // the bodies' R* (body_contact_radius), 0: the spheres'
+  // The bodies' R* (body_contact_radius), 0: the spheres'.
+  alignas(64) double body_radius[capacity];
   alignas(64) double velocity_first[3][capacity];  // predicted (PairEnd)
   alignas(64) double spin_first[3][capacity];
   alignas(64) double velocity_second[3][capacity];
