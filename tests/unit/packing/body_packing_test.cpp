@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "common/error.hpp"
 #include "geometry/template_quality.hpp"
@@ -70,6 +71,24 @@ TEST(BodyPacking, NoBondJoinsTwoBodiesAndBondsStartForceFree) {
   for (std::size_t i = 0; i < bed.state.size(); ++i)
     EXPECT_EQ(bed.state.body[i], p.first_particle[static_cast<std::size_t>(p.particle_body[i])]);
   EXPECT_NEAR(bed.sphere_volume / bed.shape_volume, 13.0 / 27.0, 1e-12);
+}
+
+// Contacts between bodies may take the bodies' curvature (contact_radius = "body"): every
+// sub-sphere of a bonded body carries the radius of the sphere of its body's shape volume.
+TEST(BodyPacking, EverySubSphereCarriesItsBodysVolumeEquivalentRadius) {
+  BodyPacking p = cluster_bed(BodyKind::bms, r, 2, 1);
+  p.bodies[1].scale = 0.7;
+  p.bodies[1].shape_volume *= 0.7 * 0.7 * 0.7;
+  place_bodies(p);
+  const Bed bed = bed_from_packing(p, {1541.0, 0, BondParameters{}, false});
+  for (std::size_t i = 0; i < bed.state.size(); ++i) {
+    const PackedBody& body = p.bodies[static_cast<std::size_t>(p.particle_body[i])];
+    ASSERT_GT(body.shape_volume, 0.0);
+    EXPECT_NEAR(bed.state.body_radius[i],
+                std::cbrt(3.0 * body.shape_volume / (4.0 * std::numbers::pi)),
+                1e-12 * bed.state.body_radius[i]);
+    EXPECT_GT(bed.state.body_radius[i], 2.0 * bed.state.radius[i]);
+  }
 }
 
 TEST(BodyPacking, AStoredRestLengthLoadsTheBond) {
