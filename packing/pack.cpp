@@ -149,11 +149,29 @@ std::vector<BodyTemplate> load_body_templates(const std::vector<std::filesystem:
       std::string where;
       for (const std::filesystem::path& f : files)
         where += (where.empty() ? "'" : ", '") + f.string() + "'";
-      throw InputError(fmt::format("pack: no template /{} in {}", choice.name,
+      throw InputError(fmt::format("no template /{} in {}", choice.name,
                                    where.empty() ? "(no templates file given)" : where));
     }
     if (out.back().kind == BodyKind::bms) check_bms_template(out.back());
   }
+  return out;
+}
+
+std::vector<BodyTemplate> load_body_templates(const std::filesystem::path& file, BodyKind kind) {
+  const geometry::TemplateKind wanted =
+      kind == BodyKind::bms ? geometry::TemplateKind::bonded : geometry::TemplateKind::rigid;
+  std::vector<BodyTemplate> out;
+  for (const geometry::TemplateRecord& r : geometry::read_templates(file))
+    if (r.body.kind == wanted) {
+      out.push_back(body_template(r, file));
+      if (kind == BodyKind::bms) check_bms_template(out.back());
+    }
+  if (out.empty())
+    throw InputError(
+        fmt::format("'{}' holds no template of kind {} (no /{} group): fill with "
+                    "--kind {}",
+                    file.string(), geometry::kind_name(wanted), geometry::kind_name(wanted),
+                    geometry::kind_name(wanted)));
   return out;
 }
 

@@ -95,6 +95,10 @@ struct PackRequest {
 // missing, and for a BMS template whose sub-spheres overlap by more than bms_overlap_tolerance.
 std::vector<BodyTemplate> load_body_templates(const std::vector<std::filesystem::path>& files,
                                               const std::vector<TemplateChoice>& choices);
+// Every template of `kind` (bms or cms) in a templates file, in the file's order, named as
+// load_body_templates names them (compact's [clumps] without a template name). InputError naming
+// the file when it holds none.
+std::vector<BodyTemplate> load_body_templates(const std::filesystem::path& file, BodyKind kind);
 // InputError naming the template and the pair when two sub-spheres overlap beyond the tolerance.
 void check_bms_template(const BodyTemplate& shape);
 

@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "packing/bed_state.hpp"
 #include "packing/clump_packing.hpp"
+#include "packing/pack.hpp"
 #include "packing/settle.hpp"
 
 namespace shapepress::scenarios {
@@ -137,14 +138,16 @@ double reference_gap(const CompactConfig& c, double start_gap, double solid_volu
              : start_gap;
 }
 
-// The [clumps] templates: a templates file's /cms groups or the one given inline.
-std::vector<ClumpTemplate> clump_templates(const ClumpsConfig& k) {
+// The [clumps] templates: a templates file's /cms groups (all, or the one named) or the one
+// given inline.
+std::vector<BodyTemplate> clump_templates(const ClumpsConfig& k) {
   if (!k.templates.empty())
-    return read_clump_templates(k.templates, k.template_name.empty()
-                                                 ? std::vector<std::string>{}
-                                                 : std::vector<std::string>{k.template_name});
-  ClumpTemplate t;
+    return k.template_name.empty()
+               ? load_body_templates(k.templates, BodyKind::cms)
+               : load_body_templates({k.templates}, {TemplateChoice{"cms/" + k.template_name}});
+  BodyTemplate t;
   t.name = "clumps.spheres";
+  t.kind = BodyKind::cms;
   for (std::size_t i = 0; i + 3 < k.spheres.size(); i += 4) {
     t.centres.push_back({k.spheres[i], k.spheres[i + 1], k.spheres[i + 2]});
     t.radii.push_back(k.spheres[i + 3]);

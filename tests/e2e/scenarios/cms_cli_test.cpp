@@ -149,6 +149,33 @@ TEST(CmsCompactCli, TakesClumpsFromATemplatesFile) {
   const CsvTable t = read_csv(dir / "run" / "punch.csv");
   EXPECT_GT(t.column("top_force_N").back(), 0.0);
   EXPECT_NEAR(t.column("strain").back(), 0.3, 0.01);
+  // A template the file does not hold is named with the file (pack's reader, the same words).
+  const std::size_t at = config.find("templates = ");
+  config.insert(at, "template = \"ellipsoid_nowhere\"\n");
+  write_text(dir / "missing.toml", config);
+  r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "missing.toml") + " --out " +
+                     shell_quoted(dir / "missing"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("no template /cms/ellipsoid_nowhere in '" +
+                                  (dir / "templates.h5").string() + "'"));
+}
+
+TEST(CmsCompactCli, ATemplatesFileWithoutCmsTemplatesIsExitTwoNamingIt) {
+  const auto dir = fresh_directory("cms_compact_bms_file");
+  auto r = run_shapepress(
+      "--quiet fill --ellipsoid 150um,100um,80um --kind bms --count 60 --lattice random --out " +
+      shell_quoted(dir / "templates.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string config = clump_compact_config(three_spheres);
+  const std::size_t key = config.find("spheres = ");
+  config.replace(key, config.find('\n', key) - key,
+                 "templates = \"" + (dir / "templates.h5").string() + "\"");
+  write_text(dir / "compact.toml", config);
+  r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                     shell_quoted(dir / "run"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output,
+              HasSubstr("'" + (dir / "templates.h5").string() + "' holds no template of kind cms"));
 }
 
 TEST(CmsCompactCli, BadClumpsExitTwoNamingTheCause) {
