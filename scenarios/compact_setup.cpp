@@ -12,7 +12,6 @@
 #include "packing/bed_state.hpp"
 #include "packing/clump_packing.hpp"
 #include "packing/pack.hpp"
-#include "packing/settle.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -197,10 +196,10 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
                        expected_speed(c, state), BondSet{}, clumps);
   const double dt = step.time_step;
   if (generated && c.settle_time > 0.0) {
-    SettleRequest request{box, walls, settings_for(c, state, dt), c.settle_time, c.settle_friction};
+    TimedSettle request{box, walls, settings_for(c, state, dt), c.settle_time, c.settle_friction};
     std::optional<SphereState> settled =
-        settle(std::move(state), clumps, c.materials.materials, c.materials.interactions, request,
-               std::move(settle_checkpoints));
+        settle_for_time(std::move(state), clumps, c.materials.materials, c.materials.interactions,
+                        request, std::move(settle_checkpoints));
     if (!settled) return {};
     state = std::move(*settled);
     walls[1].position = std::min(c.punch, bed_top(state, c.bottom));
