@@ -822,6 +822,17 @@ double bed_top(const SphereState& state, double floor) {
   return top;
 }
 
+SphereState pour(const Pour& request, const SphereList& given, ClumpSet& clumps) {
+  SphereState state = make_state(
+      request.spheres ? in_cell_order(insert_random_spheres(request.box, *request.spheres),
+                                      request.spheres->diameter_max)
+                      : given,
+      request.density, request.material);
+  if (request.clumps)
+    insert_clumps(state, clumps, request.box, *request.clumps, request.density, request.material);
+  return state;
+}
+
 std::optional<SphereState> settle_for_time(SphereState state, ClumpSet& clumps,
                                            std::vector<Material> materials,
                                            std::vector<Interaction> interactions,

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "packing/body_packing.hpp"
+#include "packing/clump_packing.hpp"
 #include "packing/packing.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
@@ -170,8 +171,19 @@ struct PackRun {
 PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
              const PackProgress& progress = {}, std::optional<PackResume> resume = {});
 
-// compact's pour ([generate] spheres and [clumps] inserted by insert_random_spheres and
-// insert_clumps) settled by pack's settle phase for a fixed time with the compaction's
+// compact's pour: its [generate] spheres inserted at random (insert_random_spheres, numbered in
+// cell order) or the spheres it was given, and its [clumps] inserted around them (insert_clumps),
+// all of one material; settle_for_time then settles it.
+struct Pour {
+  Box box;
+  std::optional<InsertionRequest> spheres;  // absent: the given spheres
+  std::optional<ClumpInsertion> clumps;
+  double density = 0.0;  // kg/m³
+  int material = 0;
+};
+SphereState pour(const Pour& request, const SphereList& given, ClumpSet& clumps);
+
+// compact's pour settled by pack's settle phase for a fixed time with the compaction's
 // materials: no rest test and no drag, as the config's settle_time is part of the bed's recipe
 // (its solid fraction and so the compaction's curve follow it), where pack's own settle runs to
 // rest.

@@ -167,27 +167,22 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
   const int wall = table.index_of(c.wall_material);
   const Box box{c.box_x, c.box_y};
   const bool generated = !spheres;
-  if (generated) {
-    if (!c.generate && !c.clumps)
-      throw InputError(
-          "no packing: pass --packing FILE or add a [generate] (or [clumps]) table to the config");
-    spheres = c.generate
-                  ? in_cell_order(insert_random_spheres(box, *c.generate), c.generate->diameter_max)
-                  : SphereList{};
-  }
-  const double density = table.material(particle).density;
-  SphereState state = make_state(*spheres, density, particle);
-  ClumpSet clumps;
+  if (generated && !c.generate && !c.clumps)
+    throw InputError(
+        "no packing: pass --packing FILE or add a [generate] (or [clumps]) table to the config");
+  Pour request{box, generated ? c.generate : std::nullopt, std::nullopt,
+               table.material(particle).density, particle};
   if (c.clumps) {
-    ClumpInsertion request;
-    request.templates = clump_templates(*c.clumps);
-    request.count = c.clumps->count;
-    request.seed = c.clumps->seed;
-    request.integration_cells = c.clumps->integration_cells;
-    request.z_low = c.generate ? c.generate->z_low : c.bottom;
-    request.z_high = c.generate ? c.generate->z_high : c.punch;
-    insert_clumps(state, clumps, box, request, density, particle);
+    ClumpInsertion& clumps = request.clumps.emplace();
+    clumps.templates = clump_templates(*c.clumps);
+    clumps.count = c.clumps->count;
+    clumps.seed = c.clumps->seed;
+    clumps.integration_cells = c.clumps->integration_cells;
+    clumps.z_low = c.generate ? c.generate->z_low : c.bottom;
+    clumps.z_high = c.generate ? c.generate->z_high : c.punch;
   }
+  ClumpSet clumps;
+  SphereState state = pour(request, spheres ? *spheres : SphereList{}, clumps);
   std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
                                   PlaneWall{c.punch, -1, 0.0, wall}};
   PreparedCompaction out;
