@@ -2,8 +2,8 @@
 // Rigid clumps (CMS particles) poured into a compaction box by `compact`'s [clumps]: templates
 // (BodyTemplate: a templates file's /cms groups, load_body_templates, or given inline in the
 // config) placed at random positions and orientations where they overlap nothing (random
-// sequential insertion of their bounding spheres), then settled and compacted with the rest of
-// the bed (compact_setup.cpp).
+// sequential insertion of their bounding spheres) by pour(), then settled with the rest of the
+// bed by settle_for_time (pack.hpp) and compacted.
 #include <cstdint>
 #include <random>
 #include <vector>
