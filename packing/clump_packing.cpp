@@ -8,33 +8,8 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
-#include "geometry/templates_file.hpp"
 
 namespace shapepress::packing {
-
-std::vector<ClumpTemplate> read_clump_templates(const std::filesystem::path& path,
-                                                const std::vector<std::string>& names) {
-  const std::vector<geometry::TemplateRecord> records = geometry::read_templates(path);
-  std::vector<ClumpTemplate> out;
-  for (const geometry::TemplateRecord& r : records) {
-    if (r.body.kind != geometry::TemplateKind::rigid) continue;
-    if (!names.empty() && std::find(names.begin(), names.end(), r.name) == names.end()) continue;
-    ClumpTemplate t;
-    t.name = r.name;
-    for (const geometry::Vec3& c : r.body.centres)
-      t.centres.push_back({c.x(), c.y(), c.z()});
-    t.radii = r.body.radii;
-    out.push_back(std::move(t));
-  }
-  for (const std::string& name : names)
-    if (std::none_of(out.begin(), out.end(),
-                     [&](const ClumpTemplate& t) { return t.name == name; }))
-      throw InputError(fmt::format("'{}': no CMS template /cms/{}", path.string(), name));
-  if (out.empty())
-    throw InputError(fmt::format("'{}' holds no CMS template (/cms group): fill with --method cms",
-                                 path.string()));
-  return out;
-}
 
 Quaternion random_rotation(std::mt19937_64& random) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -59,7 +34,7 @@ void insert_clumps(SphereState& state, ClumpSet& clumps, const Box& box,
   if (!box.periodic_x() || !box.periodic_y())
     throw InputError("clumps: insertion needs a periodic box (box.x and box.y)");
   // A bad template (zero volume, not one overlapping group) is named before any placement.
-  for (const ClumpTemplate& t : request.templates)
+  for (const BodyTemplate& t : request.templates)
     clump_geometry(t.centres, t.radii, t.name, request.integration_cells);
   // Bounding spheres of what is already there; clumps join them as they are placed.
   std::vector<Bound> taken;
@@ -79,7 +54,7 @@ void insert_clumps(SphereState& state, ClumpSet& clumps, const Box& box,
   std::mt19937_64 random(request.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (std::int64_t k = 0; k < request.count; ++k) {
-    const ClumpTemplate& t =
+    const BodyTemplate& t =
         request.templates[static_cast<std::size_t>(k) % request.templates.size()];
     // The template about its own centroid of sphere centres, so a rotation keeps it compact.
     Vector3 mid = {0.0, 0.0, 0.0};

@@ -1,14 +1,14 @@
 #pragma once
-// Rigid clumps (CMS particles) into a compaction box before the packing stage exists: templates
-// read from a templates file's /cms groups or given inline in the config, placed at random
-// positions and orientations where they overlap nothing (random sequential insertion of their
-// bounding spheres), then settled and compacted with the rest of the bed (compact_setup.cpp).
+// Rigid clumps (CMS particles) poured into a compaction box by `compact`'s [clumps]: templates
+// (BodyTemplate: a templates file's /cms groups, load_body_templates, or given inline in the
+// config) placed at random positions and orientations where they overlap nothing (random
+// sequential insertion of their bounding spheres) by pour(), then settled with the rest of the
+// bed by settle_for_time (pack.hpp) and compacted.
 #include <cstdint>
-#include <filesystem>
 #include <random>
-#include <string>
 #include <vector>
 
+#include "packing/body_packing.hpp"
 #include "simulate/clumps.hpp"
 #include "simulate/state.hpp"
 
@@ -16,23 +16,13 @@ namespace shapepress::packing {
 
 using namespace simulate;
 
-// Sub-spheres of one clump in its body frame (any origin; add_clump finds the centre of mass).
-struct ClumpTemplate {
-  std::string name;
-  std::vector<Vector3> centres;  // m
-  std::vector<double> radii;     // m
-};
-
-// Every /cms/<name> template of a templates file (geometry/templates_file.hpp), or those named
-// in `names` (InputError naming the file and the missing name, or when there is none).
-std::vector<ClumpTemplate> read_clump_templates(const std::filesystem::path& path,
-                                                const std::vector<std::string>& names = {});
-
 // A uniformly random rotation (Shoemake 1992: a uniform point on the unit 3-sphere).
 Quaternion random_rotation(std::mt19937_64& random);
 
 struct ClumpInsertion {
-  std::vector<ClumpTemplate> templates;  // used in turn
+  // Used in turn: their name, sub-sphere centres (any origin: add_clump finds the centre of
+  // mass) and radii.
+  std::vector<BodyTemplate> templates;
   std::int64_t count = 0;
   double z_low = 0.0, z_high = 0.0;  // region the clumps lie in, their whole reach inside it
   std::uint64_t seed = 1;

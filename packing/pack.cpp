@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -11,12 +12,12 @@
 #include <memory>
 #include <numbers>
 #include <numeric>
+#include <optional>
 
 #include "common/error.hpp"
 #include "geometry/templates_file.hpp"
 #include "packing/bed_state.hpp"
 #include "packing/clump_packing.hpp"
-#include "packing/settle.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/timestep.hpp"
 
@@ -149,11 +150,29 @@ std::vector<BodyTemplate> load_body_templates(const std::vector<std::filesystem:
       std::string where;
       for (const std::filesystem::path& f : files)
         where += (where.empty() ? "'" : ", '") + f.string() + "'";
-      throw InputError(fmt::format("pack: no template /{} in {}", choice.name,
+      throw InputError(fmt::format("no template /{} in {}", choice.name,
                                    where.empty() ? "(no templates file given)" : where));
     }
     if (out.back().kind == BodyKind::bms) check_bms_template(out.back());
   }
+  return out;
+}
+
+std::vector<BodyTemplate> load_body_templates(const std::filesystem::path& file, BodyKind kind) {
+  const geometry::TemplateKind wanted =
+      kind == BodyKind::bms ? geometry::TemplateKind::bonded : geometry::TemplateKind::rigid;
+  std::vector<BodyTemplate> out;
+  for (const geometry::TemplateRecord& r : geometry::read_templates(file))
+    if (r.body.kind == wanted) {
+      out.push_back(body_template(r, file));
+      if (kind == BodyKind::bms) check_bms_template(out.back());
+    }
+  if (out.empty())
+    throw InputError(
+        fmt::format("'{}' holds no template of kind {} (no /{} group): fill with "
+                    "--kind {}",
+                    file.string(), geometry::kind_name(wanted), geometry::kind_name(wanted),
+                    geometry::kind_name(wanted)));
   return out;
 }
 
@@ -398,37 +417,63 @@ const char* phase_name(PackPhase phase) {
   return "?";
 }
 
-enum class PhaseEnd { rest, time_out, interrupted };
+enum class PhaseEnd { rest, time_out, elapsed, interrupted };
 
-// Runs the phase state.phase from state.phase_step on until the kinetic energy is below `rest`
-// after min_time (a poured bed starts at rest), or max_time, with the drag v → v e^(-dt/τ) of
-// τ = drag_time (0: none). `each_step` runs before every step
-// (the punch's motion) and returns false to end the phase.
+// When a phase ends: at rest, its kinetic energy below `rest` (tested every 200th step from
+// min_time on), or at max_time; or, given `steps`, after exactly that many steps with no rest
+// test (compact's pour, whose settle time is part of the bed's recipe). drag_time: the drag
+// v → v e^(-dt/τ) of τ = drag_time after every step (0: none).
+struct PhaseEnding {
+  double min_time = 0.0;                                      // s
+  double max_time = std::numeric_limits<double>::infinity();  // s
+  double rest = 0.0;                                          // J
+  double drag_time = 0.0;                                     // s
+  std::optional<std::int64_t> steps;
+};
+
+PhaseEnding until_rest(double min_time, double max_time, double rest, double drag_time) {
+  PhaseEnding ending;
+  ending.min_time = min_time, ending.max_time = max_time;
+  ending.rest = rest, ending.drag_time = drag_time;
+  return ending;
+}
+
+PhaseEnding after_steps(std::int64_t steps) {
+  PhaseEnding ending;
+  ending.min_time = std::numeric_limits<double>::infinity();  // no kinetic energy computed
+  ending.steps = steps;
+  return ending;
+}
+
+// Runs the phase state.phase from state.phase_step on until `ending` (a poured bed starts at
+// rest, hence min_time). `each_step` runs before every step (the punch's motion) and returns
+// false to end the phase.
 template <class EachStep>
-PhaseEnd run_phase(Engine& engine, const PackRequest& r, double min_time, double rest,
-                   double drag_time, const PackProgress& progress, PackPhaseState& state,
-                   EachStep&& each_step) {
+PhaseEnd run_phase(Engine& engine, const PhaseEnding& ending, const PackProgress& progress,
+                   PackPhaseState& state, EachStep&& each_step) {
   constexpr int check_every = 200;
   const char* name = phase_name(state.phase);
   for (;;) {
+    if (ending.steps && state.phase_step >= *ending.steps) return PhaseEnd::elapsed;
     const double t = engine.time() - state.phase_start;
     if (state.phase_step % check_every == 0) {
-      if (progress.update) progress.update(name, t, r.max_settle_time);
-      if (t >= min_time && kinetic_energy(engine) < rest) {
+      if (progress.update) progress.update(name, t, ending.max_time);
+      if (t >= ending.min_time && kinetic_energy(engine) < ending.rest) {
         spdlog::info("pack: {} at rest after {} steps, {:.3g} s", name, state.phase_step, t);
         return PhaseEnd::rest;
       }
     }
-    if (t >= r.max_settle_time) {
+    if (t >= ending.max_time) {
       spdlog::warn(
           "pack: {} did not come to rest in {} s (settle.max_time): kinetic energy "
           "{:.3g} J against the threshold {:.3g} J",
-          name, r.max_settle_time, kinetic_energy(engine), rest);
+          name, ending.max_time, kinetic_energy(engine), ending.rest);
       return PhaseEnd::time_out;
     }
     if (!each_step()) return PhaseEnd::rest;
     engine.step();
-    if (drag_time > 0.0) apply_drag(engine, std::exp(-engine.settings().time_step / drag_time));
+    if (ending.drag_time > 0.0)
+      apply_drag(engine, std::exp(-engine.settings().time_step / ending.drag_time));
     ++state.phase_step;
     if (progress.after_step && !progress.after_step(engine, state)) return PhaseEnd::interrupted;
   }
@@ -631,8 +676,10 @@ constexpr auto keep_going = [] { return true; };
 bool settle_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
                   const std::vector<PackedBody>& bodies, const PackProgress& progress,
                   PackRun& result) {
-  const PhaseEnd end = run_phase(*run.engine, request, plan.free_fall, plan.rest * plan.mass_scale,
-                                 request.damping_time, progress, run.state, keep_going);
+  const PhaseEnd end = run_phase(*run.engine,
+                                 until_rest(plan.free_fall, request.max_settle_time,
+                                            plan.rest * plan.mass_scale, request.damping_time),
+                                 progress, run.state, keep_going);
   if (end == PhaseEnd::interrupted) {
     result.interrupted = true;
     return true;
@@ -670,8 +717,10 @@ bool press_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& 
   const double dt = plan.settle_time_step;
   PhaseEnd end = PhaseEnd::rest;
   try {
-    end = run_phase(engine, request, std::numeric_limits<double>::infinity(), 0.0,
-                    request.damping_time, progress, run.state, [&] {
+    end = run_phase(engine,
+                    until_rest(std::numeric_limits<double>::infinity(), request.max_settle_time,
+                               0.0, request.damping_time),
+                    progress, run.state, [&] {
                       PlaneWall& p = engine.walls()[1];
                       if (p.position - request.floor <= plan.gap) {
                         p.velocity = 0.0;
@@ -713,8 +762,10 @@ bool press_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& 
 // The pressed bed relaxes under gravity (at the scaled weight), then is released or done.
 bool relax_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
                  const PackProgress& progress, PackRun& result) {
-  const PhaseEnd end = run_phase(*run.engine, request, 0.0, plan.rest * plan.mass_scale,
-                                 request.damping_time, progress, run.state, keep_going);
+  const PhaseEnd end = run_phase(
+      *run.engine,
+      until_rest(0.0, request.max_settle_time, plan.rest * plan.mass_scale, request.damping_time),
+      progress, run.state, keep_going);
   result.interrupted = end == PhaseEnd::interrupted;
   run.state.settled = run.state.settled && end == PhaseEnd::rest;
   if (plan.mass_scale == 1.0 || result.interrupted) return true;
@@ -725,8 +776,10 @@ bool relax_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& 
 // The bed at its true weight comes to rest under the release's drag.
 bool release_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& plan,
                    const PackProgress& progress, PackRun& result) {
-  const PhaseEnd end = run_phase(*run.engine, request, plan.release_min_time, plan.rest,
-                                 plan.release_drag_time, progress, run.state, keep_going);
+  const PhaseEnd end = run_phase(
+      *run.engine,
+      until_rest(plan.release_min_time, request.max_settle_time, plan.rest, plan.release_drag_time),
+      progress, run.state, keep_going);
   result.interrupted = end == PhaseEnd::interrupted;
   run.state.settled = run.state.settled && end == PhaseEnd::rest;
   return true;
@@ -761,6 +814,65 @@ BodyPacking packed_bed(const PackRequest& request, const std::vector<BodyTemplat
 }
 
 }  // namespace
+
+double bed_top(const SphereState& state, double floor) {
+  double top = floor;
+  for (std::size_t i = 0; i < state.size(); ++i)
+    top = std::max(top, state.position.z[i] + state.radius[i]);
+  return top;
+}
+
+SphereState pour(const Pour& request, const SphereList& given, ClumpSet& clumps) {
+  SphereState state = make_state(
+      request.spheres ? in_cell_order(insert_random_spheres(request.box, *request.spheres),
+                                      request.spheres->diameter_max)
+                      : given,
+      request.density, request.material);
+  if (request.clumps)
+    insert_clumps(state, clumps, request.box, *request.clumps, request.density, request.material);
+  return state;
+}
+
+std::optional<SphereState> settle_for_time(SphereState state, ClumpSet& clumps,
+                                           std::vector<Material> materials,
+                                           std::vector<Interaction> interactions,
+                                           const TimedSettle& request,
+                                           SettleCheckpoints checkpoints) {
+  if (request.friction)  // a denser fill: settle with other friction, press with the real one
+    for (Interaction& in : interactions)
+      in.sliding_friction = in.rolling_friction = *request.friction;
+  EngineSettings settings = request.settings;
+  if (settings.gravity == std::array<double, 3>{0.0, 0.0, 0.0}) settings.gravity = {0, 0, -9.81};
+  const MaterialTable table(materials, interactions);
+  Engine engine = checkpoints.resume
+                      ? Engine(std::move(checkpoints.resume->state), checkpoints.resume->box, table,
+                               settings, std::move(checkpoints.resume->checkpoint))
+                      : Engine(std::move(state), request.box, table, request.walls, settings, {},
+                               std::move(clumps));
+  const auto steps = static_cast<std::int64_t>(std::ceil(request.settle_time / settings.time_step));
+  spdlog::info("settling {} spheres ({} in {} rigid clumps) under gravity for {} steps",
+               engine.state().size(),
+               engine.clumps().empty() ? 0 : engine.clumps().member_start.back(),
+               engine.clumps().size(), steps);
+  // pack's settle phase from the start of the engine's steps (a resumed settle at its step).
+  PackPhaseState phase;
+  phase.phase_step = engine.step_index();
+  PackProgress progress;
+  if (checkpoints.after_step)
+    progress.after_step = [&](const Engine& e, const PackPhaseState&) {
+      return checkpoints.after_step(e);
+    };
+  if (run_phase(engine, after_steps(steps), progress, phase, keep_going) == PhaseEnd::interrupted)
+    return std::nullopt;
+  SphereState settled = engine.state();
+  settled.velocity.resize(settled.size());
+  settled.angular_velocity.resize(settled.size());
+  clumps = engine.clumps();  // at rest too: no velocity, no angular momentum
+  clumps.velocity.resize(clumps.size());
+  for (RigidRotation& r : clumps.rotation)
+    r.body_angular_momentum = {0.0, 0.0, 0.0};
+  return settled;
+}
 
 PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
              const PackProgress& progress, std::optional<PackResume> resume) {

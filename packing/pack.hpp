@@ -1,8 +1,10 @@
 #pragma once
-// The `pack` stage's algorithm: a bed of bodies (spheres, BMS, CMS templates of `fill`) drawn
-// from a size distribution, turned uniformly on SO(3), inserted without overlap into a periodic
-// x/y box above the die floor, settled under gravity, optionally pre-compressed by the punch to
-// a solid fraction and released, and measured (body_packing.hpp PackMeasures).
+// Where every bed is made. The `pack` stage's algorithm: a bed of bodies (spheres, BMS, CMS
+// templates of `fill`) drawn from a size distribution, turned uniformly on SO(3), inserted
+// without overlap into a periodic x/y box above the die floor, settled under gravity, optionally
+// pre-compressed by the punch to a solid fraction and released, and measured (body_packing.hpp
+// PackMeasures), each phase a function run by one phase loop. `compact`'s pour of a config's
+// [generate] and [clumps] is settled by the same loop for a fixed time (settle_for_time).
 //
 // During pack every body moves as one rigid body (the engine's ClumpSet; a plain sphere as a
 // sphere) with the mass and inertia of its template's sub-spheres scaled (volume × s³, inertia
@@ -20,7 +22,9 @@
 #include <vector>
 
 #include "packing/body_packing.hpp"
+#include "packing/clump_packing.hpp"
 #include "packing/packing.hpp"
+#include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 
 namespace shapepress::packing {
@@ -95,6 +99,10 @@ struct PackRequest {
 // missing, and for a BMS template whose sub-spheres overlap by more than bms_overlap_tolerance.
 std::vector<BodyTemplate> load_body_templates(const std::vector<std::filesystem::path>& files,
                                               const std::vector<TemplateChoice>& choices);
+// Every template of `kind` (bms or cms) in a templates file, in the file's order, named as
+// load_body_templates names them (compact's [clumps] without a template name). InputError naming
+// the file when it holds none.
+std::vector<BodyTemplate> load_body_templates(const std::filesystem::path& file, BodyKind kind);
 // InputError naming the template and the pair when two sub-spheres overlap beyond the tolerance.
 void check_bms_template(const BodyTemplate& shape);
 
@@ -162,6 +170,51 @@ struct PackRun {
 // again, deterministically, for their set-up; the engine is the checkpoint's).
 PackRun pack(const PackRequest& request, const std::vector<BodyTemplate>& templates,
              const PackProgress& progress = {}, std::optional<PackResume> resume = {});
+
+// compact's pour: its [generate] spheres inserted at random (insert_random_spheres, numbered in
+// cell order) or the spheres it was given, and its [clumps] inserted around them (insert_clumps),
+// all of one material; settle_for_time then settles it.
+struct Pour {
+  Box box;
+  std::optional<InsertionRequest> spheres;  // absent: the given spheres
+  std::optional<ClumpInsertion> clumps;
+  double density = 0.0;  // kg/m³
+  int material = 0;
+};
+SphereState pour(const Pour& request, const SphereList& given, ClumpSet& clumps);
+
+// compact's pour settled by pack's settle phase for a fixed time with the compaction's
+// materials: no rest test and no drag, as the config's settle_time is part of the bed's recipe
+// (its solid fraction and so the compaction's curve follow it), where pack's own settle runs to
+// rest.
+struct TimedSettle {
+  Box box;
+  std::vector<PlaneWall> walls;  // the die floor and the parked punch
+  EngineSettings settings;       // gravity zero: 9.81 m/s² down
+  double settle_time = 0.2;      // s
+  // Sliding and rolling friction of every interaction while settling (a denser fill, as DEM
+  // fills are usually made to reach a target density); absent: the interactions' own.
+  std::optional<double> friction;
+};
+
+// Checkpoints of a timed settle (docs/stages.md, "Checkpoints and --resume"): `after_step` after
+// every step; returning false stops the settle there (a signal asked for it). `resume`: a
+// snapshot of the same settle's engine to continue from.
+struct SettleCheckpoints {
+  std::function<bool(const Engine&)> after_step;
+  std::optional<LoadedSnapshot> resume;
+};
+
+// The spheres and clumps after ceil(settle_time / time step) steps, with no velocity and no
+// angular momentum; none when checkpoints.after_step stopped the settle.
+std::optional<SphereState> settle_for_time(SphereState state, ClumpSet& clumps,
+                                           std::vector<Material> materials,
+                                           std::vector<Interaction> interactions,
+                                           const TimedSettle& request,
+                                           SettleCheckpoints checkpoints = {});
+
+// The highest point of any sphere, at least `floor`.
+double bed_top(const SphereState& state, double floor);
 
 // The measures of a placed packing (place_bodies done): solid fractions, bed height,
 // body–body contacts, sizes of the weighting against `target`, ⟨P2⟩ of the long axes, overlaps.

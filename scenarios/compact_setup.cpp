@@ -11,7 +11,7 @@
 #include "common/error.hpp"
 #include "packing/bed_state.hpp"
 #include "packing/clump_packing.hpp"
-#include "packing/settle.hpp"
+#include "packing/pack.hpp"
 
 namespace shapepress::scenarios {
 namespace {
@@ -137,14 +137,16 @@ double reference_gap(const CompactConfig& c, double start_gap, double solid_volu
              : start_gap;
 }
 
-// The [clumps] templates: a templates file's /cms groups or the one given inline.
-std::vector<ClumpTemplate> clump_templates(const ClumpsConfig& k) {
+// The [clumps] templates: a templates file's /cms groups (all, or the one named) or the one
+// given inline.
+std::vector<BodyTemplate> clump_templates(const ClumpsConfig& k) {
   if (!k.templates.empty())
-    return read_clump_templates(k.templates, k.template_name.empty()
-                                                 ? std::vector<std::string>{}
-                                                 : std::vector<std::string>{k.template_name});
-  ClumpTemplate t;
+    return k.template_name.empty()
+               ? load_body_templates(k.templates, BodyKind::cms)
+               : load_body_templates({k.templates}, {TemplateChoice{"cms/" + k.template_name}});
+  BodyTemplate t;
   t.name = "clumps.spheres";
+  t.kind = BodyKind::cms;
   for (std::size_t i = 0; i + 3 < k.spheres.size(); i += 4) {
     t.centres.push_back({k.spheres[i], k.spheres[i + 1], k.spheres[i + 2]});
     t.radii.push_back(k.spheres[i + 3]);
@@ -165,27 +167,22 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
   const int wall = table.index_of(c.wall_material);
   const Box box{c.box_x, c.box_y};
   const bool generated = !spheres;
-  if (generated) {
-    if (!c.generate && !c.clumps)
-      throw InputError(
-          "no packing: pass --packing FILE or add a [generate] (or [clumps]) table to the config");
-    spheres = c.generate
-                  ? in_cell_order(insert_random_spheres(box, *c.generate), c.generate->diameter_max)
-                  : SphereList{};
-  }
-  const double density = table.material(particle).density;
-  SphereState state = make_state(*spheres, density, particle);
-  ClumpSet clumps;
+  if (generated && !c.generate && !c.clumps)
+    throw InputError(
+        "no packing: pass --packing FILE or add a [generate] (or [clumps]) table to the config");
+  Pour request{box, generated ? c.generate : std::nullopt, std::nullopt,
+               table.material(particle).density, particle};
   if (c.clumps) {
-    ClumpInsertion request;
-    request.templates = clump_templates(*c.clumps);
-    request.count = c.clumps->count;
-    request.seed = c.clumps->seed;
-    request.integration_cells = c.clumps->integration_cells;
-    request.z_low = c.generate ? c.generate->z_low : c.bottom;
-    request.z_high = c.generate ? c.generate->z_high : c.punch;
-    insert_clumps(state, clumps, box, request, density, particle);
+    ClumpInsertion& clumps = request.clumps.emplace();
+    clumps.templates = clump_templates(*c.clumps);
+    clumps.count = c.clumps->count;
+    clumps.seed = c.clumps->seed;
+    clumps.integration_cells = c.clumps->integration_cells;
+    clumps.z_low = c.generate ? c.generate->z_low : c.bottom;
+    clumps.z_high = c.generate ? c.generate->z_high : c.punch;
   }
+  ClumpSet clumps;
+  SphereState state = pour(request, spheres ? *spheres : SphereList{}, clumps);
   std::vector<PlaneWall> walls = {PlaneWall{c.bottom, 1, 0.0, wall},
                                   PlaneWall{c.punch, -1, 0.0, wall}};
   PreparedCompaction out;
@@ -194,10 +191,10 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, std::optional<Sphe
                        expected_speed(c, state), BondSet{}, clumps);
   const double dt = step.time_step;
   if (generated && c.settle_time > 0.0) {
-    SettleRequest request{box, walls, settings_for(c, state, dt), c.settle_time, c.settle_friction};
+    TimedSettle request{box, walls, settings_for(c, state, dt), c.settle_time, c.settle_friction};
     std::optional<SphereState> settled =
-        settle(std::move(state), clumps, c.materials.materials, c.materials.interactions, request,
-               std::move(settle_checkpoints));
+        settle_for_time(std::move(state), clumps, c.materials.materials, c.materials.interactions,
+                        request, std::move(settle_checkpoints));
     if (!settled) return {};
     state = std::move(*settled);
     walls[1].position = std::min(c.punch, bed_top(state, c.bottom));

@@ -6,7 +6,7 @@
 #include "scenarios/namespaces.hpp"
 
 #include "packing/body_packing.hpp"
-#include "packing/settle.hpp"
+#include "packing/pack.hpp"
 #include "scenarios/compact.hpp"
 #include "scenarios/config_io.hpp"
 #include "simulate/snapshot.hpp"

@@ -100,6 +100,14 @@ target_strain = 0.3
 const std::string three_spheres =
     "[0.0, 0.0, 0.0, 0.5e-3,  0.6e-3, 0.0, 0.0, 0.4e-3,  0.0, 0.5e-3, 0.0, 0.35e-3]";
 
+// The clumps' config with its templates from a templates file instead of inline spheres.
+std::string templates_compact_config(const std::filesystem::path& templates) {
+  std::string config = clump_compact_config(three_spheres);
+  const std::size_t key = config.find("spheres = ");
+  config.replace(key, config.find('\n', key) - key, "templates = \"" + templates.string() + "\"");
+  return config;
+}
+
 TEST(CmsCompactCli, CompactsClumpsSnapshotsAndRestarts) {
   const auto dir = fresh_directory("cms_compact");
   write_text(dir / "compact.toml", clump_compact_config(three_spheres));
@@ -138,10 +146,7 @@ TEST(CmsCompactCli, TakesClumpsFromATemplatesFile) {
       run_shapepress("--quiet fill --ellipsoid 0.6mm,0.4mm,0.3mm --kind cms --count 20 --out " +
                      shell_quoted(dir / "templates.h5"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::string config = clump_compact_config(three_spheres);
-  const std::size_t key = config.find("spheres = ");
-  config.replace(key, config.find('\n', key) - key,
-                 "templates = \"" + (dir / "templates.h5").string() + "\"");
+  std::string config = templates_compact_config(dir / "templates.h5");
   write_text(dir / "compact.toml", config);
   r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
                      shell_quoted(dir / "run"));
@@ -149,6 +154,29 @@ TEST(CmsCompactCli, TakesClumpsFromATemplatesFile) {
   const CsvTable t = read_csv(dir / "run" / "punch.csv");
   EXPECT_GT(t.column("top_force_N").back(), 0.0);
   EXPECT_NEAR(t.column("strain").back(), 0.3, 0.01);
+  // A template the file does not hold is named with the file (pack's reader, the same words).
+  const std::size_t at = config.find("templates = ");
+  config.insert(at, "template = \"ellipsoid_nowhere\"\n");
+  write_text(dir / "missing.toml", config);
+  r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "missing.toml") + " --out " +
+                     shell_quoted(dir / "missing"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("no template /cms/ellipsoid_nowhere in '" +
+                                  (dir / "templates.h5").string() + "'"));
+}
+
+TEST(CmsCompactCli, ATemplatesFileWithoutCmsTemplatesIsExitTwoNamingIt) {
+  const auto dir = fresh_directory("cms_compact_bms_file");
+  auto r = run_shapepress(
+      "--quiet fill --ellipsoid 150um,100um,80um --kind bms --count 60 --lattice random --out " +
+      shell_quoted(dir / "templates.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  write_text(dir / "compact.toml", templates_compact_config(dir / "templates.h5"));
+  r = run_shapepress("--quiet compact --config " + shell_quoted(dir / "compact.toml") + " --out " +
+                     shell_quoted(dir / "run"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output,
+              HasSubstr("'" + (dir / "templates.h5").string() + "' holds no template of kind cms"));
 }
 
 TEST(CmsCompactCli, BadClumpsExitTwoNamingTheCause) {

@@ -292,5 +292,40 @@ TEST(Pack, MeasuresCountContactsOverlapsAndSolidFraction) {
   EXPECT_NEAR(m.x50, 2 * r, 1e-12);
 }
 
+// compact's pour settles in pack's phase loop for exactly ceil(settle_time / step) steps (the
+// config's settle time is part of the bed's recipe, not a rest test), then leaves the bed at
+// rest; a stop asked for after a step ends the settle there with no bed.
+TEST(TimedSettle, TakesTheSettleTimeInWholeStepsAndLeavesTheBedAtRest) {
+  SphereList one;
+  one.x = {0.5e-3}, one.y = {0.5e-3}, one.z = {2e-3}, one.radius = {0.1e-3};
+  const SphereState state = make_state(one, 1500.0, 0);
+  Material powder;
+  powder.name = "powder", powder.youngs_modulus = 1e8, powder.poisson_ratio = 0.3;
+  powder.density = 1500.0;
+  Interaction self;
+  self.first = self.second = "powder";
+  TimedSettle request;
+  request.box = Box{1e-3, 1e-3};
+  request.walls = {PlaneWall{0.0, 1, 0.0, 0}};
+  request.settings.time_step = 1e-5;
+  request.settings.skin = 1e-5;
+  request.settle_time = 10.5e-5;  // 10.5 steps: 11 whole ones
+  int steps = 0;
+  ClumpSet clumps;
+  const std::optional<SphereState> settled =
+      settle_for_time(state, clumps, {powder}, {self}, request,
+                      {[&](const Engine&) { return ++steps > 0; }, std::nullopt});
+  ASSERT_TRUE(settled);
+  EXPECT_EQ(steps, 11);
+  // It fell (gravity unset is 9.81 m/s² down) and is left with no velocity.
+  EXPECT_LT(settled->position.z[0], 2e-3);
+  EXPECT_EQ(settled->velocity.z[0], 0.0);
+  int taken = 0;
+  ClumpSet none;
+  EXPECT_FALSE(settle_for_time(state, none, {powder}, {self}, request,
+                               {[&](const Engine&) { return ++taken < 4; }, std::nullopt}));
+  EXPECT_EQ(taken, 4);
+}
+
 }  // namespace
 }  // namespace shapepress::packing

@@ -26,8 +26,8 @@ using testing::one_material;
 // A sphere of radius R as a clump by hand: a core ball of 0.6 R and `shell` balls of 0.4 R
 // centred 0.6 R out on Fibonacci directions (reach R), each overlapping the core. The geometry
 // stage's CMS filler is not used here: these tests are about the engine.
-ClumpTemplate ball_clump(double radius, int shell) {
-  ClumpTemplate t;
+BodyTemplate ball_clump(double radius, int shell) {
+  BodyTemplate t;
   t.name = "ball";
   t.centres.push_back({0.0, 0.0, 0.0});
   t.radii.push_back(0.6 * radius);
@@ -43,8 +43,8 @@ ClumpTemplate ball_clump(double radius, int shell) {
 }
 
 // An asymmetric clump of four spheres (the unit test's "arms"), scaled.
-ClumpTemplate arms_clump(double scale) {
-  ClumpTemplate t;
+BodyTemplate arms_clump(double scale) {
+  BodyTemplate t;
   t.name = "arms";
   t.centres = {
       {0.0, 0.0, 0.0}, {1.6 * scale, 0.0, 0.0}, {0.0, 1.1 * scale, 0.0}, {0.0, 0.0, -0.7 * scale}};
@@ -82,7 +82,7 @@ struct ClumpOnPlates {
   PlateSetup setup;
   EngineSettings engine;
 };
-ClumpOnPlates clump_on_plates(const MaterialTable& table, const ClumpTemplate& t, double radius) {
+ClumpOnPlates clump_on_plates(const MaterialTable& table, const BodyTemplate& t, double radius) {
   ClumpOnPlates rig;
   std::vector<Vector3> centres = t.centres;
   for (Vector3& c : centres)
@@ -103,7 +103,7 @@ TEST(Clump, ComesToRestOnAPlateUnderGravityWithoutDrift) {
   const MaterialTable table = one_material(0.3, 0.5, 0.0, 1e7, 0.3, 2000.0);
   SphereState s;
   ClumpSet k;
-  ClumpTemplate arms = arms_clump(1e-3);
+  BodyTemplate arms = arms_clump(1e-3);
   // Tilted, its lowest point 0.2 mm above the plate: it falls, tips over and settles.
   const Quaternion tilt = normalized({0.9, 0.2, 0.3, 0.1});
   std::vector<Vector3> centres;
@@ -182,8 +182,8 @@ TEST(Clump, SubSphereDistancesStayConstantThroughAFortyPercentPlateCompression) 
 // A fill in the manner of the CMS filler (maximal inscribed balls): centres at random in the
 // inner 0.85 R of the sphere, each ball reaching the surface (r = R − |c|). Made here by hand,
 // independent of the geometry stage's filler: this test is about the engine.
-ClumpTemplate inscribed_fill(double radius, int count, std::uint64_t seed) {
-  ClumpTemplate t;
+BodyTemplate inscribed_fill(double radius, int count, std::uint64_t seed) {
+  BodyTemplate t;
   t.name = "inscribed";
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
