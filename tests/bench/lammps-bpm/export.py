@@ -3,9 +3,11 @@
 
     export.py PACKED.h5 CONFIG.toml OUTDIR
 
-OUTDIR/bed.data  atom_style bpm/sphere: one atom per sub-sphere (molecule = its body), one bond
-                 type per body with its bpm/rotational coefficients, the bonds; box periodic in
-                 x and y as the packing's, z from below the floor to above the punch.
+OUTDIR/bed.data  atom_style bpm/sphere: one atom per sub-sphere (molecule = its body), the
+                 bonds, one bond type per body; box periodic in x and y as the packing's, z
+                 from below the floor to above the punch.
+OUTDIR/bonds.in  the bond types' bpm/rotational coefficients (bond_coeff lines: the bond style
+                 makes a fix, so it comes after read_data, and the data file cannot hold them).
 OUTDIR/bed.in    the scene's numbers as LAMMPS variables, for lammps.in.
 
 The mapping (docs/models.md, "Bonded multi-sphere particles"; LAMMPS bond_style bpm/rotational):
@@ -204,10 +206,7 @@ def main(argv):
                   f"(tests/bench/lammps-bpm/export.py)\n\n")
         out.write(f"{n} atoms\n1 atom types\n{nb} bonds\n{nbody} bond types\n\n")
         out.write(f"0 {box_x!r} xlo xhi\n0 {box_y!r} ylo yhi\n{zlo!r} {zhi!r} zlo zhi\n\n")
-        out.write("Bond Coeffs # bpm/rotational\n\n")
-        for t, c in enumerate(coeffs, 1):
-            out.write(f"{t} " + " ".join(f"{v:.17g}" for v in c) + "\n")
-        out.write("\nAtoms # bpm/sphere\n\n")
+        out.write("Atoms # bpm/sphere\n\n")
         for i in range(n):
             density = rho * ratio[int(template[body[i]])]
             out.write(f"{i + 1} {body[i] + 1} 1 {2 * r[i]!r} {density!r} {wrapped[i, 0]!r} "
@@ -215,6 +214,11 @@ def main(argv):
         out.write("\nBonds\n\n")
         for k, (i, j) in enumerate(pairs):
             out.write(f"{k + 1} {body[i] + 1} {i + 1} {j + 1}\n")
+
+    with open(outdir / "bonds.in", "w") as out:
+        out.write("# Kr Ks Kt Kb Fcr Fcs Tct Tcb gamma_n gamma_s gamma_r gamma_t per body\n")
+        for t, c in enumerate(coeffs, 1):
+            out.write(f"bond_coeff {t} " + " ".join(f"{v:.17g}" for v in c) + "\n")
 
     e_star_wall = 1 / ((1 - nu_p**2) / e_p + (1 - nu_w**2) / e_w)
     skin = 0.1 * 2 * float(r.min())  # shapepress' skin: 0.1 of the smallest diameter
