@@ -55,6 +55,14 @@ mkdir -p "$work"
 cd "$work"
 record_every=$(sed -n 's/^record_every *= *\([0-9]*\).*/\1/p' "$config")
 record_every=${record_every:-100}
+# shapepress writes one snapshot, at the last step (the end state that the bonds' strains are
+# compared on; a few milliseconds inside its loop).
+sed -E "s/^snapshot_every *=.*/snapshot_every = $steps/" "$config" > compact.toml
+grep -q "^snapshot_every = $steps" compact.toml || {
+  echo "run.sh: $config has no [run] snapshot_every line to set" >&2
+  exit 2
+}
+config=$work/compact.toml
 /usr/bin/python3 "$here/export.py" "$packed" "$config" lammps
 cp "$here/lammps.in" lammps/
 echo "lammps-bpm bench: $packed, $steps steps, $rounds rounds, 1 core each, in $work"
@@ -65,7 +73,7 @@ for ((round = 1; round <= rounds; ++round)); do
   "$bin" --quiet --threads 1 compact --config "$config" --packing "$packed" --steps "$steps" \
     --out "sp-$round" > "sp-$round.summary"
   (cd lammps && OMP_NUM_THREADS=1 "$LAMMPS_BPM" -in lammps.in -log "../lmp-$round.log" \
-    -screen none -var NSTEPS "$steps" -var NREC "$record_every")
+    -screen none -var NSTEPS "$steps" -var NREC "$record_every" && mv final.dump "../lmp-$round.dump")
   /usr/bin/python3 - "$work" "$round" <<'PY'
 import json, pathlib, re, sys
 w, r = pathlib.Path(sys.argv[1]), sys.argv[2]
@@ -74,10 +82,12 @@ lmp = float(re.search(r"Loop time of ([0-9.eE+-]+)", (w / f"lmp-{r}.log").read_t
 print(f"round {r}: shapepress {sp:.2f} s, LAMMPS {lmp:.2f} s, LAMMPS/shapepress {lmp / sp:.3f}")
 PY
 done
-/usr/bin/python3 - "$work" "$rounds" "$steps" "$fraction" <<'PY'
+/usr/bin/python3 - "$work" "$rounds" "$steps" "$fraction" "$packed" <<'PY'
 import csv, json, pathlib, re, statistics, sys
+import h5py
 import numpy as np
 w, rounds, steps, fraction = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
+packed = sys.argv[5]
 facts = json.loads((w / "sp-1" / "run.json").read_text())["facts"]
 n, bonds = facts["spheres"], facts["bonds"]
 sp = [json.loads((w / f"sp-{r}" / "run.json").read_text())["facts"]["loop_s"]
@@ -122,9 +132,37 @@ loaded = f_sp > fraction * f_sp.max()
 rel = (f_lmp[loaded] - f_sp[loaded]) / f_sp[loaded]
 print(f"punch force, {loaded.sum()} records above {fraction} of shapepress' maximum "
       f"{f_sp.max():.4g} N: LAMMPS - shapepress RMS {np.sqrt(np.mean(rel**2)) * 100:.2g} %, "
-      f"mean {np.mean(rel) * 100:+.2g} %, largest {np.max(np.abs(rel)) * 100:.2g} %; at the end shapepress {f_sp[-1]:.4g} N, "
-      f"LAMMPS {f_lmp[-1]:.4g} N")
+      f"mean {np.mean(rel) * 100:+.2g} %, largest {np.max(np.abs(rel)) * 100:.2g} %; "
+      f"at the end shapepress {f_sp[-1]:.4g} N, LAMMPS {f_lmp[-1]:.4g} N")
 print("step strain shapepress_N LAMMPS_N")
 for k in np.unique(np.linspace(0, len(common) - 1, 11).astype(int)):
     print(f"{common[k]} {strain[k]:.5f} {f_sp[k]:.5g} {f_lmp[k]:.5g}")
+
+# The bonds' strains at the end: each bond's length change from its rest length in both codes
+# (nearest image across the periodic sides), over the round-1 end states.
+with h5py.File(packed, "r") as f:
+    pairs, rest = f["bonds/pairs"][:], f["bonds/rest_length"][:]
+    box = np.array([f.attrs["box_x"], f.attrs["box_y"]])
+    x0 = f["particles/position"][:]
+with h5py.File(w / "sp-1" / "snapshots" / f"step_{steps:010d}.h5", "r") as f:
+    x_sp = f["particles/position"][:]
+dump = (w / "lmp-1.dump").read_text().splitlines()
+start = next(k for k, l in enumerate(dump) if l.startswith("ITEM: ATOMS")) + 1
+x_lmp = np.array([[float(v) for v in l.split()[1:4]] for l in dump[start:]])
+def stretch(x):
+    d = x[pairs[:, 1]] - x[pairs[:, 0]]
+    d[:, :2] -= box * np.round(d[:, :2] / box)
+    return np.linalg.norm(d, axis=1) - rest
+def moved(x):
+    d = x - x0
+    d[:, :2] -= box * np.round(d[:, :2] / box)
+    return d
+s_sp, s_lmp = stretch(x_sp), stretch(x_lmp)
+u_sp, u_lmp = moved(x_sp), moved(x_lmp)
+rms = lambda a: np.sqrt(np.mean(a**2))
+print(f"bond length changes at the end: RMS {rms(s_sp):.3g} m (shapepress), {rms(s_lmp):.3g} m "
+      f"(LAMMPS); their difference RMS {rms(s_lmp - s_sp) / rms(s_sp) * 100:.2g} % of "
+      f"shapepress' RMS")
+print(f"sub-sphere displacements at the end: RMS {rms(u_sp):.3g} m (shapepress); the codes' "
+      f"difference RMS {rms(u_lmp - u_sp) / rms(u_sp) * 100:.2g} % of it")
 PY
