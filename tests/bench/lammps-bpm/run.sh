@@ -12,8 +12,9 @@
 #   WORK         the working folder (default a new temporary one)
 # Each code runs on one core (shapepress --threads 1; LAMMPS built without MPI and OpenMP).
 # Prints per round each code's loop seconds, the medians' sub-sphere-steps/s and bond-steps/s,
-# the ratio of the speeds per core, and the punch force against strain of both (RMS relative
-# difference over the loaded part of the curve).
+# the ratio of the speeds per core, the punch force against strain of both (RMS relative
+# difference over the loaded part of the curve), and the difference of the bonds' length changes
+# and of the sub-spheres' displacements at the last step.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../../.." && pwd)
