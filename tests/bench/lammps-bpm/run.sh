@@ -67,14 +67,15 @@ config=$work/compact.toml
 /usr/bin/python3 "$here/export.py" "$packed" "$config" lammps
 cp "$here/lammps.in" lammps/
 echo "lammps-bpm bench: $packed, $steps steps, $rounds rounds, 1 core each, in $work"
-echo "$(sed -n 's/^Large-scale Atomic.* - \([0-9][^-]*-.*\)$/LAMMPS \1/p' <<< "$lmp_help" | head -1)," \
-  "packages: $packages"
+version=$(sed -n 's/^Large-scale Atomic.* - \([0-9][^-]*-.*\)$/\1/p' <<< "$lmp_help" | head -1)
+echo "LAMMPS $version, packages: $packages"
 for ((round = 1; round <= rounds; ++round)); do
   rm -rf "sp-$round"
   "$bin" --quiet --threads 1 compact --config "$config" --packing "$packed" --steps "$steps" \
     --out "sp-$round" > "sp-$round.summary"
   (cd lammps && OMP_NUM_THREADS=1 "$LAMMPS_BPM" -in lammps.in -log "../lmp-$round.log" \
-    -screen none -var NSTEPS "$steps" -var NREC "$record_every" && mv final.dump "../lmp-$round.dump")
+    -screen none -var NSTEPS "$steps" -var NREC "$record_every" &&
+    mv final.dump "../lmp-$round.dump")
   /usr/bin/python3 - "$work" "$round" <<'PY'
 import json, pathlib, re, sys
 w, r = pathlib.Path(sys.argv[1]), sys.argv[2]
@@ -87,8 +88,8 @@ done
 import csv, json, pathlib, re, statistics, sys
 import h5py
 import numpy as np
-w, rounds, steps, fraction = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
-packed = sys.argv[5]
+w, rounds, steps = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
+fraction, packed = float(sys.argv[4]), sys.argv[5]
 facts = json.loads((w / "sp-1" / "run.json").read_text())["facts"]
 n, bonds = facts["spheres"], facts["bonds"]
 sp = [json.loads((w / f"sp-{r}" / "run.json").read_text())["facts"]["loop_s"]
@@ -128,7 +129,8 @@ strain = np.array([sp_curve[s][0] for s in common])
 f_sp = np.array([sp_curve[s][1] for s in common])
 f_lmp = np.array([lmp_curve[s][1] for s in common])
 strain_lmp = np.array([(gap0 - lmp_curve[s][0]) / gap0 for s in common])
-print(f"strain of the two at the same steps differs by at most {np.max(np.abs(strain - strain_lmp)):.2g}")
+print(f"strain of the two at the same steps differs by at most "
+      f"{np.max(np.abs(strain - strain_lmp)):.2g}")
 loaded = f_sp > fraction * f_sp.max()
 rel = (f_lmp[loaded] - f_sp[loaded]) / f_sp[loaded]
 print(f"punch force, {loaded.sum()} records above {fraction} of shapepress' maximum "
