@@ -2,7 +2,8 @@
 # The bonded bed in shapepress and in LAMMPS' BPM package side by side (issue 38, "A peer on the
 # same bonded bed"; README.md beside this file):
 #   LAMMPS_BPM=/path/to/lmp tests/bench/lammps-bpm/run.sh PACKED.h5
-# PACKED.h5: a packed bonded bed made by `pack` (bodies of equal sub-spheres). Environment:
+# PACKED.h5 (or the environment's PACKED): a packed bonded bed made by `pack` (bodies of equal
+# sub-spheres). Environment:
 #   LAMMPS_BPM   the lmp binary built with the BPM and GRANULAR packages (required; README.md)
 #   STEPS=4000   steps of each run        ROUNDS=3   runs of each code, alternating
 #   CONFIG       the compact config (default bench.toml beside this file)
@@ -34,11 +35,13 @@ if ! [[ " $packages " == *" BPM "* && " $packages " == *" GRANULAR "* ]]; then
     "$here/README.md says" >&2
   exit 2
 fi
-if [[ $# -ne 1 || ! -f "$1" ]]; then
-  echo "run.sh: give the packed bed, a packed.h5 made by pack: $0 PACKED.h5 (got '${1:-}')" >&2
+packed=${1:-${PACKED:-}}
+if [[ $# -gt 1 || ! -f "$packed" ]]; then
+  echo "run.sh: give the packed bed, a packed.h5 made by pack: $0 PACKED.h5, or PACKED=PACKED.h5" \
+    "(got '$packed')" >&2
   exit 2
 fi
-packed=$(realpath "$1")
+packed=$(realpath "$packed")
 bin=${SHAPEPRESS:-$repo/build/app/shapepress}
 config=$(realpath "${CONFIG:-$here/bench.toml}")
 steps=${STEPS:-4000}
