@@ -496,12 +496,18 @@ void scale_masses(SphereState& s, ClumpSet& clumps, double factor) {
   }
 }
 
-// Σ body volumes: what the bed's solid fraction is by (BodyTemplate::body_volume).
-double solid_body_volume(const std::vector<PackedBody>& bodies) {
+// Σ of the volumes the bed's solid fraction is by (press.solid_fraction_volume): the bodies' in
+// the bed (BodyTemplate::body_volume) or their shapes'.
+double stated_solid_volume(const std::vector<PackedBody>& bodies, const PackRequest& request) {
+  const bool shape = request.solid_fraction_volume == PackRequest::SolidVolume::shape;
   double v = 0.0;
   for (const PackedBody& b : bodies)
-    v += b.body_volume;
+    v += shape ? b.shape_volume : b.body_volume;
   return v;
+}
+
+const char* solid_volume_name(const PackRequest& request) {
+  return request.solid_fraction_volume == PackRequest::SolidVolume::shape ? "shape" : "body";
 }
 
 // The bodies drawn and inserted in a region above the floor, and placed as the engine's
@@ -617,9 +623,9 @@ PhasePlan phase_plan(const PackRequest& request, const std::vector<PackedBody>& 
   const double press_speed = request.punch_speed / std::sqrt(mass_scale);
   const double free_fall = std::sqrt(2.0 * fall / request.gravity);
   const double area = request.box_x * request.box_y;
-  const double gap = request.target_solid_fraction
-                         ? solid_body_volume(bodies) / (area * *request.target_solid_fraction)
-                         : 0.0;
+  const double gap = request.target_solid_fraction ? stated_solid_volume(bodies, request) /
+                                                         (area * *request.target_solid_fraction)
+                                                   : 0.0;
   return PhasePlan{mass_scale,
                    std::move(table),
                    beds.step.time_step,
@@ -687,10 +693,10 @@ bool settle_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan&
   PackPhaseState& state = run.state;
   state.settled = end == PhaseEnd::rest;
   state.settled_solid_fraction =
-      solid_body_volume(bodies) /
+      stated_solid_volume(bodies, request) /
       (plan.area * (bed_top(run.engine->state(), request.floor) - request.floor));
-  spdlog::info("pack: settled at solid fraction {:.4f} by body volume",
-               state.settled_solid_fraction);
+  spdlog::info("pack: settled at solid fraction {:.4f} by {} volume", state.settled_solid_fraction,
+               solid_volume_name(request));
   if (!request.target_solid_fraction) {
     if (plan.mass_scale == 1.0) return true;
     next_phase(run, request, plan, PackPhase::release);
@@ -698,10 +704,10 @@ bool settle_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan&
   }
   if (state.settled_solid_fraction >= *request.target_solid_fraction)
     spdlog::warn(
-        "pack: the bed settled denser ({:.4f} by body volume) than press.solid_fraction = "
+        "pack: the bed settled denser ({:.4f} by {} volume) than press.solid_fraction = "
         "{}: the punch does not touch it, and the bed is stated as settled, not "
         "pre-compressed",
-        state.settled_solid_fraction, *request.target_solid_fraction);
+        state.settled_solid_fraction, solid_volume_name(request), *request.target_solid_fraction);
   next_phase(run, request, plan, PackPhase::press);
   PlaneWall& punch = run.engine->walls()[1];
   punch.position = std::max(bed_top(run.engine->state(), request.floor), request.floor + plan.gap);
@@ -735,14 +741,14 @@ bool press_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& 
     // Rigid bodies that cannot rearrange (a single layer, a jammed bed) stop the punch
     // short of the target: it then drives a sub-sphere into its neighbour until the
     // overlap check trips. The target is what cannot be had.
-    const double reached =
-        solid_body_volume(bodies) / (plan.area * (engine.walls()[1].position - request.floor));
+    const double reached = stated_solid_volume(bodies, request) /
+                           (plan.area * (engine.walls()[1].position - request.floor));
     throw InputError(fmt::format(
-        "pack: the press jammed at a solid fraction of {:.4f} by body volume, short of "
+        "pack: the press jammed at a solid fraction of {:.4f} by {} volume, short of "
         "press.solid_fraction = {}: the rigid bodies cannot be pressed further without "
         "overlapping ({}); lower press.solid_fraction, or pack more bodies so that they "
         "can rearrange",
-        reached, *request.target_solid_fraction, e.what()));
+        reached, solid_volume_name(request), *request.target_solid_fraction, e.what()));
   }
   if (end == PhaseEnd::interrupted) {
     result.interrupted = true;
@@ -751,7 +757,8 @@ bool press_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& 
   // Where the punch stopped is the bed's solid fraction only if it reached the bed.
   if (run.state.settled_solid_fraction < *request.target_solid_fraction)
     run.state.precompression_solid_fraction =
-        solid_body_volume(bodies) / (plan.area * (engine.walls()[1].position - request.floor));
+        stated_solid_volume(bodies, request) /
+        (plan.area * (engine.walls()[1].position - request.floor));
   // Release: the punch back to where it was parked; the bed relaxes under gravity.
   engine.walls()[1].velocity = 0.0;
   engine.walls()[1].position = plan.parked_punch;

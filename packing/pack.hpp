@@ -84,8 +84,11 @@ struct PackRequest {
   std::optional<double> time_step;  // s, fixed; else time_step_fraction × the engine's bound
   double time_step_fraction = 0.2;
 
-  // Pre-compression: the punch moves down at punch_speed until the solid fraction by shape
-  // volume reaches this, then back up and the bed relaxes.
+  // Pre-compression: the punch moves down at punch_speed until the solid fraction by the
+  // volume solid_fraction_volume names reaches this, then back up and the bed relaxes. The
+  // settled and pre-compression fractions of the result are by the same volume.
+  enum class SolidVolume { body, shape };
+  SolidVolume solid_fraction_volume = SolidVolume::body;
   std::optional<double> target_solid_fraction;
   double press_friction = 0.0;           // sliding friction of every contact while pressing
   double punch_speed = 0.05;             // m/s

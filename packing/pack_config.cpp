@@ -141,10 +141,16 @@ const OptionTable<PackRequest>& press_table() {
     OptionTable<PackRequest> p(
         "press",
         "optional pre-compression: the punch presses the settled bed to a solid fraction (by "
-        "body volume), goes back up, and the bed relaxes");
+        "body volume, or shape volume), goes back up, and the bed relaxes");
     p.number("solid_fraction", &PackRequest::target_solid_fraction, Range::positive(),
-             "target solid fraction by body volume (the paper: 0.59)")
+             "target solid fraction by solid_fraction_volume (the paper: 0.59)")
         .default_text("none (no press)")
+        .choice("solid_fraction_volume", &PackRequest::solid_fraction_volume,
+                std::vector<std::pair<std::string, PackRequest::SolidVolume>>{
+                    {"body", PackRequest::SolidVolume::body},
+                    {"shape", PackRequest::SolidVolume::shape}},
+                "the volume the target and the settled and pre-compression fractions are by: "
+                "the bodies' in the bed or their shapes' (meshes'); one for spheres")
         .number("friction", &PackRequest::press_friction, Range::non_negative(),
                 "sliding friction of every contact while pressing (0: the bodies slide into a "
                 "denser bed); the bed relaxes with [material]'s")

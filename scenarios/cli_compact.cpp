@@ -186,6 +186,22 @@ void write_effective_config(const fs::path& out, const std::string& command_line
           compact_config_toml(config));
 }
 
+// What punch.csv's three solid fractions of a bed of bodies are by.
+std::string solid_volumes_comment(const CompactionSetup& setup) {
+  if (setup.solid_fraction_volume == CompactionSetup::SolidVolume::shape)
+    return fmt::format(
+        "solid_fraction is by the bodies' shapes' (meshes') volume {:.10g} m^3 "
+        "(punch.solid_fraction_volume = \"shape\"), as solid_fraction_shape; their volume in the "
+        "bed (their sub-spheres' union closed by a ball of their radius) is {:.10g} m^3; "
+        "solid_fraction_spheres by their sub-spheres' {:.10g} m^3",
+        setup.shape_volume, setup.body_volume, setup.sphere_volume);
+  return fmt::format(
+      "solid_fraction is by the bodies' volume in the bed {:.10g} m^3 (their sub-spheres' union "
+      "closed by a ball of their radius); solid_fraction_shape by their shapes' (meshes') "
+      "{:.10g} m^3; solid_fraction_spheres by their sub-spheres' {:.10g} m^3",
+      setup.body_volume, setup.shape_volume, setup.sphere_volume);
+}
+
 // punch.csv's comments: the strain's reference, the volumes its solid fractions divide by, the
 // mass scaling and where loading stops.
 void write_punch_csv_comments(CsvWriter& csv, const PreparedCompaction& prepared,
@@ -196,12 +212,7 @@ void write_punch_csv_comments(CsvWriter& csv, const PreparedCompaction& prepared
   csv.comment(strain_reference_comment(setup));
   csv.comment(fmt::format("solid volume {:.10g} m^3; solid fraction ceiling {} at gap {:.10g} m",
                           setup.solid_volume, setup.max_solid_fraction, *setup.program.min_gap));
-  if (setup.sphere_volume != setup.solid_volume)
-    csv.comment(fmt::format(
-        "solid_fraction is by the bodies' volume in the bed {:.10g} m^3 (their sub-spheres' "
-        "union closed by a ball of their radius); solid_fraction_shape by their shapes' (meshes') "
-        "{:.10g} m^3; solid_fraction_spheres by their sub-spheres' {:.10g} m^3",
-        setup.solid_volume, setup.shape_volume, setup.sphere_volume));
+  if (setup.sphere_volume != setup.body_volume) csv.comment(solid_volumes_comment(setup));
   if (config.density_scale != 1.0)
     csv.comment(fmt::format("mass scaling: particle density x {} (run.density_scale)",
                             config.density_scale));

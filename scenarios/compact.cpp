@@ -12,7 +12,7 @@ namespace shapepress::scenarios {
 
 ScenarioState compaction_scenario_state(const PunchState& punch, const CompactionSetup& setup) {
   ScenarioState state = punch_scenario_state(punch);
-  state.emplace_back("bed_body_volume", setup.solid_volume);
+  state.emplace_back("bed_body_volume", setup.body_volume);
   state.emplace_back("bed_shape_volume", setup.shape_volume);
   state.emplace_back("bed_sphere_volume", setup.sphere_volume);
   state.emplace_back("bed_mean_diameter", setup.inertial.diameter);
@@ -26,6 +26,10 @@ ScenarioState compaction_scenario_state(const PunchState& punch, const Compactio
   state.emplace_back("clump_period_s", t.clump_period);
   state.emplace_back("bond_substeps", t.bond_substeps);
   return state;
+}
+
+std::string solid_fraction_volume_name(CompactionSetup::SolidVolume volume) {
+  return volume == CompactionSetup::SolidVolume::shape ? "shape" : "body";
 }
 
 std::string strain_reference_name(CompactionSetup::StrainReference reference) {

@@ -33,11 +33,18 @@ struct CompactionSetup {
   enum class StrainReference { start, fill, solid_fraction };
   StrainReference strain_reference = StrainReference::start;
   double reference_solid_fraction = 0.59;
-  // m³: Σ of the bodies' volumes in the bed (a packing from `pack`: BodyTemplate::body_volume),
-  // else Σ sphere volumes (clumps: their unions'); the solid fraction of punch.csv, Heckel's and
-  // the ceiling's.
+  // Which volume the bed's solid fraction is stated by (punch.solid_fraction_volume): the
+  // bodies' in the bed or their shapes' (meshes'). One and the same for spheres and clumps; for
+  // BMS bodies the two differ by the fill's surface offset (docs/models.md, "A body's volume").
+  enum class SolidVolume { body, shape };
+  SolidVolume solid_fraction_volume = SolidVolume::body;
+  // m³: Σ of the volumes solid_fraction_volume names: the solid fraction of punch.csv, of its
+  // target, Heckel's and the ceiling's.
   double solid_volume = 0.0;
-  // m³: Σ of the bodies' shape (mesh) volumes; solid_volume for spheres and clumps.
+  // m³: Σ of the bodies' volumes in the bed (a packing from `pack`: BodyTemplate::body_volume),
+  // else Σ sphere volumes (clumps: their unions').
+  double body_volume = 0.0;
+  // m³: Σ of the bodies' shape (mesh) volumes; body_volume for spheres and clumps.
   // punch.csv's solid_fraction_shape.
   double shape_volume = 0.0;
   // m³: Σ sub-sphere volumes (clumps: unions); below solid_volume for BMS bodies by their
@@ -58,6 +65,8 @@ struct CompactionSetup {
   std::size_t punch_wall = 1;
 };
 
+// "body", "shape": punch.solid_fraction_volume's values, run.json's.
+std::string solid_fraction_volume_name(CompactionSetup::SolidVolume volume);
 // "start", "fill", "solid_fraction": punch.strain_reference's values, run.json's.
 std::string strain_reference_name(CompactionSetup::StrainReference reference);
 // What H0 is, for punch.csv's comment lines.

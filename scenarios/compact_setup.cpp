@@ -78,6 +78,12 @@ struct BedVolumes {
       0.0;  // m, of the bodies' volume-equivalent diameters (the inertial number's)
 };
 
+// The volume the bed's solid fraction is stated by (punch.solid_fraction_volume).
+double stated_solid_volume(const CompactConfig& c, const BedVolumes& volumes) {
+  return c.setup.solid_fraction_volume == CompactionSetup::SolidVolume::shape ? volumes.shape
+                                                                              : volumes.body;
+}
+
 // The mean volume-equivalent diameter of the bed's bodies: spheres, and clumps by their volume.
 double mean_diameter(const SphereState& s, const ClumpSet& clumps) {
   double sum = 0.0;
@@ -93,10 +99,11 @@ CompactionSetup compaction_setup(const CompactConfig& c, double reference_gap,
                                  const BedVolumes& volumes, const TimeStepChoice& time_step) {
   CompactionSetup setup = c.setup;
   setup.time_step = time_step;
+  setup.solid_volume = stated_solid_volume(c, volumes);
   if (c.target_strain) setup.program.target_gap = reference_gap * (1.0 - *c.target_strain);
   if (c.target_solid_fraction)
-    setup.program.target_gap = volumes.body / (c.box_x * c.box_y * *c.target_solid_fraction);
-  setup.solid_volume = volumes.body;
+    setup.program.target_gap = setup.solid_volume / (c.box_x * c.box_y * *c.target_solid_fraction);
+  setup.body_volume = volumes.body;
   setup.shape_volume = volumes.shape;
   setup.sphere_volume = volumes.spheres;
   setup.inertial.diameter = volumes.mean_diameter;
@@ -260,15 +267,14 @@ PreparedCompaction prepare_compaction(const CompactConfig& c, const BodyPacking&
   const EngineSettings settings = compaction_settings(c, bed.state, step);
   out.engine = std::make_unique<Engine>(std::move(bed.state), packing.box, table, walls, settings,
                                         std::move(bed.bonds), std::move(bed.clumps));
-  out.punch.reference_gap = reference_gap(c, punch - c.bottom, bed.body_volume);
   double diameters = 0.0;
   for (const PackedBody& b : packing.bodies)
     diameters += std::cbrt(6.0 * b.shape_volume / std::numbers::pi);
-  out.setup = compaction_setup(
-      c, out.punch.reference_gap,
-      {bed.body_volume, bed.shape_volume, bed.sphere_volume,
-       packing.bodies.empty() ? 0.0 : diameters / static_cast<double>(packing.bodies.size())},
-      step);
+  const BedVolumes volumes{
+      bed.body_volume, bed.shape_volume, bed.sphere_volume,
+      packing.bodies.empty() ? 0.0 : diameters / static_cast<double>(packing.bodies.size())};
+  out.punch.reference_gap = reference_gap(c, punch - c.bottom, stated_solid_volume(c, volumes));
+  out.setup = compaction_setup(c, out.punch.reference_gap, volumes, step);
   start_program(out);
   return out;
 }

@@ -636,6 +636,14 @@ const OptionTable<CompactConfig>& punch_table() {
             [](auto& c) -> auto& { return c.setup.reference_solid_fraction; },
             Range{0.0, 1.0, false, false},
             "the solid fraction of H0 with strain_reference = \"solid_fraction\"")
+        .choice(
+            "solid_fraction_volume", [](auto& c) -> auto& { return c.setup.solid_fraction_volume; },
+            std::vector<std::pair<std::string, CompactionSetup::SolidVolume>>{
+                {"body", CompactionSetup::SolidVolume::body},
+                {"shape", CompactionSetup::SolidVolume::shape}},
+            "the volume the bed's solid fraction is by (punch.csv's solid_fraction, "
+            "target_solid_fraction, reference_solid_fraction, the ceiling, Heckel): the bodies' "
+            "in the bed or their shapes' (meshes'); one for spheres")
         .quantity(
             "relax_time", [program](auto& c) -> auto& { return program(c).relax_time; }, dim::time,
             Range::non_negative(),

@@ -83,6 +83,38 @@ TEST(PackCli, FillThenPackWritesAPackingTheReaderAcceptsWithItsMeasures) {
   EXPECT_GE(run["facts"]["precompression_solid_fraction"].get<double>(), 0.5 - 1e-9);
 }
 
+// press.solid_fraction_volume = "shape": the same settle as by body volume, its fraction stated
+// by the shapes' volume (the ratio of the two volumes, to rounding), and the press target by it.
+TEST(PackCli, APressByShapeVolumeStatesItsFractionsByTheShapes) {
+  const fs::path dir = fresh_directory("pack_e2e_shape_volume");
+  const fs::path templates = filled_templates(dir);
+  nlohmann::json facts[2];
+  const char* volumes[2] = {"body", "shape"};
+  // Each past where the bed settles by its volume (0.36 by body, 0.49 by shape volume).
+  const char* targets[2] = {"0.45", "0.55"};
+  for (int k = 0; k < 2; ++k) {
+    const fs::path out = dir / (std::string(volumes[k]) + ".h5");
+    write_text(dir / "pack.toml",
+               config(two_templates, "[press]\nsolid_fraction = " + std::string(targets[k]) +
+                                         "\nspeed = 0.1\nsolid_fraction_volume = \"" +
+                                         std::string(volumes[k]) + "\"\n"));
+    const auto r = run_shapepress("--quiet pack " + templates.string() + " --config " +
+                                  (dir / "pack.toml").string() + " --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    facts[k] = nlohmann::json::parse(read_text(fs::path(out.string() + ".run.json")))["facts"];
+    EXPECT_EQ(facts[k]["solid_fraction_volume"], volumes[k]);
+    ASSERT_TRUE(facts[k].contains("precompression_solid_fraction")) << volumes[k];
+    EXPECT_GE(facts[k]["precompression_solid_fraction"].get<double>(),
+              std::stod(targets[k]) - 1e-9);
+  }
+  const double shape_over_body =
+      facts[1]["solid_fraction_shape"].get<double>() / facts[1]["solid_fraction"].get<double>();
+  EXPECT_GT(shape_over_body, 1.05);  // the fill's surface offset
+  EXPECT_NEAR(facts[1]["settled_solid_fraction"].get<double>() /
+                  facts[0]["settled_solid_fraction"].get<double>(),
+              shape_over_body, 1e-9);
+}
+
 // A target looser than the bed settles to is never reached by the punch: the bed is stated as
 // settled only, with a warning, not as pre-compressed to a solid fraction it never had.
 TEST(PackCli, ABedThatSettlesDenserThanItsPressIsNotStatedPreCompressed) {

@@ -88,6 +88,42 @@ TEST(BodyBedCli, PressesAndUnloadsABondedBed) {
   EXPECT_THAT(read_text(dir / "run" / "snapshots.xdmf"), HasSubstr("/bonds/pairs"));
 }
 
+// A study that states its solid fractions by the shapes' volume (punch.solid_fraction_volume):
+// punch.csv's solid_fraction is solid_fraction_shape, its target and ceiling are by it, and its
+// header and run.json say so; the bodies' volume in the bed is still stated beside it.
+TEST(BodyBedCli, StatesTheSolidFractionByTheShapesVolumeWhenAsked) {
+  const auto dir = fresh_directory("body_bed_shape_volume");
+  const auto config = bonded_bed(dir, packing::BodyKind::bms);
+  std::string text = read_text(config);
+  const auto strain = text.find("target_strain = 0.3");
+  ASSERT_NE(strain, std::string::npos);
+  // [punch] is the file's last table: 0.6 by the shapes' volume lies within the 30 % the
+  // bodies' run is pressed (their sub-spheres are 13/27 of the circumscribed spheres).
+  text.replace(strain, std::string("target_strain = 0.3").size(),
+               "target_solid_fraction = 0.6\nsolid_fraction_volume = \"shape\"");
+  write_text(config, text);
+  const auto r = run_shapepress("--quiet --threads 2 compact --config " + shell_quoted(config) +
+                                " --packing " + shell_quoted(dir / "packed.h5") + " --out " +
+                                shell_quoted(dir / "run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const CsvTable t = read_csv(dir / "run" / "punch.csv");
+  const std::vector<double>& solid = t.column("solid_fraction");
+  ASSERT_FALSE(solid.empty());
+  for (std::size_t i = 0; i < solid.size(); ++i)
+    EXPECT_DOUBLE_EQ(solid[i], t.column("solid_fraction_shape")[i]);
+  // Loading ends at the target by the shapes' volume: the densest record is within a record's
+  // travel below 0.6 and never past it.
+  const double densest = *std::max_element(solid.begin(), solid.end());
+  EXPECT_LE(densest, 0.6 + 1e-9);
+  EXPECT_GT(densest, 0.58);
+  const std::string csv = read_text(dir / "run" / "punch.csv");
+  EXPECT_THAT(csv, HasSubstr("solid_fraction is by the bodies' shapes' (meshes') volume"));
+  EXPECT_THAT(read_text(dir / "run" / "run.json"),
+              HasSubstr("\"solid_fraction_volume\": \"shape\""));
+  EXPECT_THAT(read_text(dir / "run" / "effective.toml"),
+              HasSubstr("solid_fraction_volume = \"shape\""));
+}
+
 // A face-centred cubic stack of equal spheres: square layers of per_side × per_side touching
 // spheres, each layer over the hollows of the one below (d/√2 apart), in a periodic die of
 // per_side diameters. It is the densest stack and has no collapse mode: pressed, it deforms
