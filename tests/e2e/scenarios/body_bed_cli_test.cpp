@@ -47,12 +47,19 @@ std::filesystem::path bonded_bed(const std::filesystem::path& dir, packing::Body
   return dir / "compact.toml";
 }
 
+// `compact` of the bed bonded_bed wrote, on two threads, into dir/run.
+shapepress::testing::CommandResult compact_bed(const std::filesystem::path& dir,
+                                               const std::filesystem::path& config,
+                                               const std::string& extra = "") {
+  return run_shapepress("--quiet --threads 2 compact --config " + shell_quoted(config) +
+                        " --packing " + shell_quoted(dir / "packed.h5") + " --out " +
+                        shell_quoted(dir / "run") + extra);
+}
+
 TEST(BodyBedCli, PressesAndUnloadsABondedBed) {
   const auto dir = fresh_directory("body_bed_bms");
   const auto config = bonded_bed(dir, packing::BodyKind::bms);
-  const auto r = run_shapepress("--quiet --threads 2 compact --config " + shell_quoted(config) +
-                                " --packing " + shell_quoted(dir / "packed.h5") + " --out " +
-                                shell_quoted(dir / "run"));
+  const auto r = compact_bed(dir, config);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const CsvTable t = read_csv(dir / "run" / "punch.csv");
   const std::vector<double>& stress = t.column("stress_Pa");
@@ -102,9 +109,7 @@ TEST(BodyBedCli, StatesTheSolidFractionByTheShapesVolumeWhenAsked) {
   text.replace(strain, std::string("target_strain = 0.3").size(),
                "target_solid_fraction = 0.6\nsolid_fraction_volume = \"shape\"");
   write_text(config, text);
-  const auto r = run_shapepress("--quiet --threads 2 compact --config " + shell_quoted(config) +
-                                " --packing " + shell_quoted(dir / "packed.h5") + " --out " +
-                                shell_quoted(dir / "run"));
+  const auto r = compact_bed(dir, config);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const CsvTable t = read_csv(dir / "run" / "punch.csv");
   const std::vector<double>& solid = t.column("solid_fraction");
@@ -232,9 +237,7 @@ TEST(BodyBedCli, MassScalingMovesTheCurveByLessThanTwoPercent) {
 TEST(BodyBedCli, PressesABedOfRigidClumps) {
   const auto dir = fresh_directory("body_bed_cms");
   const auto config = bonded_bed(dir, packing::BodyKind::cms);
-  const auto r = run_shapepress("--quiet --threads 2 compact --config " + shell_quoted(config) +
-                                " --packing " + shell_quoted(dir / "packed.h5") + " --out " +
-                                shell_quoted(dir / "run") + " --steps 50000");
+  const auto r = compact_bed(dir, config, " --steps 50000");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const CsvTable t = read_csv(dir / "run" / "punch.csv");
   EXPECT_GT(t.column("stress_Pa").back(), 0.0);
