@@ -3,12 +3,15 @@
 # volumes punch.csv states (docs/measurements.md, "What the BMS-sphere control rules out"): beds of
 # different bodies compared where they are equally dense, and the ratio of each to the first run
 # (the control). The stress is read at the first loading record at or past each fraction, so a
-# fraction the run never reaches is left empty. Needs only Python's standard library; bad input
-# exits 2.
+# fraction the run never reaches is left empty. A run still going (no punch.csv yet) is read from
+# its newest checkpoint's records, by the volume it states its solid fraction by
+# (punch.solid_fraction_volume in its effective.toml) or by its sub-spheres'. Needs only Python's
+# standard library; bad input exits 2.
 #   scripts/stress-at-solid-fraction.py control/ run/ --at 0.60,0.65,0.69
 #   scripts/stress-at-solid-fraction.py spheres/ bms/ --volume shape --at 0.70,0.74
 import argparse
 import csv
+import json
 import os
 import sys
 
@@ -24,7 +27,52 @@ def fail(message):
     sys.exit(2)
 
 
+def stated_volume(run):
+    # The volume a compaction states `solid_fraction` by: its effective.toml's
+    # punch.solid_fraction_volume, "body" when absent (runs from before the key).
+    try:
+        with open(os.path.join(run, "effective.toml")) as f:
+            for line in f:
+                key, _, value = line.partition("=")
+                if key.strip() == "solid_fraction_volume":
+                    return value.strip().strip('"')
+    except OSError as e:
+        fail(f"{run}: no punch.csv and no effective.toml to read a running compaction by "
+             f"({e.strerror})")
+    return "body"
+
+
+def checkpoint_curve(run, column):
+    # The newest checkpoint's records: the rows punch.csv will have (checkpoint format 1).
+    folder = os.path.join(run, "checkpoints")
+    names = sorted(n for n in os.listdir(folder) if n.startswith("step_") and n.endswith(".json"))
+    if not names:
+        fail(f"{run}: no punch.csv and no checkpoint in {folder}")
+    path = os.path.join(folder, names[-1])
+    try:
+        with open(path) as f:
+            checkpoint = json.load(f)
+        records = checkpoint["state"]["records"]
+    except (OSError, ValueError, KeyError) as e:
+        fail(f"{path}: not a compaction checkpoint ({e})")
+    if checkpoint.get("version") != 1:
+        fail(f"{path}: checkpoint format {checkpoint.get('version')}, this script reads 1")
+    field = {"solid_fraction_spheres": "solid_fraction_spheres"}.get(column)
+    if field is None and column == COLUMNS.get(stated_volume(run)):
+        field = "solid_fraction"
+    if field is None:
+        fail(f"{run}: a running compaction's checkpoint has its solid fraction by the "
+             f"{stated_volume(run)} volume and by the sub-spheres', not {column}")
+    rows = [{"phase": str(r["phase"]), "stress_Pa": r["stress"], column: r[field]}
+            for r in records]
+    return path, rows
+
+
 def loading_curve(run, column):
+    if os.path.isdir(run) and not os.path.exists(os.path.join(run, "punch.csv")) and \
+            os.path.isdir(os.path.join(run, "checkpoints")):
+        path, rows = checkpoint_curve(run, column)
+        return path, densest_loading(path, rows, column)
     path = os.path.join(run, "punch.csv") if os.path.isdir(run) else run
     try:
         with open(path, newline="") as f:
@@ -33,6 +81,10 @@ def loading_curve(run, column):
         fail(f"{path}: cannot read ({e.strerror})")
     if not rows or column not in rows[0] or "stress_Pa" not in rows[0] or "phase" not in rows[0]:
         fail(f"{path}: not a compaction punch.csv with columns phase, stress_Pa and {column}")
+    return path, densest_loading(path, rows, column)
+
+
+def densest_loading(path, rows, column):
     # Loading and hold, and the unloading records up to the punch's turn: the record written as
     # the punch turns is the densest, the peak of a run pressed to a solid fraction.
     curve, densest = [], float("-inf")
@@ -47,7 +99,7 @@ def loading_curve(run, column):
             break
         densest = max(densest, point[0])
         curve.append(point)
-    return path, curve
+    return curve
 
 
 def stress_at(curve, fraction):
