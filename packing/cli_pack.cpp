@@ -145,9 +145,7 @@ void add_pack_facts(RunMetadata& meta, const PackRun& result, const PackConfig& 
       .fact("loop_s", result.loop_seconds)
       .fact("settled", result.settled)
       .fact("settled_solid_fraction", result.settled_solid_fraction)
-      .fact("solid_fraction_volume",
-            config.request.solid_fraction_volume == PackRequest::SolidVolume::shape ? "shape"
-                                                                                    : "body");
+      .fact("solid_fraction_volume", solid_volume_name(config.request.solid_fraction_volume));
   // Absent when there was no press, or the bed settled denser than its target.
   if (result.precompression_solid_fraction > 0.0)
     meta.fact("precompression_solid_fraction", result.precompression_solid_fraction);

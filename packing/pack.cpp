@@ -499,15 +499,11 @@ void scale_masses(SphereState& s, ClumpSet& clumps, double factor) {
 // Σ of the volumes the bed's solid fraction is by (press.solid_fraction_volume): the bodies' in
 // the bed (BodyTemplate::body_volume) or their shapes'.
 double stated_solid_volume(const std::vector<PackedBody>& bodies, const PackRequest& request) {
-  const bool shape = request.solid_fraction_volume == PackRequest::SolidVolume::shape;
+  const bool shape = request.solid_fraction_volume == SolidVolume::shape;
   double v = 0.0;
   for (const PackedBody& b : bodies)
     v += shape ? b.shape_volume : b.body_volume;
   return v;
-}
-
-const char* solid_volume_name(const PackRequest& request) {
-  return request.solid_fraction_volume == PackRequest::SolidVolume::shape ? "shape" : "body";
 }
 
 // The bodies drawn and inserted in a region above the floor, and placed as the engine's
@@ -696,7 +692,7 @@ bool settle_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan&
       stated_solid_volume(bodies, request) /
       (plan.area * (bed_top(run.engine->state(), request.floor) - request.floor));
   spdlog::info("pack: settled at solid fraction {:.4f} by {} volume", state.settled_solid_fraction,
-               solid_volume_name(request));
+               solid_volume_name(request.solid_fraction_volume));
   if (!request.target_solid_fraction) {
     if (plan.mass_scale == 1.0) return true;
     next_phase(run, request, plan, PackPhase::release);
@@ -707,7 +703,8 @@ bool settle_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan&
         "pack: the bed settled denser ({:.4f} by {} volume) than press.solid_fraction = "
         "{}: the punch does not touch it, and the bed is stated as settled, not "
         "pre-compressed",
-        state.settled_solid_fraction, solid_volume_name(request), *request.target_solid_fraction);
+        state.settled_solid_fraction, solid_volume_name(request.solid_fraction_volume),
+        *request.target_solid_fraction);
   next_phase(run, request, plan, PackPhase::press);
   PlaneWall& punch = run.engine->walls()[1];
   punch.position = std::max(bed_top(run.engine->state(), request.floor), request.floor + plan.gap);
@@ -748,7 +745,8 @@ bool press_phase(PhaseEngine& run, const PackRequest& request, const PhasePlan& 
         "press.solid_fraction = {}: the rigid bodies cannot be pressed further without "
         "overlapping ({}); lower press.solid_fraction, or pack more bodies so that they "
         "can rearrange",
-        reached, solid_volume_name(request), *request.target_solid_fraction, e.what()));
+        reached, solid_volume_name(request.solid_fraction_volume), *request.target_solid_fraction,
+        e.what()));
   }
   if (end == PhaseEnd::interrupted) {
     result.interrupted = true;

@@ -24,6 +24,7 @@
 #include "packing/body_packing.hpp"
 #include "packing/clump_packing.hpp"
 #include "packing/packing.hpp"
+#include "packing/solid_volume.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 
@@ -87,7 +88,6 @@ struct PackRequest {
   // Pre-compression: the punch moves down at punch_speed until the solid fraction by the
   // volume solid_fraction_volume names reaches this, then back up and the bed relaxes. The
   // settled and pre-compression fractions of the result are by the same volume.
-  enum class SolidVolume { body, shape };
   SolidVolume solid_fraction_volume = SolidVolume::body;
   std::optional<double> target_solid_fraction;
   double press_friction = 0.0;           // sliding friction of every contact while pressing

@@ -146,9 +146,7 @@ const OptionTable<PackRequest>& press_table() {
              "target solid fraction by solid_fraction_volume (the paper: 0.59)")
         .default_text("none (no press)")
         .choice("solid_fraction_volume", &PackRequest::solid_fraction_volume,
-                std::vector<std::pair<std::string, PackRequest::SolidVolume>>{
-                    {"body", PackRequest::SolidVolume::body},
-                    {"shape", PackRequest::SolidVolume::shape}},
+                solid_volume_choices(),
                 "the volume the target and the settled and pre-compression fractions are by: "
                 "the bodies' in the bed or their shapes' (meshes'); one for spheres")
         .number("friction", &PackRequest::press_friction, Range::non_negative(),

@@ -188,7 +188,7 @@ void write_effective_config(const fs::path& out, const std::string& command_line
 
 // What punch.csv's three solid fractions of a bed of bodies are by.
 std::string solid_volumes_comment(const CompactionSetup& setup) {
-  if (setup.solid_fraction_volume == CompactionSetup::SolidVolume::shape)
+  if (setup.solid_fraction_volume == packing::SolidVolume::shape)
     return fmt::format(
         "solid_fraction is by the bodies' shapes' (meshes') volume {:.10g} m^3 "
         "(punch.solid_fraction_volume = \"shape\"), as solid_fraction_shape; their volume in the "

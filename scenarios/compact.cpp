@@ -28,10 +28,6 @@ ScenarioState compaction_scenario_state(const PunchState& punch, const Compactio
   return state;
 }
 
-std::string solid_fraction_volume_name(CompactionSetup::SolidVolume volume) {
-  return volume == CompactionSetup::SolidVolume::shape ? "shape" : "body";
-}
-
 std::string strain_reference_name(CompactionSetup::StrainReference reference) {
   switch (reference) {
     case CompactionSetup::StrainReference::fill:

@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 #include <vector>
+#include "packing/solid_volume.hpp"
 #include "scenarios/namespaces.hpp"
 
 #include "scenarios/punch.hpp"
@@ -36,8 +37,7 @@ struct CompactionSetup {
   // Which volume the bed's solid fraction is stated by (punch.solid_fraction_volume): the
   // bodies' in the bed or their shapes' (meshes'). One and the same for spheres and clumps; for
   // BMS bodies the two differ by the fill's surface offset (docs/models.md, "A body's volume").
-  enum class SolidVolume { body, shape };
-  SolidVolume solid_fraction_volume = SolidVolume::body;
+  packing::SolidVolume solid_fraction_volume = packing::SolidVolume::body;
   // m³: Σ of the volumes solid_fraction_volume names: the solid fraction of punch.csv, of its
   // target, Heckel's and the ceiling's.
   double solid_volume = 0.0;
@@ -65,8 +65,6 @@ struct CompactionSetup {
   std::size_t punch_wall = 1;
 };
 
-// "body", "shape": punch.solid_fraction_volume's values, run.json's.
-std::string solid_fraction_volume_name(CompactionSetup::SolidVolume volume);
 // "start", "fill", "solid_fraction": punch.strain_reference's values, run.json's.
 std::string strain_reference_name(CompactionSetup::StrainReference reference);
 // What H0 is, for punch.csv's comment lines.

@@ -80,8 +80,8 @@ struct BedVolumes {
 
 // The volume the bed's solid fraction is stated by (punch.solid_fraction_volume).
 double stated_solid_volume(const CompactConfig& c, const BedVolumes& volumes) {
-  return c.setup.solid_fraction_volume == CompactionSetup::SolidVolume::shape ? volumes.shape
-                                                                              : volumes.body;
+  return c.setup.solid_fraction_volume == packing::SolidVolume::shape ? volumes.shape
+                                                                      : volumes.body;
 }
 
 // The mean volume-equivalent diameter of the bed's bodies: spheres, and clumps by their volume.

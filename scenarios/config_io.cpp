@@ -638,9 +638,7 @@ const OptionTable<CompactConfig>& punch_table() {
             "the solid fraction of H0 with strain_reference = \"solid_fraction\"")
         .choice(
             "solid_fraction_volume", [](auto& c) -> auto& { return c.setup.solid_fraction_volume; },
-            std::vector<std::pair<std::string, CompactionSetup::SolidVolume>>{
-                {"body", CompactionSetup::SolidVolume::body},
-                {"shape", CompactionSetup::SolidVolume::shape}},
+            packing::solid_volume_choices(),
             "the volume the bed's solid fraction is by (punch.csv's solid_fraction, "
             "target_solid_fraction, reference_solid_fraction, the ceiling, Heckel): the bodies' "
             "in the bed or their shapes' (meshes'); one for spheres")

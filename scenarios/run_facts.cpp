@@ -64,7 +64,7 @@ void add_compaction_facts(RunMetadata& meta, const CompactConfig& config,
       .fact("inertial_diameter_m", setup.inertial.diameter)
       .fact("inertial_density_kg_per_m3", setup.inertial.density)
       .fact("body_volume_m3", setup.body_volume)
-      .fact("solid_fraction_volume", solid_fraction_volume_name(setup.solid_fraction_volume))
+      .fact("solid_fraction_volume", packing::solid_volume_name(setup.solid_fraction_volume))
       .fact("shape_volume_m3", setup.shape_volume)
       .fact("relax_time_s", setup.program.relax_time)
       .fact("release_time_s", setup.program.release_time)

@@ -57,12 +57,14 @@ def checkpoint_curve(run, column):
         fail(f"{path}: not a compaction checkpoint ({e})")
     if checkpoint.get("version") != 1:
         fail(f"{path}: checkpoint format {checkpoint.get('version')}, this script reads 1")
-    field = {"solid_fraction_spheres": "solid_fraction_spheres"}.get(column)
-    if field is None and column == COLUMNS.get(stated_volume(run)):
+    stated = stated_volume(run)
+    if column == COLUMNS["spheres"]:
+        field = column
+    elif column == COLUMNS.get(stated):
         field = "solid_fraction"
-    if field is None:
+    else:
         fail(f"{run}: a running compaction's checkpoint has its solid fraction by the "
-             f"{stated_volume(run)} volume and by the sub-spheres', not {column}")
+             f"{stated} volume and by the sub-spheres', not {column}")
     rows = [{"phase": str(r["phase"]), "stress_Pa": r["stress"], column: r[field]}
             for r in records]
     return path, rows
