@@ -68,7 +68,8 @@ def read_table(path):
             continue
         if len(cells) != len(header):
             raise BadInput(
-                f"{path}:{number}: {len(cells)} cells, the header has {len(header)}: {line!r}")
+                f"{path}:{number}: {len(cells)} cell{'' if len(cells) == 1 else 's'}, "
+                f"the header has {len(header)}: {line!r}")
         rows.append(cells)
     if not rows:
         raise BadInput(f"{path}: a header and no rows")
