@@ -180,6 +180,41 @@ def check_anchors(root, docs):
     return broken
 
 
+SOURCE_SUFFIXES = (".md", ".cpp", ".hpp", ".toml", ".sh", ".py", ".cmake", ".txt", "Makefile", "run")
+QUOTED_SECTION = re.compile(r'measurements\.md[`)\]]*[,:]?\s*(?:(?:#|//)\s*)?"([^"]+)"')
+
+
+def check_quoted_sections(root):
+    """Mentions of docs/measurements.md followed by a quoted section name ('docs/measurements.md,
+    "Mass scaling"') across the repository's sources whose name starts no heading or bold lead of
+    the doc: a renamed section leaves them pointing nowhere."""
+    with open(os.path.join(root, CONTENTS_DOC), encoding="utf-8") as f:
+        text = f.read()
+    leads = [t for _, t, _ in headings(text.split("\n"))] + re.findall(r"\*\*([^*]+)\*\*", text)
+    broken = []
+    for folder, dirs, files in os.walk(root):
+        dirs[:] = [d for d in dirs if not d.startswith((".", "build")) and
+                   os.path.join(folder, d) != os.path.join(root, "tests", "data", "measurements")]
+        for name in files:
+            if not name.endswith(SOURCE_SUFFIXES):
+                continue
+            path = os.path.join(folder, name)
+            if os.path.samefile(path, __file__):
+                continue
+            try:
+                with open(path, encoding="utf-8") as f:
+                    source = f.read()
+            except (UnicodeDecodeError, OSError):
+                continue
+            for m in QUOTED_SECTION.finditer(source):
+                quoted = re.sub(r"\s*\n\s*(?:#|//)?\s*", " ", m.group(1)).rstrip(".…, ")
+                if not any(lead.startswith(quoted) for lead in leads):
+                    number = source.count("\n", 0, m.start()) + 1
+                    broken.append(f"{os.path.relpath(path, root)}:{number}: docs/measurements.md "
+                                  f"has no section \"{quoted}\"")
+    return broken
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--check", action="store_true",
@@ -227,7 +262,10 @@ def main():
         ["README.md"] + [os.path.join("docs", d) for d in os.listdir(os.path.join(ROOT, "docs"))
                          if d.endswith(".md")]) if not args.doc else [
         os.path.relpath(d, ROOT) for d in args.doc]
-    for problem in check_anchors(ROOT, anchor_docs):
+    problems = check_anchors(ROOT, anchor_docs)
+    if not args.doc:
+        problems += check_quoted_sections(ROOT)
+    for problem in problems:
         print(problem, file=sys.stderr)
         status = 1
     return status
