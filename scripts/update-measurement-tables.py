@@ -110,12 +110,13 @@ def headings(lines):
 
 
 def render_contents(lines):
+    """One line a study (## heading): its link, then its sections' (### headings) links."""
     out = []
     for level, text, anchor in headings(lines):
         if level == 2:
-            out.append(f"- [{text}](#{anchor})")
-        elif level == 3:
-            out.append(f"  - [{text}](#{anchor})")
+            out.append(f"- **[{text}](#{anchor})**")
+        elif level == 3 and out:
+            out[-1] += (": " if out[-1].endswith("**") else " · ") + f"[{text}](#{anchor})"
     return out
 
 
