@@ -18,6 +18,7 @@
 #include "geometry/templates_file.hpp"
 #include "packing/bed_state.hpp"
 #include "packing/clump_packing.hpp"
+#include "packing/deposition.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/timestep.hpp"
 
@@ -521,6 +522,14 @@ InsertedBodies insert_bed(const PackRequest& request, const std::vector<BodyTemp
   inserted.region_top = insert_bodies(request, templates, inserted.bodies);
   spdlog::info("pack: {} bodies inserted below {:.4g} m", inserted.bodies.size(),
                inserted.region_top);
+  if (request.insertion == Insertion::deposit) {
+    DepositionMoves moves;
+    moves.seed = request.seed;
+    inserted.region_top = deposit_bodies(templates, inserted.bodies,
+                                         Box{request.box_x, request.box_y}, request.floor, moves);
+    spdlog::info("pack: {} bodies laid down below {:.4g} m", inserted.bodies.size(),
+                 inserted.region_top);
+  }
   inserted.placed.templates = templates;
   inserted.placed.bodies = inserted.bodies;
   place_bodies(inserted.placed);

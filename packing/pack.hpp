@@ -35,6 +35,12 @@ namespace shapepress::packing {
 // weight, so the volume shares match the weights, not only on average).
 enum class TemplateWeighting { number, volume };
 
+// How the settle starts: the pour (insert_bodies: bounding spheres apart in a region several
+// times the bed's height) falls under gravity to rest; a deposit lays the poured bodies down
+// geometrically first (deposition.hpp: dropped to contact and shaken lower, without overlap), so
+// the settle starts near the settled bed and has little to fall.
+enum class Insertion { pour, deposit };
+
 struct TemplateChoice {
   std::string name;  // "sphere", "bms/<name>", "cms/<name>"
   double weight = 1.0;
@@ -66,6 +72,7 @@ struct PackRequest {
   double rolling_friction = 0.0;
 
   // Insertion and settle.
+  Insertion insertion = Insertion::pour;
   double insertion_fraction = 0.2;  // of the bounding spheres in the insertion region
   int attempts_per_body = 2000;
   double gravity = 9.81;               // m/s², down

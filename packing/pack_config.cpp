@@ -109,8 +109,16 @@ const OptionTable<PackRequest>& material_table() {
 const OptionTable<PackRequest>& settle_table() {
   static const OptionTable<PackRequest> t = [] {
     OptionTable<PackRequest> s("settle", "insertion and the gravity settle");
-    s.number("insertion_fraction", &PackRequest::insertion_fraction, Range{0.0, 0.5, false, false},
-             "bounding-sphere volume fraction of the insertion region (sets its height)")
+    s.choice("insertion", &PackRequest::insertion,
+             std::vector<std::pair<std::string, Insertion>>{{"pour", Insertion::pour},
+                                                            {"deposit", Insertion::deposit}},
+             "how the settle starts: the pour falls from its insertion region; a deposit lays "
+             "the poured bodies down first (dropped to contact, shaken lower, no overlap), so the "
+             "settle starts near the settled bed's height")
+        .write_when([](const PackRequest& r) { return r.insertion != Insertion::pour; })
+        .number("insertion_fraction", &PackRequest::insertion_fraction,
+                Range{0.0, 0.5, false, false},
+                "bounding-sphere volume fraction of the insertion region (sets its height)")
         .integer("attempts_per_body", &PackRequest::attempts_per_body, Range::at_least(1),
                  "random insertion tries per body before the region is made taller")
         .quantity("gravity", &PackRequest::gravity, dim::acceleration, Range::positive(),

@@ -1,7 +1,8 @@
 #pragma once
-// Small beds of bodies for the tests of `compact --packing` and of packed.h5: a 13-sphere BMS
-// body (a centre and its 12 face-centred cubic neighbours, all touching, bonded to every touching
-// neighbour) and the same cluster as a rigid CMS clump, laid on a lattice in a periodic die.
+// Small beds of bodies for the tests of `compact --packing`, of packed.h5 and of pack: a
+// 13-sphere BMS body (a centre and its 12 face-centred cubic neighbours, all touching, bonded to
+// every touching neighbour) and the same cluster as a rigid CMS clump, laid on a lattice in a
+// periodic die; and a rod of five spheres, an elongated BMS body.
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -42,6 +43,38 @@ inline packing::BodyTemplate cluster_template(packing::BodyKind kind, double r) 
   // Own moments 13 × 2/5 v r², offsets Σ (|x|² - x_k²) = 12 (2r)² 2/3.
   const double moment = v * (13.0 * 0.4 * r * r + 32.0 * r * r);
   t.principal_inertia = {moment, moment, moment};
+  return t;
+}
+
+// Five touching spheres in a row along x, 1.6 to 2e-5 m across, the middle one largest, bonded in
+// a chain: an elongated BMS body (about 1 : 4.4) in its principal frame, whose bounding sphere
+// holds several times its volume.
+inline packing::BodyTemplate rod_template() {
+  packing::BodyTemplate t;
+  t.name = "bms/rod";
+  t.source = "test";
+  t.kind = packing::BodyKind::bms;
+  const std::vector<double> r = {0.8, 0.9, 1.0, 0.9, 0.8};
+  double x = -(r[0] + 2.0 * r[1] + r[2]);
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (i > 0) x += r[i - 1] + r[i];
+    t.centres.push_back({x * 1e-5, 0.0, 0.0});
+    t.radii.push_back(r[i] * 1e-5);
+  }
+  for (std::int32_t i = 0; i + 1 < 5; ++i)
+    t.bonds.push_back({i, i + 1});
+  for (double radius : t.radii)
+    t.sphere_volume += 4.0 / 3.0 * std::numbers::pi * std::pow(radius, 3);
+  t.shape_volume = t.sphere_volume;
+  // About x the sub-spheres' own moments; about y and z the parallel-axis terms dominate.
+  double own = 0.0, arm = 0.0;
+  for (std::size_t i = 0; i < t.radii.size(); ++i) {
+    const double v = 4.0 / 3.0 * std::numbers::pi * std::pow(t.radii[i], 3);
+    own += 0.4 * v * t.radii[i] * t.radii[i];
+    arm += v * t.centres[i][0] * t.centres[i][0];
+  }
+  t.principal_inertia = {own, own + arm, own + arm};
+  packing::set_body_volume(t);
   return t;
 }
 

@@ -218,6 +218,10 @@ TEST(PackCli, BadInputExitsTwoNamingTheCauseAndLeavesNoFile) {
   expect_refused(dir, t, "short of press.solid_fraction = 0.59");
   write_text(dir / "c.toml", config(two_templates, "density_scale = 0.5\n"));
   expect_refused(dir, t, "density_scale");
+  write_text(dir / "c.toml", config(two_templates, "insertion = \"dense\"\n"));
+  expect_refused(dir, t, "settle.insertion");
+  write_text(dir / "c.toml", config(two_templates, "insertion = 1\n"));
+  expect_refused(dir, t, "settle.insertion");
   write_text(dir / "c.toml", config(two_templates, "[material]\ndensity = -1500\n"));
   expect_refused(dir, t, "material.density");
   write_text(dir / "c.toml", config(two_templates, "[material]\nyoungs_modulus = nan\n"));
