@@ -45,12 +45,13 @@ struct ElasticBond {
 
 // The elastic bond whose every mode yields at a stated stress and hardens linearly, keeping its
 // plastic deformation on unloading (docs/models.md, "Elastic–plastic bonds"; after MUSEN's
-// ElasticPerfectlyPlastic and LinearPlastic solid bonds and LAMMPS' bpm/spring/plastic, whose
-// rest length follows the plastic strain). Each mode's elastic trial increment of P&C 2004's
-// incremental law is returned to the mode's yield limit (return_to_yield below). The limits are
-// independent per mode, as MUSEN's, each the force or moment at which that mode alone brings
-// the rim of the bond's cross-section (A = π R̄², I = π R̄⁴/4, J = π R̄⁴/2) to the yield stress,
-// the terms of P&C's strength test (Eq. 11) taken one at a time:
+// ElasticPerfectlyPlastic solid bond, which caps its normal and shear stresses each at the yield
+// strength, and LAMMPS' bpm/spring/plastic, whose rest length follows the plastic strain). Each
+// mode's elastic trial increment of P&C 2004's incremental law is returned to the mode's yield
+// limit (return_to_yield below). The limits are independent per mode, as MUSEN's, each the force
+// or moment at which that mode alone brings the rim of the bond's cross-section (A = π R̄²,
+// I = π R̄⁴/4, J = π R̄⁴/2) to the yield stress, the terms of P&C's strength test (Eq. 11) taken
+// one at a time:
 //   |Fn| ≤ σy A,   |Fs| ≤ τy A,   |Mt| ≤ τy J/R̄,   |Mb| ≤ σy I/R̄,
 // the same in tension and compression. A combined criterion (σ = |Fn|/A + |Mb| R̄/I ≤ σy) would
 // couple the modes' returns into one system per bond; per-mode limits return each on its own, in
