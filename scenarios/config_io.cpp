@@ -398,6 +398,7 @@ BondParameters read_bond(const ConfigTable& root, const MaterialConfig& material
     bond_stiffness_table().read(k, p);
   }
   bond_table().read(k, p);
+  p.model = read_bond_model(k, root.source_name() + ": [bond]");
   try {
     p.check();
   } catch (const InputError& e) {
@@ -414,6 +415,8 @@ OptionSection bond_docs() {
   for (const OptionDoc& row : bond_stiffness_table().docs().rows)
     rows.push_back(row);
   rows.insert(rows.end(), bond.rows.begin(), bond.rows.end());
+  for (OptionDoc& row : bond_model_options())
+    rows.push_back(std::move(row));
   bond.rows = rows;
   return bond;
 }
@@ -423,7 +426,7 @@ std::string bond_toml(const BondParameters& p) {
          (p.modulus_fraction > 0.0 ? bond_fraction_table().lines(p)
           : p.modulus > 0.0        ? bond_modulus_table().lines(p)
                                    : bond_stiffness_table().lines(p)) +
-         bond_table().lines(p);
+         bond_table().lines(p) + bond_model_toml(p.model);
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 // The bonded network's highest frequency by Lanczos iteration, and the stable step it gives
 // (bonds.hpp: bond_top_frequency, bond_stability_step).
+// The elastic springs are the stiffest a bond gets under every bond model: a yielding mode's
+// tangent is k H/(1 + H) < k past yield and k on unloading (bond_models.hpp), so the step that is
+// stable for the elastic network is stable for the plastic one.
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -38,6 +39,7 @@ void BondParameters::check() const {
                                  tensile_strength, shear_strength));
   if (!(damping_ratio >= 0.0 && damping_ratio <= 1.0))
     throw InputError(fmt::format("bond damping ratio {} must be in [0, 1]", damping_ratio));
+  std::visit([](const auto& m) { m.check(); }, model);
 }
 
 void BondSet::History::resize(std::size_t n) {
@@ -45,6 +47,8 @@ void BondSet::History::resize(std::size_t n) {
     array->resize(n, 0.0);
   shear_force.x.resize(n, 0.0), shear_force.y.resize(n, 0.0), shear_force.z.resize(n, 0.0);
   bend_moment.x.resize(n, 0.0), bend_moment.y.resize(n, 0.0), bend_moment.z.resize(n, 0.0);
+  for (SphereArray<double>& field : model_fields)
+    field.resize(n, 0.0);
 }
 
 void BondSet::Results::resize(std::size_t n) {
@@ -101,6 +105,20 @@ void BondSet::index(const SphereState& state) {
     constants.damping[mode].assign(size(), 0.0);
   }
   breakable = false;
+  yields = bond_model_yields(model);
+  for (std::size_t mode = 0; mode < 4; ++mode) {
+    constants.yield_limit[mode].assign(yields ? size() : 0, 0.0);
+    constants.hardening[mode].assign(yields ? size() : 0, 0.0);
+  }
+  if (const auto* plastic = std::get_if<ElasticPlasticBond>(&model))
+    for (std::size_t b = 0; b < size(); ++b) {
+      const std::array<double, 4> limit = plastic->yield_limits(radius[b]);
+      const double spring[4] = {normal_spring[b], shear_spring[b], twist_spring[b], bend_spring[b]};
+      for (std::size_t mode = 0; mode < 4; ++mode) {
+        constants.yield_limit[mode][b] = limit[mode];
+        constants.hardening[mode][b] = plastic->hardening_ratio * spring[mode];
+      }
+    }
   std::size_t with_dampers = 0;
   for (std::size_t b = 0; b < size(); ++b) {
     breakable = breakable || std::isfinite(tensile_strength[b]) || std::isfinite(shear_strength[b]);
@@ -205,6 +223,7 @@ BondSet create_bonds(const SphereState& state, double bond_multiplier,
   std::sort(pairs.begin(), pairs.end());
   BondSet bonds;
   bonds.contact_when_bonded = parameters.contact_when_bonded;
+  bonds.model = parameters.model;
   for (const auto& p : pairs)
     add_bond(bonds, state, p[0], p[1], parameters);
   bonds.index(state);
@@ -434,7 +453,7 @@ inline void store_result(const BondArrays& a, std::int64_t b, const BondResult& 
 }
 
 // Bonds [begin, end) of compute_bond_forces, one thread's share, one bond at a time: the loop for
-// breakable bonds and for mixed dampers (the others go through bond_blocks_range).
+// breakable bonds, yielding bonds and mixed dampers (the others go through bond_blocks_range).
 // An AVX2 clone is picked at load time where the CPU has it: the same scalar IEEE operations (no
 // FMA), but three-operand instructions, which spare the register copies of a loop this long.
 __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
@@ -469,6 +488,21 @@ __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
     BondSprings h = a.springs(b);
     advance_springs(h, d, n, rci, rcj, ends, a.normal_spring[b], a.shear_spring[b],
                     a.twist_spring[b], a.bend_spring[b], increment_dt);
+    if (bonds.yields) {
+      // Each mode's elastic trial back to its yield limit, which grows with the mode's
+      // accumulated plastic displacement (bond_models.hpp, ElasticPlasticBond):
+      //   |Fn| ≤ σy A + H kn κn,  |Fs| ≤ τy A + H ks κs,  |Mt| ≤ τy J/R̄ + H kt κt,
+      //   |Mb| ≤ σy I/R̄ + H kb κb,
+      // the vector modes radially. Before the strength test: a bond breaks on the forces it
+      // can carry.
+      const BondSet::Constants& k = bonds.constants;
+      auto& kappa = bonds.history.model_fields;
+      return_to_yield(h.fn, kappa[0][b], a.normal_spring[b], k.yield_limit[0][b],
+                      k.hardening[0][b]);
+      return_to_yield(h.fs, kappa[1][b], a.shear_spring[b], k.yield_limit[1][b], k.hardening[1][b]);
+      return_to_yield(h.mt, kappa[2][b], a.twist_spring[b], k.yield_limit[2][b], k.hardening[2][b]);
+      return_to_yield(h.mb, kappa[3][b], a.bend_spring[b], k.yield_limit[3][b], k.hardening[3][b]);
+    }
     if (bonds.breakable) {
       // Strength (P&C 2004 Eq. 11): the elastic forces only.
       const double r = bonds.radius[b];
@@ -648,11 +682,11 @@ void bond_blocks_range(BondSet& bonds, const SphereState& s, const double* __res
   }
 }
 
-// Bonds [begin, end) by blocks where every bond is intact and unbreakable and the dampers are
-// uniform; else the scalar loop.
+// Bonds [begin, end) by blocks where every bond is intact, unbreakable and elastic and the
+// dampers are uniform; else the scalar loop (a yielding model's return is a branch per mode).
 void bond_forces_of(BondSet& bonds, const SphereState& s, const double* motion, const Box& box,
                     double increment_dt, std::int64_t begin, std::int64_t end) {
-  if (bonds.breakable || bonds.damping_mix)
+  if (bonds.breakable || bonds.damping_mix || bonds.yields)
     bond_forces_range(bonds, s, motion, box, increment_dt, begin, end);
   else if (bonds.damped)
     bond_blocks_range<true>(bonds, s, motion, box, increment_dt, begin, end);
@@ -764,6 +798,7 @@ BondSet bonds_from_pairs(const SphereState& state,
   const auto n = static_cast<std::int32_t>(state.size());
   BondSet bonds;
   bonds.contact_when_bonded = parameters.contact_when_bonded;
+  bonds.model = parameters.model;
   for (std::size_t b = 0; b < pairs.size(); ++b) {
     const auto [i, j] = pairs[b];
     if (i < 0 || j <= i || j >= n || (b > 0 && !(pairs[b - 1] < pairs[b])))

@@ -11,6 +11,9 @@
 // mean spin θ = dt (ωi + ωj)·n / 2 (as Yade's ScGeom), so a rigid turn of a loaded body leaves
 // them fixed in the body. Optional strengths break a bond for good when
 // σmax = -Fn/A + |Mb| R̄/I ≥ σc or τmax = |Fs|/A + |Mt| R̄/J ≥ τc; compression never breaks one.
+// The bond model (bond_models.hpp) says whether the modes stay elastic (P&C's bond, the default)
+// or yield and harden, each mode's trial increment then returned to its yield limit before the
+// strength test.
 //
 // The engine evaluates bonds like contacts: one pass computes each bond's force once into a
 // per-bond result, then each sphere gathers its bonds in a fixed order (after its contacts), so
@@ -23,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "simulate/bond_models.hpp"
 #include "simulate/state.hpp"
 
 namespace shapepress::simulate {
@@ -52,6 +56,8 @@ struct BondParameters {
   // the parallel bond acts in parallel with the contact; the paper's §2.3 reads "bonded model for
   // non-contacting particles, Hertz–Mindlin for contacting ones": both, so true).
   bool contact_when_bonded = true;
+  // The constitutive model of every bond, with its parameters (bond_models.hpp).
+  BondModelChoice model = ElasticBond{};
   void check() const;  // InputError naming the bad field
 };
 
@@ -76,6 +82,9 @@ struct BondSet {
     Vec3Array shear_force;             // Fs on `second` [N], world frame
     SphereArray<double> twist_moment;  // Mt on `second` along n [N m]
     Vec3Array bend_moment;             // Mb on `second` [N m], world frame
+    // The bond model's history, field k of its history_fields in model_fields[k] (one per mode:
+    // normal, shear, twist, bending), zeros for a model without history.
+    std::array<SphereArray<double>, bond_model_history_size> model_fields;
     std::size_t size() const { return length.size(); }
     void resize(std::size_t n);  // new bonds at rest, of length 0
     friend bool operator==(const History&, const History&) = default;
@@ -94,6 +103,7 @@ struct BondSet {
   History history;
   std::vector<std::uint8_t> intact;
   bool contact_when_bonded = true;
+  BondModelChoice model = ElasticBond{};  // one model for every bond of the run
 
   // Results of the last evaluation (not saved: recomputed from the state on restart), one array
   // per component as the history.
@@ -121,13 +131,17 @@ struct BondSet {
   // What the bond loop reads per bond besides the ends (derived by index(), not saved): each
   // end's share of the centre distance up to the bond centre, [0] ri/(ri + rj) and [1]
   // rj/(ri + rj) (so the arms cost a multiplication), and per mode (normal, shear, twist,
-  // bending) the spring and the damper coefficient 2ζ√(k m*) (√(k I*) for the turns).
+  // bending) the spring and the damper coefficient 2ζ√(k m*) (√(k I*) for the turns); for a
+  // yielding model, per mode its limit at κ = 0 (ElasticPlasticBond::yield_limits) and its
+  // plastic modulus H k (empty otherwise).
   struct Constants {
     std::array<SphereArray<double>, 2> arm;
     std::array<SphereArray<double>, 4> spring, damping;
+    std::array<SphereArray<double>, 4> yield_limit, hardening;
   };
   Constants constants;
   bool breakable = false;  // whether any bond can break (skips the strength test)
+  bool yields = false;     // whether the model's modes yield (bond_model_yields)
   // Whether every bond has dampers, and whether some have and some not (the bond loop's blocks
   // take one kind at a time).
   bool damped = false, damping_mix = false;

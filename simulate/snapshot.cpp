@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/atomic_file.hpp"
+#include "common/config.hpp"
 #include "common/error.hpp"
 #include "common/hdf5_file.hpp"
 
@@ -131,6 +132,14 @@ void write_bonds(H5Writer& file, const BondSet& b) {
   write_vec3(file, "/bonds/bend_moment", h.bend_moment, "N m");
   file.write("/bonds/intact", b.intact);
   file.attribute("/bonds", "contact_when_bonded", std::int64_t{b.contact_when_bonded ? 1 : 0});
+  // The bond model (bond_models.hpp) as its [bond] lines, and its history one dataset per field:
+  // none for the default elastic model, whose snapshots stay as they were.
+  const std::string model = bond_model_toml(b.model);
+  if (!model.empty()) file.attribute("/bonds", "model", model);
+  const std::vector<HistoryField> fields = bond_model_history_fields(b.model);
+  for (std::size_t k = 0; k < fields.size(); ++k)
+    write_with_unit(file, std::string("/bonds/") + fields[k].name, h.model_fields[k],
+                    fields[k].unit);
 }
 
 BondSet read_bonds(const H5Reader& file) {
@@ -158,6 +167,21 @@ BondSet read_bonds(const H5Reader& file) {
   b.intact = file.uint8s("/bonds/intact");
   b.contact_when_bonded = file.attribute_int64("/bonds", "contact_when_bonded") != 0;
   const std::size_t n = b.size();
+  // A snapshot without a model attribute holds elastic bonds (written before models existed, or
+  // by the default); one without a history field's dataset has none of that history: zeros.
+  if (file.has_attribute("/bonds", "model"))
+    b.model = read_bond_model(
+        ConfigTable::parse(file.attribute_string("/bonds", "model"), file.path().string()),
+        "'" + file.path().string() + "': /bonds model");
+  const std::vector<HistoryField> fields = bond_model_history_fields(b.model);
+  for (std::size_t k = 0; k < bond_model_history_size; ++k) {
+    const std::string name =
+        k < fields.size() ? std::string("/bonds/") + fields[k].name : std::string();
+    h.model_fields[k] = k < fields.size() && file.has(name) ? to_sphere_array(file.doubles(name))
+                                                            : SphereArray<double>(n, 0.0);
+    if (h.model_fields[k].size() != n)
+      throw InputError("'" + file.path().string() + "': " + name + " does not match the bonds");
+  }
   for (std::size_t size :
        {b.radius.size(), b.normal_spring.size(), b.shear_spring.size(), b.twist_spring.size(),
         b.bend_spring.size(), b.tensile_strength.size(), b.shear_strength.size(),

@@ -138,6 +138,10 @@ namespace {
 
 // fraction × the bonded network's period bound when that is shorter; a step above the bonds'
 // stability limit is an InputError.
+// The bounds take the bonds' elastic springs whatever the bond model: a yielding mode's tangent
+// past yield is k H/(1 + H) < k and it unloads along k (bond_models.hpp, return_to_yield), so no
+// model stiffens a bond beyond its elastic spring and the elastic bound holds for every model
+// (tests/unit/simulate/bond_plasticity_test.cpp runs a plastic bed at the elastic step).
 TimeStepChoice with_bond_period(TimeStepChoice choice, std::optional<double> fixed, double fraction,
                                 const BondSet& bonds, const SphereState& state, int bond_substeps,
                                 std::optional<double> bond_fraction, const Box& box) {

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 #include <variant>
 
@@ -175,6 +176,44 @@ TEST(PlateConfig, StiffnessFormOfTheBondRoundTrips) {
                 read_plate(text);
               }),
               HasSubstr("bond.shear_ratio"));
+}
+
+// [bond] model: the default writes no line (its configs stay as they were); elastic_plastic
+// round-trips with its keys; a bad value, a key of another model or an unknown model is an
+// InputError naming the key (exit 2).
+TEST(PlateConfig, TheBondModelRoundTripsAndBadValuesAreRefusedByName) {
+  EXPECT_THAT(plate_config_toml(read_plate(plate_text)), ::testing::Not(HasSubstr("model")));
+  const auto with_bond_keys = [](const std::string& keys) {
+    std::string text = plate_text;
+    text.replace(text.find("[bond]\n"), 7, "[bond]\n" + keys);
+    return text;
+  };
+  const PlateConfig a = read_plate(with_bond_keys(
+      "model = \"elastic_plastic\"\nyield_stress = \"20 MPa\"\nhardening_ratio = 0.1\n"));
+  const auto& plastic = std::get<ElasticPlasticBond>(a.bms->bond.model);
+  EXPECT_EQ(plastic.yield_stress, 2e7);
+  EXPECT_EQ(plastic.shear_yield_stress, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(plastic.hardening_ratio, 0.1);
+  const std::string written = plate_config_toml(a);
+  EXPECT_THAT(written,
+              HasSubstr("model = \"elastic_plastic\"\nyield_stress = 20000000\n"
+                        "shear_yield_stress = inf\nhardening_ratio = 0.10000000000000001"));
+  const PlateConfig b = read_plate(written);
+  EXPECT_TRUE(b.bms->bond.model == a.bms->bond.model);
+  EXPECT_EQ(plate_config_toml(b), written);
+  EXPECT_THAT(input_error_of([&] {
+                read_plate(with_bond_keys("model = \"elastic_plastic\"\nyield_stress = -1\n"));
+              }),
+              HasSubstr("bond.yield_stress"));
+  EXPECT_THAT(input_error_of([&] {
+                read_plate(with_bond_keys("model = \"elastic_plastic\"\nhardening_ratio = -0.5\n"));
+              }),
+              HasSubstr("bond.hardening_ratio"));
+  EXPECT_THAT(
+      input_error_of([&] { read_plate(with_bond_keys("shear_yield_stress = \"1 MPa\"\n")); }),
+      HasSubstr("shear_yield_stress need model = \"elastic_plastic\""));
+  EXPECT_THAT(input_error_of([&] { read_plate(with_bond_keys("model = \"plastic\"\n")); }),
+              HasSubstr("bond.model"));
 }
 
 TEST(PlateConfig, RunKeysThePlateRigDoesNotUseAreRefusedByName) {
