@@ -28,53 +28,13 @@
 #include "common/config.hpp"
 #include "simulate/bond_models.hpp"
 #include "simulate/bonds.hpp"
+#include "tests/support/reference_rows.hpp"
 
 namespace shapepress::simulate {
 namespace {
 
-struct Row {
-  int line = 0;
-  std::map<std::string, std::string> cells;
-  double number(const std::string& column) const {
-    const auto it = cells.find(column);
-    if (it == cells.end() || it->second.empty())
-      throw std::runtime_error("line " + std::to_string(line) + ": no value for " + column);
-    return std::stod(it->second);
-  }
-  const std::string& text(const std::string& column) const { return cells.at(column); }
-};
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ','))
-    out.push_back(cell);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
-
-// `#` lines are comments, the first other line names the columns.
-std::vector<Row> read_rows(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::vector<std::string> header;
-  std::vector<Row> rows;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == '#') continue;
-    const std::vector<std::string> cells = split(line);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    EXPECT_EQ(cells.size(), header.size()) << path << " line " << number;
-    Row row{number, {}};
-    for (std::size_t k = 0; k < std::min(cells.size(), header.size()); ++k)
-      row.cells[header[k]] = cells[k];
-    rows.push_back(row);
-  }
-  return rows;
-}
+using Row = shapepress::testing::ReferenceRow;
+using shapepress::testing::read_reference_rows;
 
 // A bonded pair of spheres of radius r along z, touching, the first at the origin.
 struct Pair {
@@ -150,7 +110,7 @@ double spring_of(const BondSet& b, Mode mode) {
 template <class Model>
 void replay(const std::filesystem::path& path) {
   SCOPED_TRACE(std::string(Model::name));
-  const std::vector<Row> rows = read_rows(path);
+  const std::vector<Row> rows = read_reference_rows(path);
   ASSERT_FALSE(rows.empty()) << path << " holds no reference rows";
   Pair pair;
   Mode mode = normal;

@@ -23,53 +23,13 @@
 #include "common/config.hpp"
 #include "simulate/contact_law.hpp"
 #include "simulate/materials.hpp"
+#include "tests/support/reference_rows.hpp"
 
 namespace shapepress::simulate {
 namespace {
 
-struct Row {
-  int line = 0;
-  std::map<std::string, std::string> cells;
-  double number(const std::string& column) const {
-    const auto it = cells.find(column);
-    if (it == cells.end() || it->second.empty())
-      throw std::runtime_error("line " + std::to_string(line) + ": no value for " + column);
-    return std::stod(it->second);
-  }
-};
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ','))
-    out.push_back(cell);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
-
-// The rows of a reference file; `#` lines are comments (the formulas), the first other line
-// names the columns.
-std::vector<Row> read_rows(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::vector<std::string> header;
-  std::vector<Row> rows;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == '#') continue;
-    const std::vector<std::string> cells = split(line);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    EXPECT_EQ(cells.size(), header.size()) << path << " line " << number;
-    Row row{number, {}};
-    for (std::size_t k = 0; k < std::min(cells.size(), header.size()); ++k)
-      row.cells[header[k]] = cells[k];
-    rows.push_back(row);
-  }
-  return rows;
-}
+using Row = shapepress::testing::ReferenceRow;
+using shapepress::testing::read_reference_rows;
 
 double relative(double a, double b) {
   const double scale = std::max(std::fabs(a), std::fabs(b));
@@ -79,7 +39,7 @@ double relative(double a, double b) {
 template <class Law>
 void replay(const std::filesystem::path& path) {
   SCOPED_TRACE(std::string(Law::name));
-  const std::vector<Row> rows = read_rows(path);
+  const std::vector<Row> rows = read_reference_rows(path);
   ASSERT_FALSE(rows.empty()) << path << " holds no reference rows";
   for (const Row& row : rows) {
     SCOPED_TRACE("line " + std::to_string(row.line));
