@@ -20,6 +20,7 @@
 #include "simulate/engine.hpp"
 #include "simulate/snapshot.hpp"
 #include "tests/support/files.hpp"
+#include "tests/unit/simulate/random_motion.hpp"
 
 namespace shapepress::simulate {
 namespace {
@@ -67,16 +68,7 @@ TEST(BondPlasticity, AYieldStressNoForceReachesGivesTheElasticModelsBits) {
     ASSERT_TRUE(returned.yields);
     std::vector<double> motion(8 * s.size(), 0.0);
     for (int step = 0; step < 20; ++step) {
-      for (std::size_t i = 0; i < s.size(); ++i) {
-        s.position.x[i] += 1e-3 * r * unit(random), s.position.y[i] += 1e-3 * r * unit(random);
-        s.position.z[i] += 1e-3 * r * unit(random);
-        s.velocity.x[i] = 1e-3 * unit(random), s.velocity.y[i] = 1e-3 * unit(random);
-        s.velocity.z[i] = 1e-3 * unit(random);
-        s.angular_velocity.x[i] = unit(random), s.angular_velocity.y[i] = unit(random);
-        s.angular_velocity.z[i] = unit(random);
-        for (int c = 0; c < 6; ++c)
-          motion[8 * i + static_cast<std::size_t>(c)] = 1e-3 * unit(random);
-      }
+      testing::move_at_random(s, motion, r, random);
       compute_bond_forces(blocks, s, motion.data(), Box{}, 1e-7, step == 0);
       compute_bond_forces(returned, s, motion.data(), Box{}, 1e-7, step == 0);
     }

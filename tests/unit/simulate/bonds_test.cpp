@@ -15,6 +15,7 @@
 #include "simulate/bonds.hpp"
 #include "simulate/engine.hpp"
 #include "simulate/timestep.hpp"
+#include "tests/unit/simulate/random_motion.hpp"
 
 namespace shapepress::simulate {
 namespace {
@@ -577,16 +578,7 @@ void expect_blocks_match_the_scalar_loop(double damping_ratio) {
   ASSERT_GT(blocks.size(), 64u);
   std::vector<double> motion = still_motion(s);
   for (int step = 0; step < 5; ++step) {
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      s.position.x[i] += 1e-3 * r * unit(random), s.position.y[i] += 1e-3 * r * unit(random);
-      s.position.z[i] += 1e-3 * r * unit(random);
-      s.velocity.x[i] = 1e-3 * unit(random), s.velocity.y[i] = 1e-3 * unit(random);
-      s.velocity.z[i] = 1e-3 * unit(random);
-      s.angular_velocity.x[i] = unit(random), s.angular_velocity.y[i] = unit(random);
-      s.angular_velocity.z[i] = unit(random);
-      for (int c = 0; c < 6; ++c)
-        motion[8 * i + c] = 1e-3 * unit(random);
-    }
+    testing::move_at_random(s, motion, r, random);
     compute_bond_forces(blocks, s, motion.data(), Box{}, 1e-7, step == 0);
     compute_bond_forces(scalar, s, motion.data(), Box{}, 1e-7, step == 0);
     for (std::size_t b = 0; b < blocks.size(); ++b) {
