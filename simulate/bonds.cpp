@@ -106,19 +106,17 @@ void BondSet::index(const SphereState& state) {
   }
   breakable = false;
   yields = bond_model_yields(model);
-  for (std::size_t mode = 0; mode < 4; ++mode) {
+  hardening_ratio = 0.0;
+  for (std::size_t mode = 0; mode < 4; ++mode)
     constants.yield_limit[mode].assign(yields ? size() : 0, 0.0);
-    constants.hardening[mode].assign(yields ? size() : 0, 0.0);
-  }
-  if (const auto* plastic = std::get_if<ElasticPlasticBond>(&model))
+  if (const auto* plastic = std::get_if<ElasticPlasticBond>(&model)) {
+    hardening_ratio = plastic->hardening_ratio;
     for (std::size_t b = 0; b < size(); ++b) {
       const std::array<double, 4> limit = plastic->yield_limits(radius[b]);
-      const double spring[4] = {normal_spring[b], shear_spring[b], twist_spring[b], bend_spring[b]};
-      for (std::size_t mode = 0; mode < 4; ++mode) {
+      for (std::size_t mode = 0; mode < 4; ++mode)
         constants.yield_limit[mode][b] = limit[mode];
-        constants.hardening[mode][b] = plastic->hardening_ratio * spring[mode];
-      }
     }
+  }
   std::size_t with_dampers = 0;
   for (std::size_t b = 0; b < size(); ++b) {
     breakable = breakable || std::isfinite(tensile_strength[b]) || std::isfinite(shear_strength[b]);
@@ -495,13 +493,13 @@ __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
       //   |Mb| ≤ σy I/R̄ + H kb κb,
       // the vector modes radially. Before the strength test: a bond breaks on the forces it
       // can carry.
-      const BondSet::Constants& k = bonds.constants;
+      const auto& limit = bonds.constants.yield_limit;
+      const double H = bonds.hardening_ratio;
       auto& kappa = bonds.history.model_fields;
-      return_to_yield(h.fn, kappa[0][b], a.normal_spring[b], k.yield_limit[0][b],
-                      k.hardening[0][b]);
-      return_to_yield(h.fs, kappa[1][b], a.shear_spring[b], k.yield_limit[1][b], k.hardening[1][b]);
-      return_to_yield(h.mt, kappa[2][b], a.twist_spring[b], k.yield_limit[2][b], k.hardening[2][b]);
-      return_to_yield(h.mb, kappa[3][b], a.bend_spring[b], k.yield_limit[3][b], k.hardening[3][b]);
+      return_to_yield(h.fn, kappa[0][b], a.normal_spring[b], limit[0][b], H * a.normal_spring[b]);
+      return_to_yield(h.fs, kappa[1][b], a.shear_spring[b], limit[1][b], H * a.shear_spring[b]);
+      return_to_yield(h.mt, kappa[2][b], a.twist_spring[b], limit[2][b], H * a.twist_spring[b]);
+      return_to_yield(h.mb, kappa[3][b], a.bend_spring[b], limit[3][b], H * a.bend_spring[b]);
     }
     if (bonds.breakable) {
       // Strength (P&C 2004 Eq. 11): the elastic forces only.

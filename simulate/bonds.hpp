@@ -132,16 +132,18 @@ struct BondSet {
   // end's share of the centre distance up to the bond centre, [0] ri/(ri + rj) and [1]
   // rj/(ri + rj) (so the arms cost a multiplication), and per mode (normal, shear, twist,
   // bending) the spring and the damper coefficient 2ζ√(k m*) (√(k I*) for the turns); for a
-  // yielding model, per mode its limit at κ = 0 (ElasticPlasticBond::yield_limits) and its
-  // plastic modulus H k (empty otherwise).
+  // yielding model, per mode its limit at κ = 0 (ElasticPlasticBond::yield_limits; empty
+  // otherwise).
   struct Constants {
     std::array<SphereArray<double>, 2> arm;
     std::array<SphereArray<double>, 4> spring, damping;
-    std::array<SphereArray<double>, 4> yield_limit, hardening;
+    std::array<SphereArray<double>, 4> yield_limit;
   };
   Constants constants;
   bool breakable = false;  // whether any bond can break (skips the strength test)
   bool yields = false;     // whether the model's modes yield (bond_model_yields)
+  // H of a yielding model (derived by index()): a mode's plastic modulus is H times its spring.
+  double hardening_ratio = 0.0;
   // Whether every bond has dampers, and whether some have and some not (the bond loop's blocks
   // take one kind at a time).
   bool damped = false, damping_mix = false;

@@ -126,15 +126,7 @@ struct PlasticBody {
 };
 
 PlasticBody run_plastic_body(double step_over_elastic_step) {
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> jitter(-0.01 * r, 0.01 * r), speed(-1e-3, 1e-3);
-  SphereState s;
-  for (int x = 0; x < 3; ++x)
-    for (int y = 0; y < 3; ++y)
-      for (int z = 0; z < 3; ++z)
-        s.add_sphere(2.05 * r * x + jitter(random), 2.05 * r * y + jitter(random),
-                     2.05 * r * z + jitter(random), r * (1.0 + 0.1 * jitter(random) / r), rho, 0);
-  s.body.assign(s.size(), 0);
+  SphereState s = testing::moving_cube_body(r, rho);
   // Stresses of this motion reach some tens of Pa: σy, τy well inside them.
   BondParameters p = plastic(5.0, 5.0, 0.1);
   p.contact_when_bonded = false;
@@ -143,11 +135,6 @@ PlasticBody run_plastic_body(double step_over_elastic_step) {
   q.contact_when_bonded = false;
   const double elastic_step = bond_stability_step(create_bonds(s, 1.15, q), s, Box{});
   EXPECT_EQ(bond_stability_step(bonds, s, Box{}), elastic_step);  // the springs' bound
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    s.velocity.x[i] = speed(random), s.velocity.y[i] = speed(random);
-    s.velocity.z[i] = speed(random), s.angular_velocity.x[i] = speed(random) / r;
-    s.angular_velocity.y[i] = speed(random) / r, s.angular_velocity.z[i] = speed(random) / r;
-  }
   EngineSettings settings{step_over_elastic_step * elastic_step, {0, 0, 0}, 0.2 * r};
   settings.check_every = 1 << 30;  // judged by its energy, not stopped
   Engine engine(std::move(s), Box{}, table(), {}, settings, std::move(bonds));

@@ -655,24 +655,11 @@ struct BodyRun {
 };
 
 BodyRun run_body(double step_over_limit, double damping_ratio = 0.0) {
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> jitter(-0.01 * r, 0.01 * r), speed(-1e-3, 1e-3);
-  SphereState s;
-  for (int x = 0; x < 3; ++x)
-    for (int y = 0; y < 3; ++y)
-      for (int z = 0; z < 3; ++z)
-        s.add_sphere(2.05 * r * x + jitter(random), 2.05 * r * y + jitter(random),
-                     2.05 * r * z + jitter(random), r * (1.0 + 0.1 * jitter(random) / r), rho, 0);
-  s.body.assign(s.size(), 0);
+  SphereState s = testing::moving_cube_body(r, rho);
   BondParameters p = stiff();
   p.contact_when_bonded = false;
   p.damping_ratio = damping_ratio;
   BondSet bonds = create_bonds(s, 1.15, p);
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    s.velocity.x[i] = speed(random), s.velocity.y[i] = speed(random);
-    s.velocity.z[i] = speed(random), s.angular_velocity.x[i] = speed(random) / r;
-    s.angular_velocity.y[i] = speed(random) / r, s.angular_velocity.z[i] = speed(random) / r;
-  }
   // The limit without its margin: 2/ω_max undamped.
   const double dt = step_over_limit * bond_stability_step(bonds, s, Box{}) / bond_stability_margin;
   MaterialTable table({{"m", 1e3, 0.3, rho}}, {{"m", "m", 0.7, 0.5}});
