@@ -42,12 +42,18 @@ std::string ProgressReporter::format_line(double done, double elapsed,
 }
 
 void ProgressReporter::update(double done, std::string_view detail) {
+  update(done, detail, {});
+}
+
+void ProgressReporter::update(double done, std::string_view detail,
+                              const std::function<double()>& total) {
   if (options_.quiet || (calls_++ % 64) != 0) return;
   Clock::time_point now = Clock::now();
   double since_print = std::chrono::duration<double>(now - last_print_).count();
   double interval = terminal_ ? 0.2 : options_.interval_seconds;
   if (since_print < interval) return;
   last_print_ = now;
+  if (total) total_ = total();
   std::string line = format_line(done, std::chrono::duration<double>(now - start_).count(), detail);
   if (terminal_) {
     std::fprintf(stderr, "\r\033[K%s", line.c_str());

@@ -4,6 +4,7 @@
 // quiet. update() is cheap enough to call every step: it only reads the clock every 64 calls.
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace shapepress {
@@ -22,6 +23,9 @@ class ProgressReporter {
   ProgressReporter& operator=(const ProgressReporter&) = delete;
 
   void update(double done, std::string_view detail = {});
+  // As update(), with the total renewed by `total()` when a line is printed (a run whose length
+  // is known better as it goes); the call is made only then, so it may cost more than a step.
+  void update(double done, std::string_view detail, const std::function<double()>& total);
   void finish();
   // The line it would print, for tests: "compact  42.0 %  1.2e+04 steps/s  ETA 0:01:13".
   std::string format_line(double done, double elapsed_seconds, std::string_view detail) const;

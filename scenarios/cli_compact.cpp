@@ -256,9 +256,10 @@ double steps_to_go(const Engine& engine, const PreparedCompaction& prepared,
   const CompactionSetup& setup = prepared.setup;
   const double gap =
       engine.walls()[setup.punch_wall].position - engine.walls()[setup.bottom_wall].position;
+  const double stress = engine.wall_load(setup.punch_wall) / setup.die_area;
   return config.setup.max_steps > 0
              ? static_cast<double>(config.setup.max_steps - engine.step_index())
-             : remaining_steps_estimate(setup.program, prepared.punch, engine.time(), gap,
+             : remaining_steps_estimate(setup.program, prepared.punch, engine.time(), gap, stress,
                                         engine.settings().time_step);
 }
 
@@ -338,9 +339,12 @@ int run(const CompactCli& given, const RunContext& context) {
   const std::int64_t first_step = engine.step_index();
   const double total = steps_to_go(engine, prepared, config);
   ProgressReporter progress("compact", total, {.quiet = context.quiet});
+  // The estimate is renewed as the run goes: the spring-back is known only while it happens.
   if (total > 0)
     hooks.progress = [&](std::int64_t step) {
-      progress.update(static_cast<double>(step - first_step), phase_name(prepared.punch.phase));
+      const double done = static_cast<double>(step - first_step);
+      progress.update(done, phase_name(prepared.punch.phase),
+                      [&] { return done + steps_to_go(engine, prepared, config); });
     };
   const double h0 = prepared.punch.reference_gap;
   const CompactionSummary summary =

@@ -80,7 +80,7 @@ double release_velocity(const PunchProgram& p, const PunchState& state, double s
 }  // namespace
 
 double remaining_steps_estimate(const PunchProgram& p, const PunchState& state, double time,
-                                double gap, double time_step) {
+                                double gap, double stress, double time_step) {
   if (p.mode != PunchProgram::Mode::displacement || !p.target_gap || !(time_step > 0.0) ||
       !(p.speed > 0.0))
     return 0.0;
@@ -100,9 +100,18 @@ double remaining_steps_estimate(const PunchProgram& p, const PunchState& state, 
     case PunchPhase::hold:
       seconds = std::max(0.0, p.hold_time - elapsed) + p.release_time;
       break;
-    case PunchPhase::unload:
-      seconds = p.release_time;
+    case PunchPhase::unload: {
+      // The stress fell from about the peak to `stress` in `elapsed`; at that mean rate it
+      // reaches zero (where unloading ends) in elapsed × stress / fall. Until it has fallen
+      // measurably, the guess of a quarter of the loading travel stands.
+      const double fall = state.peak_stress - stress;
+      const double guess = 0.25 * std::max(0.0, state.reference_gap - end) / p.unload_speed;
+      const double left = fall > 0.05 * state.peak_stress && elapsed > 0.0
+                              ? elapsed * std::max(0.0, stress) / fall
+                              : std::max(0.0, guess - elapsed);
+      seconds = left + p.release_time;
       break;
+    }
     case PunchPhase::release:
       seconds = std::max(0.0, p.release_time - elapsed);
       break;

@@ -53,13 +53,14 @@ struct PunchState {
   double peak_stress = 0.0;    // Pa, the largest punch stress of loading and hold
 };
 
-// Steps a displacement run still has to take from `state` at `time` and `gap`, for a progress
-// line's ETA: the relaxation left, the travel to the target (or the ceiling) at `speed`, the hold,
-// a spring-back of a quarter of the loading travel at `unload_speed` (an estimate: how far a bed
-// springs back is known only once it does), and the release. 0 for a program without a target
-// gap (servo; a load to the run's step limit).
+// Steps a displacement run still has to take from `state` at `time`, `gap` and punch `stress`,
+// for a progress line's ETA: the relaxation left, the travel to the target (or the ceiling) at
+// `speed`, the hold, the spring-back and the release. How far a bed springs back is known only
+// once it does: before unloading it is guessed as a quarter of the loading travel at
+// `unload_speed`; while unloading, the stress's fall so far is extrapolated to zero at its mean
+// rate. 0 for a program without a target gap (servo; a load to the run's step limit).
 double remaining_steps_estimate(const PunchProgram& p, const PunchState& state, double time,
-                                double gap, double time_step);
+                                double gap, double stress, double time_step);
 
 // The controller's state as the snapshot's named numbers, and back (InputError when the
 // snapshot lacks one).

@@ -20,6 +20,18 @@ TEST(Progress, LineShowsPercentRateAndEta) {
   EXPECT_THAT(line, HasSubstr("gap 3.2 mm"));
 }
 
+// A run that outlives its first estimate (compact's spring-back) renews the total when it prints,
+// instead of sitting at 100 % with no ETA.
+TEST(Progress, ARenewedTotalKeepsThePercentAndEtaMeaningful) {
+  ProgressReporter progress("compact", 1000.0, {.interval_seconds = 0.0});
+  ::testing::internal::CaptureStderr();
+  progress.update(1500.0, "unload", [] { return 2000.0; });
+  const std::string line = ::testing::internal::GetCapturedStderr();
+  EXPECT_THAT(line, HasSubstr(" 75.0 %"));
+  EXPECT_THAT(line, ::testing::Not(HasSubstr("ETA ?")));
+  EXPECT_THAT(line, HasSubstr("unload"));
+}
+
 TEST(Progress, DurationsReadLikeAClock) {
   EXPECT_EQ(format_duration(5.0), "0:05");
   EXPECT_EQ(format_duration(3723.0), "1:02:03");

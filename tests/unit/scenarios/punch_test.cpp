@@ -67,7 +67,8 @@ TEST(Punch, RelaxesBeforeLoadingAndFollowsTheSpringBackAfterUnloading) {
 }
 
 // compact's progress line for a displacement run: the relaxation left, the travel at the
-// punch's speed, the hold, a quarter of the travel back at the unloading speed, the release.
+// punch's speed, the hold, a quarter of the travel back at the unloading speed (then, while
+// unloading, the stress's fall extrapolated to zero), the release.
 TEST(Punch, RemainingStepsFollowThePhases) {
   PunchProgram p;
   p.speed = 0.1;
@@ -81,15 +82,27 @@ TEST(Punch, RemainingStepsFollowThePhases) {
   state.phase = PunchPhase::relax;
   const double dt = 1e-6;
   const double travel = 2e-3 - 1.2e-3;  // from a gap of 2 mm to the ceiling's
-  EXPECT_NEAR(remaining_steps_estimate(p, state, 0.5e-3, 2e-3, dt),
+  EXPECT_NEAR(remaining_steps_estimate(p, state, 0.5e-3, 2e-3, 0.0, dt),
               (1.5e-3 + travel / 0.1 + 1e-3 + 0.25 * travel / 0.2 + 3e-3) / dt, 1e-6);
+  // Unloading from a 5 MPa peak, begun at t = 10 ms, of a run that started at a 2 mm gap.
   state.phase = PunchPhase::unload;
-  EXPECT_NEAR(remaining_steps_estimate(p, state, 0.0, 1.3e-3, dt), 3e-3 / dt, 1e-6);
+  state.phase_start = 10e-3;
+  state.peak_stress = 5e6;
+  state.reference_gap = 2e-3;
+  const double guess = 0.25 * travel / 0.2;
+  // Hardly fallen yet (2 %): the guess less the time spent.
+  EXPECT_NEAR(remaining_steps_estimate(p, state, 10.4e-3, 1.21e-3, 4.9e6, dt),
+              (guess - 0.4e-3 + 3e-3) / dt, 1e-6);
+  // Fallen by 3 MPa in 2 ms: 2 MPa more at that rate, 1.33 ms; never a negative time.
+  EXPECT_NEAR(remaining_steps_estimate(p, state, 12e-3, 1.25e-3, 2e6, dt),
+              (2e-3 * 2.0 / 3.0 + 3e-3) / dt, 1e-6);
+  EXPECT_NEAR(remaining_steps_estimate(p, state, 20e-3, 1.4e-3, -1e3, dt), 3e-3 / dt, 1e-6);
+  EXPECT_NEAR(remaining_steps_estimate(p, state, 30e-3, 1.4e-3, 4.9e6, dt), 3e-3 / dt, 1e-6);
   state.phase = PunchPhase::done;
-  EXPECT_EQ(remaining_steps_estimate(p, state, 0.0, 1.3e-3, dt), 0.0);
+  EXPECT_EQ(remaining_steps_estimate(p, state, 0.0, 1.3e-3, 0.0, dt), 0.0);
   p.mode = PunchProgram::Mode::servo;  // no target gap to travel to
   state.phase = PunchPhase::load;
-  EXPECT_EQ(remaining_steps_estimate(p, state, 0.0, 2e-3, dt), 0.0);
+  EXPECT_EQ(remaining_steps_estimate(p, state, 0.0, 2e-3, 0.0, dt), 0.0);
 }
 
 TEST(Punch, ServoSpeedIsBoundedAndProportionalNearTheTarget) {
