@@ -28,8 +28,18 @@ std::string gp_quoted(std::string_view text) {
   return out + "'";
 }
 
-std::string style_of(SeriesStyle style, int given_colour, int index) {
+bool has_error_bars(const Series& series) {
+  return !series.y_error.empty();
+}
+
+std::string style_of(SeriesStyle style, int given_colour, int index, bool error_bars) {
   const int colour = given_colour > 0 ? (given_colour - 1) % 8 + 1 : index % 8 + 1;
+  if (error_bars)
+    return style == SeriesStyle::lines || style == SeriesStyle::dashed
+               ? fmt::format("with yerrorlines pt 7 ps 1 lw 2 lc {}{}", colour,
+                             style == SeriesStyle::dashed ? " dt 2" : "")
+               : fmt::format("with yerrorbars pt 7 ps {} lc {}",
+                             style == SeriesStyle::markers ? 2 : 1, colour);
   switch (style) {
     case SeriesStyle::points:
       return fmt::format("with points pt 7 ps 0.5 lc {}", colour);
@@ -71,9 +81,16 @@ std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
   for (std::size_t k = 0; k < chart.series.size(); ++k) {
     s += fmt::format("$series{} << EOD\n", k);
     const Series& series = chart.series[k];
-    for (std::size_t i = 0; i < series.x.size(); ++i)
-      if (std::isfinite(series.x[i]) && std::isfinite(series.y[i]))
+    for (std::size_t i = 0; i < series.x.size(); ++i) {
+      if (!std::isfinite(series.x[i]) || !std::isfinite(series.y[i])) continue;
+      if (has_error_bars(series))
+        s += fmt::format("{:.10g} {:.10g} {:.10g}\n", series.x[i], series.y[i],
+                         i < series.y_error.size() && std::isfinite(series.y_error[i])
+                             ? series.y_error[i]
+                             : 0.0);
+      else
         s += fmt::format("{:.10g} {:.10g}\n", series.x[i], series.y[i]);
+    }
     s += "EOD\n";
   }
   s += fmt::format("set title {} noenhanced\nset xlabel {} noenhanced\nset ylabel {} noenhanced\n",
@@ -96,9 +113,11 @@ std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
   std::string plot = "plot ";
   for (std::size_t k = 0; k < chart.series.size(); ++k) {
     if (k > 0) plot += ", ";
-    plot +=
-        fmt::format("$series{} using 1:2 title {} {}", k, gp_quoted(chart.series[k].title),
-                    style_of(chart.series[k].style, chart.series[k].colour, static_cast<int>(k)));
+    const Series& series = chart.series[k];
+    const bool bars = has_error_bars(series);
+    plot += fmt::format("$series{} using {} title {} {}", k, bars ? "1:2:3" : "1:2",
+                        gp_quoted(series.title),
+                        style_of(series.style, series.colour, static_cast<int>(k), bars));
   }
   s += fmt::format("set terminal svg size 800,560 dynamic font 'sans,12'\nset output {}\n{}\n",
                    gp_quoted(svg.string()), plot);
@@ -113,13 +132,21 @@ ChartFiles plot_chart(const Chart& chart, const std::filesystem::path& stem) {
   ensure_parent_directory(files.csv);
 
   // All-numeric so read_csv (and any spreadsheet) takes it; series titles in the comments.
-  CsvWriter csv(files.csv, {"series", chart.x_column, chart.y_column});
+  const bool error_bars = std::any_of(chart.series.begin(), chart.series.end(), has_error_bars);
+  std::vector<std::string> columns{"series", chart.x_column, chart.y_column};
+  if (error_bars) columns.push_back(chart.y_column + "_error");
+  CsvWriter csv(files.csv, columns);
   csv.comment(fmt::format("{}: data of {}", chart.title, files.svg.filename().string()));
   for (std::size_t k = 0; k < chart.series.size(); ++k)
     csv.comment(fmt::format("series {} = {}", k, chart.series[k].title));
-  for (std::size_t k = 0; k < chart.series.size(); ++k)
-    for (std::size_t i = 0; i < chart.series[k].x.size(); ++i)
-      csv.row({static_cast<double>(k), chart.series[k].x[i], chart.series[k].y[i]});
+  for (std::size_t k = 0; k < chart.series.size(); ++k) {
+    const Series& series = chart.series[k];
+    for (std::size_t i = 0; i < series.x.size(); ++i) {
+      std::vector<double> row{static_cast<double>(k), series.x[i], series.y[i]};
+      if (error_bars) row.push_back(i < series.y_error.size() ? series.y_error[i] : std::nan(""));
+      csv.row(row);
+    }
+  }
   csv.commit();
   // The saved script names the final files; the one run here writes temporary ones.
   write_file_atomically(files.script,

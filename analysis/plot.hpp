@@ -19,6 +19,9 @@ struct Series {
   SeriesStyle style = SeriesStyle::lines;
   int colour = 0;  // gnuplot line colour 1–8; 0: by position, so series sharing one (a run's
                    // load and unload, its points and fit) can be told from other runs
+  // One per point: drawn as error bars of ± that much (a seed scatter), the points joined as the
+  // style says; empty: none.
+  std::vector<double> y_error = {};
 };
 
 struct Chart {
@@ -44,8 +47,9 @@ struct ChartFiles {
 std::string gnuplot_script(const Chart& chart, const std::filesystem::path& svg,
                            const std::filesystem::path& png);
 
-// Writes <stem>.csv (columns series index, x_column, y_column; a comment line "series k =
-// title" per series), <stem>.gp, and, through gnuplot,
+// Writes <stem>.csv (columns series index, x_column, y_column, and <y_column>_error when a
+// series has error bars; a comment line "series k = title" per series), <stem>.gp, and, through
+// gnuplot,
 // <stem>.svg and <stem>.png; every file appears under its final name only when complete.
 // ComputationError naming gnuplot if it is not on PATH or fails.
 ChartFiles plot_chart(const Chart& chart, const std::filesystem::path& stem);

@@ -20,7 +20,9 @@ std::filesystem::path run_metadata_beside(const std::filesystem::path& output_fi
 }
 
 RunMetadata::RunMetadata(std::string stage, std::string command_line)
-    : stage_(std::move(stage)), command_line_(std::move(command_line)) {}
+    : stage_(std::move(stage)),
+      command_line_(std::move(command_line)),
+      working_directory_(std::filesystem::current_path()) {}
 
 RunMetadata& RunMetadata::input(std::string_view role, const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path))
@@ -53,7 +55,8 @@ nlohmann::ordered_json RunMetadata::json() const {
                              {"stage", stage_},
                              {"version", shapepress_version()},
                              {"revision", shapepress_git_revision()},
-                             {"command", command_line_}};
+                             {"command", command_line_},
+                             {"working_directory", working_directory_.generic_string()}};
   if (!options_.is_null()) out["options"] = options_;
   out["inputs"] = inputs_;
   out["outputs"] = outputs_;
@@ -135,6 +138,38 @@ std::string RunRecord::text(const std::string& key) const {
     throw InputError(fmt::format("{}: facts \"{}\" is {}, expected a string", path_.string(), key,
                                  value.dump()));
   return value.get<std::string>();
+}
+
+std::filesystem::path RunRecord::input_file(const std::string& role) const {
+  const nlohmann::json* found = nullptr;
+  if (json_.contains("inputs") && json_["inputs"].is_array())
+    for (const auto& input : json_["inputs"])
+      if (input.is_object() && input.value("role", "") == role) found = &input;
+  if (found == nullptr || !found->contains("path") || !(*found)["path"].is_string())
+    throw InputError(fmt::format("{}: names no {} among its inputs", path_.string(), role));
+  const std::filesystem::path given = (*found)["path"].get<std::string>();
+  const std::string sha256 = found->value("sha256", "");
+  std::vector<std::filesystem::path> candidates;
+  if (given.is_absolute()) {
+    candidates.push_back(given);
+  } else {
+    if (json_.contains("working_directory") && json_["working_directory"].is_string())
+      candidates.push_back(std::filesystem::path(json_["working_directory"].get<std::string>()) /
+                           given);
+    candidates.push_back(given);
+    const std::filesystem::path folder = path_.parent_path();
+    candidates.push_back(folder / given);
+    candidates.push_back(folder / ".." / given);
+  }
+  std::string tried;
+  for (const std::filesystem::path& candidate : candidates) {
+    tried += (tried.empty() ? "" : ", ") + candidate.string();
+    if (std::filesystem::is_regular_file(candidate) && sha256_file(candidate) == sha256)
+      return candidate.lexically_normal();
+  }
+  throw InputError(
+      fmt::format("{}: its {} input {} is gone or changed since the run (SHA-256 {}; tried {})",
+                  path_.string(), role, given.string(), sha256, tried));
 }
 
 }  // namespace shapepress

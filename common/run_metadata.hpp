@@ -56,6 +56,8 @@ class RunMetadata {
 
  private:
   std::string stage_, command_line_;
+  // Where the stage ran: its relative input paths are relative to it.
+  std::filesystem::path working_directory_;
   nlohmann::ordered_json inputs_ = nlohmann::ordered_json::array();
   nlohmann::ordered_json outputs_ = nlohmann::ordered_json::array();
   nlohmann::ordered_json facts_ = nlohmann::ordered_json::object();
@@ -78,6 +80,12 @@ class RunRecord {
   double number(const std::string& key) const;
   std::int64_t integer(const std::string& key) const;
   std::string text(const std::string& key) const;
+  // The input of `role` as a file that exists now and holds what the run read (its SHA-256). A
+  // relative path is tried from the run's working directory ("working_directory"), the current
+  // one, the run's folder and the folder above it (a run made from inside its bed's folder, before
+  // run.json named its working directory). InputError naming the run.json, the role and every
+  // place tried when none holds it.
+  std::filesystem::path input_file(const std::string& role) const;
 
  private:
   const nlohmann::json& fact(const std::string& key, std::string_view expected) const;

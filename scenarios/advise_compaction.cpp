@@ -272,28 +272,17 @@ struct GivenRun {
   std::optional<double> loop_seconds;  // its loop's wall seconds, when compact stated them
 };
 
-// The record's input of `role`: its path and SHA-256.
-const nlohmann::json& input_of(const RunRecord& record, const std::string& role) {
-  for (const auto& input : record.json().at("inputs"))
-    if (input.value("role", "") == role) return input;
-  throw InputError(fmt::format("{}: names no {} among its inputs", record.path().string(), role));
-}
-
 GivenRun read_given_run(const fs::path& folder, const FillRecipe& recipe, int bodies) {
   const RunRecord run = RunRecord::read(folder / run_metadata_name, "compact");
   GivenRun given;
   given.folder = folder;
-  const nlohmann::json& pressed = input_of(run, "packing");
-  const fs::path packing = pressed.at("path").get<std::string>();
-  if (!fs::exists(packing) || sha256_file(packing) != pressed.value("sha256", ""))
-    throw InputError(fmt::format("{}: its packing {} is gone or changed since", run.path().string(),
-                                 packing.string()));
+  const fs::path packing = run.input_file("packing");
   const RunRecord pack = RunRecord::read(run_metadata_beside(packing), "pack");
   if (pack.integer("bodies") != bodies)
     throw InputError(fmt::format("{}: {} bodies, against the ladder's {} (--bodies)",
                                  pack.path().string(), pack.integer("bodies"), bodies));
   given.pack_config = pack.text("effective_config");
-  const fs::path templates = input_of(pack, "templates").at("path").get<std::string>();
+  const fs::path templates = pack.input_file("templates");
   const FillRecipe filled = fill_recipe(templates);
   if (filled.kind != recipe.kind || filled.options != recipe.options ||
       filled.shapes != recipe.shapes)

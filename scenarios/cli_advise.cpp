@@ -26,6 +26,7 @@
 #include "common/job_pool.hpp"
 #include "common/run_metadata.hpp"
 #include "common/sha256.hpp"
+#include "scenarios/advise_bed_size.hpp"
 #include "scenarios/advise_compaction.hpp"
 #include "scenarios/advise_runs.hpp"
 #include "scenarios/cli.hpp"
@@ -46,6 +47,7 @@ struct AdviseCli {
   int fills = 0;  // bms: fills per rung; 0: the config's
   bool resume = false;
   CompactionAdviseRequest compaction;  // a compaction config's bed (--templates, --pack-config)
+  std::vector<std::string> bed_runs;   // finished compactions of a bed-size ladder
 };
 
 struct RungJob {
@@ -270,6 +272,12 @@ void report_pick(const analysis::Advice& advice, const std::vector<analysis::Run
 }
 
 int run(const AdviseCli& cli, const RunContext& context) {
+  if (!cli.bed_runs.empty())
+    return run_bed_size_advise({cli.bed_runs, cli.out, cli.tolerance}, context);
+  if (cli.config.empty() || cli.counts.empty())
+    throw InputError(
+        "advise: give --config and --counts (a plate or compaction ladder to run), or --bed-runs "
+        "(finished compactions of a bed-size ladder to judge)");
   if (!cli.compaction.templates.empty()) return run_compaction_ladder(cli, context);
   RunMetadata meta("advise", context.command_line);
   const ConfigTable root = ConfigTable::load_file(cli.config);
@@ -314,10 +322,10 @@ int run(const AdviseCli& cli, const RunContext& context) {
 
 StageRunner setup_advise_cli(CLI::App& app) {
   auto cli = std::make_shared<AdviseCli>();
-  app.add_option("--config", cli->config,
-                 "plate config TOML (as for `plate`), or a compaction config (as for `compact`) "
-                 "with --templates and --pack-config")
-      ->required();
+  auto* config = app.add_option(
+      "--config", cli->config,
+      "plate config TOML (as for `plate`), or a compaction config (as for `compact`) with "
+      "--templates and --pack-config");
   app.add_option("--out", cli->out,
                  "folder of the rungs (one plate run each), advice.csv, speed_accuracy.svg, "
                  "stability_map.svg, run.json")
@@ -327,7 +335,7 @@ StageRunner setup_advise_cli(CLI::App& app) {
                  "bms when the config has [bms]")
       ->check(CLI::IsMember({"bms", "cms"}));
   app.add_option("--counts", cli->counts, "the sub-sphere counts of the ladder")
-      ->required()
+      ->needs(config)
       ->delimiter(',')
       ->check(CLI::Range(1, 1000000));
   app.add_option("--fractions", cli->fractions,
@@ -336,7 +344,8 @@ StageRunner setup_advise_cli(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::Range(1e-6, 1.0));
   app.add_option("--tolerance", cli->tolerance,
-                 "largest RMS relative difference from the finest rung a pick may have")
+                 "largest RMS relative difference from the finest rung a pick may have (with "
+                 "--bed-runs: the largest relative difference of a mean figure from the reference)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--fills", cli->fills, "bms: fills per rung (default: the config's bms.fills)")
@@ -385,6 +394,14 @@ StageRunner setup_advise_cli(CLI::App& app) {
                  "ladder does not run (a full study's, at a count too dear to re-run), taken as a "
                  "rung of its seed; repeatable")
       ->needs(templates)
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--bed-runs", cli->bed_runs,
+                 "finished compact runs' folders of one powder at several bed sizes (bodies) and "
+                 "sub-sphere counts, each packed with its own seed: the bodies, count and seeds "
+                 "within --tolerance of the largest, finest bed, and their predicted cost "
+                 "(bed_size.csv, bed_size_*.svg, bed_speed_accuracy.svg)")
+      ->excludes(config)
+      ->delimiter(',')
       ->check(CLI::ExistingDirectory);
   return [cli](const RunContext& context) { return run(*cli, context); };
 }

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -63,6 +64,22 @@ TEST(PlotScript, HoldsTheDataInlineAndBothTerminals) {
   const std::string t = gnuplot_script(same_colour, "a.svg", "a.png");
   EXPECT_NE(t.find("with lines lw 2 lc 3"), std::string::npos) << t;
   EXPECT_NE(t.find("with lines dt 2 lw 2 lc 3"), std::string::npos) << t;
+}
+
+// A seed scatter drawn as error bars: a third column in the data, gnuplot's yerrorlines, and the
+// CSV's <y>_error column (NaN for a series without).
+TEST_F(PlotTest, ErrorBarsAreAThirdColumnInTheScriptAndTheCsv) {
+  Chart chart = two_series();
+  chart.series[0].y_error = {0.5, 0.25, 1.0};
+  const std::string s = gnuplot_script(chart, "a.svg", "a.png");
+  EXPECT_NE(s.find("$series0 << EOD\n0 0 0.5\n0.1 1 0.25\n0.2 4 1\nEOD"), std::string::npos) << s;
+  EXPECT_NE(s.find("$series0 using 1:2:3 title 'load' with yerrorlines"), std::string::npos) << s;
+  EXPECT_NE(s.find("$series1 using 1:2 title"), std::string::npos) << s;
+  if (find_gnuplot().empty()) GTEST_SKIP() << "gnuplot is not installed";
+  const CsvTable table = read_csv(plot_chart(chart, folder_ / "bars").csv);
+  const std::vector<double> error = table.column("stress_MPa_error");
+  EXPECT_EQ(error[2], 1.0);
+  EXPECT_TRUE(std::isnan(error[3]));
 }
 
 TEST_F(PlotTest, WritesSvgPngDataAndScript) {

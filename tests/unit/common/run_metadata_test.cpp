@@ -126,3 +126,38 @@ TEST(RunMetadata, BesideAnOutputFile) {
 
 }  // namespace
 }  // namespace shapepress
+
+namespace shapepress {
+namespace {
+
+// A run made from inside its bed's folder names its packing "packed.h5": a reader elsewhere finds
+// it from the run's working directory, and never takes a file of that name with other content.
+TEST(RunMetadata, ARelativeInputIsFoundFromTheRunsWorkingDirectoryAndCheckedByItsHash) {
+  const std::filesystem::path dir = shapepress::testing::fresh_directory("run_input_file");
+  const std::filesystem::path bed = dir / "bed";
+  std::filesystem::create_directories(bed / "run");
+  shapepress::testing::write_text(bed / "packed.h5", "the bed");
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(bed);
+  RunMetadata meta("compact", "shapepress compact --packing packed.h5");
+  meta.input("packing", "packed.h5");
+  std::filesystem::current_path(dir);  // the reader runs elsewhere
+  meta.write(bed / "run" / "run.json");
+  const RunRecord record = RunRecord::read(bed / "run" / "run.json", "compact");
+  EXPECT_EQ(record.input_file("packing"), (bed / "packed.h5").lexically_normal());
+  EXPECT_EQ(record.json().at("working_directory").get<std::string>(), bed.generic_string());
+  // Changed since: named, with where it looked.
+  shapepress::testing::write_text(bed / "packed.h5", "another bed");
+  const std::string message = testing::input_error_of([&] { (void)record.input_file("packing"); });
+  EXPECT_NE(message.find("packing input packed.h5 is gone or changed"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find((bed / "packed.h5").string()), std::string::npos) << message;
+  EXPECT_NE(testing::input_error_of([&] {
+              (void)record.input_file("templates");
+            }).find("names no templates"),
+            std::string::npos);
+  std::filesystem::current_path(before);
+}
+
+}  // namespace
+}  // namespace shapepress
