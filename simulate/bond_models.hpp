@@ -153,15 +153,18 @@ std::vector<OptionDoc> bond_model_options();
 //   |F*| > F_y:  Δκ = (|F*| - F_y)/(k + H k),  F = F* (1 - k Δκ/|F*|),  κ += Δκ,
 // the backward-Euler return of linear isotropic hardening (Simo & Hughes 1998, Computational
 // Inelasticity, §1.4.2), exact for any increment along a straight path. The vector modes (shear
-// force, bending moment) return radially: the direction of F* is kept, its length reduced. A
-// +inf limit never yields, and then no operation touches F: the elastic model's bits.
+// force, bending moment) return radially: the direction of F* is kept, its length reduced.
+// Written without a branch, so that the bond loop's blocks vectorize it (GCC does not if-convert
+// a division under a condition with trapping math): Δκ = max(|F*| - F_y, 0)/(k + H k), zero for
+// an elastic trial, where F* (1 - k·0/|F*|) is F* to the bit and κ + 0 is κ (a +inf limit: the
+// elastic model's bits). The divisor max(|F*|, DBL_MIN) keeps 0/0 out of a mode at rest, which
+// never yields.
 inline void return_to_yield(double& force, double& path, double spring, double limit,
                             double hardening) {
   const double magnitude = std::fabs(force);
   const double excess = magnitude - (limit + hardening * path);
-  if (!(excess > 0.0)) return;
-  const double slip = excess / (spring + hardening);
-  force = force * (1.0 - spring * slip / magnitude);
+  const double slip = std::max(excess, 0.0) / (spring + hardening);
+  force = force * (1.0 - spring * slip / std::max(magnitude, std::numeric_limits<double>::min()));
   path = path + slip;
 }
 inline void return_to_yield(double force[3], double& path, double spring, double limit,
@@ -169,9 +172,9 @@ inline void return_to_yield(double force[3], double& path, double spring, double
   const double magnitude =
       std::sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2]);
   const double excess = magnitude - (limit + hardening * path);
-  if (!(excess > 0.0)) return;
-  const double slip = excess / (spring + hardening);
-  const double scale = 1.0 - spring * slip / magnitude;
+  const double slip = std::max(excess, 0.0) / (spring + hardening);
+  const double scale =
+      1.0 - spring * slip / std::max(magnitude, std::numeric_limits<double>::min());
   for (int c = 0; c < 3; ++c)
     force[c] = force[c] * scale;
   path = path + slip;

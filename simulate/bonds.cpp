@@ -450,8 +450,43 @@ inline void store_result(const BondArrays& a, std::int64_t b, const BondResult& 
   a.separation_force[b] = out.separation_force;
 }
 
+// A yielding model's arrays for the blocks: per mode its accumulated plastic displacement κ
+// (history, read and written) and its limit at κ = 0, and H; as BondArrays, from bond b on.
+struct YieldArrays {
+  double* __restrict path_normal = nullptr;
+  double* __restrict path_shear = nullptr;
+  double* __restrict path_twist = nullptr;
+  double* __restrict path_bend = nullptr;
+  const double* __restrict limit_normal = nullptr;
+  const double* __restrict limit_shear = nullptr;
+  const double* __restrict limit_twist = nullptr;
+  const double* __restrict limit_bend = nullptr;
+  double hardening = 0.0;
+
+  YieldArrays() = default;
+  explicit YieldArrays(BondSet& bonds)
+      : path_normal(bonds.history.model_fields[0].data()),
+        path_shear(bonds.history.model_fields[1].data()),
+        path_twist(bonds.history.model_fields[2].data()),
+        path_bend(bonds.history.model_fields[3].data()),
+        limit_normal(bonds.constants.yield_limit[0].data()),
+        limit_shear(bonds.constants.yield_limit[1].data()),
+        limit_twist(bonds.constants.yield_limit[2].data()),
+        limit_bend(bonds.constants.yield_limit[3].data()),
+        hardening(bonds.hardening_ratio) {}
+  YieldArrays from(std::int64_t b) const {
+    YieldArrays y = *this;
+    for (double* __restrict* p : {&y.path_normal, &y.path_shear, &y.path_twist, &y.path_bend})
+      *p += b;
+    for (const double* __restrict* p :
+         {&y.limit_normal, &y.limit_shear, &y.limit_twist, &y.limit_bend})
+      *p += b;
+    return y;
+  }
+};
+
 // Bonds [begin, end) of compute_bond_forces, one thread's share, one bond at a time: the loop for
-// breakable bonds, yielding bonds and mixed dampers (the others go through bond_blocks_range).
+// breakable bonds and mixed dampers (the others go through bond_blocks_range).
 // An AVX2 clone is picked at load time where the CPU has it: the same scalar IEEE operations (no
 // FMA), but three-operand instructions, which spare the register copies of a loop this long.
 __attribute__((target_clones("avx2", "default"))) void bond_forces_range(
@@ -560,9 +595,9 @@ struct alignas(64) BondEndsBlock {
 // `a` points at the block's first bond. Its arrays are read and written here in place, not
 // through BondArrays' helpers: a member call takes the struct's address, and GCC then no longer
 // trusts its restrict and leaves the loop scalar.
-template <bool damped>
-[[gnu::always_inline]] inline void bond_block_lanes(BondEndsBlock& k, BondArrays a, int lanes,
-                                                    double increment_dt) {
+template <bool damped, bool yielding>
+[[gnu::always_inline]] inline void bond_block_lanes(BondEndsBlock& k, BondArrays a, YieldArrays y,
+                                                    int lanes, double increment_dt) {
   for (int l = 0; l < lanes; ++l) {
     const double x[3] = {k.dx[l], k.dy[l], k.dz[l]};
     const double d = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
@@ -580,6 +615,17 @@ template <bool damped>
                   {a.bend_x[l], a.bend_y[l], a.bend_z[l]}};
     advance_springs(h, d, n, rci, rcj, ends, a.normal_spring[l], a.shear_spring[l],
                     a.twist_spring[l], a.bend_spring[l], increment_dt);
+    if constexpr (yielding) {
+      const double H = y.hardening;
+      return_to_yield(h.fn, y.path_normal[l], a.normal_spring[l], y.limit_normal[l],
+                      H * a.normal_spring[l]);
+      return_to_yield(h.fs, y.path_shear[l], a.shear_spring[l], y.limit_shear[l],
+                      H * a.shear_spring[l]);
+      return_to_yield(h.mt, y.path_twist[l], a.twist_spring[l], y.limit_twist[l],
+                      H * a.twist_spring[l]);
+      return_to_yield(h.mb, y.path_bend[l], a.bend_spring[l], y.limit_bend[l],
+                      H * a.bend_spring[l]);
+    }
     a.length[l] = h.length, a.normal_force[l] = h.fn, a.twist_moment[l] = h.mt;
     a.shear_x[l] = h.fs[0], a.shear_y[l] = h.fs[1], a.shear_z[l] = h.fs[2];
     a.bend_x[l] = h.mb[0], a.bend_y[l] = h.mb[1], a.bend_z[l] = h.mb[2];
@@ -608,11 +654,19 @@ template <bool damped>
 // The clones are plain functions: GCC does not vectorize a function template's clones.
 __attribute__((target_clones("avx2", "default"))) void bond_block_forces_damped(
     BondEndsBlock& k, BondArrays a, int lanes, double increment_dt) {
-  bond_block_lanes<true>(k, a, lanes, increment_dt);
+  bond_block_lanes<true, false>(k, a, YieldArrays{}, lanes, increment_dt);
 }
 __attribute__((target_clones("avx2", "default"))) void bond_block_forces_undamped(
     BondEndsBlock& k, BondArrays a, int lanes, double increment_dt) {
-  bond_block_lanes<false>(k, a, lanes, increment_dt);
+  bond_block_lanes<false, false>(k, a, YieldArrays{}, lanes, increment_dt);
+}
+__attribute__((target_clones("avx2", "default"))) void bond_block_forces_damped_yielding(
+    BondEndsBlock& k, BondArrays a, YieldArrays y, int lanes, double increment_dt) {
+  bond_block_lanes<true, true>(k, a, y, lanes, increment_dt);
+}
+__attribute__((target_clones("avx2", "default"))) void bond_block_forces_undamped_yielding(
+    BondEndsBlock& k, BondArrays a, YieldArrays y, int lanes, double increment_dt) {
+  bond_block_lanes<false, true>(k, a, y, lanes, increment_dt);
 }
 
 // d -= L nearbyint(d / L), the scalar loop's nearest image, calling nearbyint only for the few
@@ -626,10 +680,11 @@ inline void wrap_to_nearest_image(double* d, int lanes, double length) {
 
 // Bonds [begin, end) as bond_forces_range computes them, for unbreakable bonds all damped or all
 // undamped: the ends gathered into a block, then bond_block_forces.
-template <bool damped>
+template <bool damped, bool yielding>
 void bond_blocks_range(BondSet& bonds, const SphereState& s, const double* __restrict motion,
                        const Box& box, double increment_dt, std::int64_t begin, std::int64_t end) {
   const BondArrays arrays(bonds);
+  const YieldArrays yields(bonds);
   const std::int32_t* __restrict first = bonds.first.data();
   const std::int32_t* __restrict second = bonds.second.data();
   const bool periodic_x = box.periodic_x(), periodic_y = box.periodic_y();
@@ -673,23 +728,34 @@ void bond_blocks_range(BondSet& bonds, const SphereState& s, const double* __res
         }
       }
     const BondArrays a = arrays.from(b0);
-    if constexpr (damped)
+    if constexpr (yielding) {
+      const YieldArrays y = yields.from(b0);
+      if constexpr (damped)
+        bond_block_forces_damped_yielding(k, a, y, lanes, increment_dt);
+      else
+        bond_block_forces_undamped_yielding(k, a, y, lanes, increment_dt);
+    } else if constexpr (damped) {
       bond_block_forces_damped(k, a, lanes, increment_dt);
-    else
+    } else {
       bond_block_forces_undamped(k, a, lanes, increment_dt);
+    }
   }
 }
 
-// Bonds [begin, end) by blocks where every bond is intact, unbreakable and elastic and the
-// dampers are uniform; else the scalar loop (a yielding model's return is a branch per mode).
+// Bonds [begin, end) by blocks where every bond is intact and unbreakable and the dampers are
+// uniform (elastic or yielding); else the scalar loop.
 void bond_forces_of(BondSet& bonds, const SphereState& s, const double* motion, const Box& box,
                     double increment_dt, std::int64_t begin, std::int64_t end) {
-  if (bonds.breakable || bonds.damping_mix || bonds.yields)
+  if (bonds.breakable || bonds.damping_mix)
     bond_forces_range(bonds, s, motion, box, increment_dt, begin, end);
+  else if (bonds.yields && bonds.damped)
+    bond_blocks_range<true, true>(bonds, s, motion, box, increment_dt, begin, end);
+  else if (bonds.yields)
+    bond_blocks_range<false, true>(bonds, s, motion, box, increment_dt, begin, end);
   else if (bonds.damped)
-    bond_blocks_range<true>(bonds, s, motion, box, increment_dt, begin, end);
+    bond_blocks_range<true, false>(bonds, s, motion, box, increment_dt, begin, end);
   else
-    bond_blocks_range<false>(bonds, s, motion, box, increment_dt, begin, end);
+    bond_blocks_range<false, false>(bonds, s, motion, box, increment_dt, begin, end);
 }
 
 }  // namespace

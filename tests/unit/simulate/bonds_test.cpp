@@ -558,8 +558,10 @@ namespace shapepress::simulate {
 namespace {
 
 // Bonds that cannot break go through the vectorized blocks (bonds.cpp); bonds that can, through
-// the scalar loop. With strengths no force reaches the two must give the same bits.
-void expect_blocks_match_the_scalar_loop(double damping_ratio) {
+// the scalar loop. With strengths no force reaches the two must give the same bits, elastic or
+// yielding (`model`: with yield stresses the random steps exceed in part of the bonds' modes).
+void expect_blocks_match_the_scalar_loop(double damping_ratio,
+                                         BondModelChoice model = ElasticBond{}) {
   std::mt19937_64 random(5);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   SphereState s;
@@ -569,6 +571,7 @@ void expect_blocks_match_the_scalar_loop(double damping_ratio) {
   s.body.assign(s.size(), 0);
   BondParameters unbreakable = stiff();
   unbreakable.damping_ratio = damping_ratio;
+  unbreakable.model = model;
   BondParameters breakable = unbreakable;
   breakable.tensile_strength = breakable.shear_strength = 1e300;
   BondSet blocks = create_bonds(s, 1.6, unbreakable);
@@ -587,6 +590,16 @@ void expect_blocks_match_the_scalar_loop(double damping_ratio) {
       const BondSet::Results::Record rb = blocks.result.at(b), rs = scalar.result.at(b);
       ASSERT_EQ(std::memcmp(&rb, &rs, sizeof rb), 0) << "bond " << b << " step " << step;
     }
+    ASSERT_EQ(blocks.history.model_fields, scalar.history.model_fields) << "step " << step;
+  }
+  if (blocks.yields) {
+    // Both outcomes of the return were taken: some modes yielded, some did not.
+    std::size_t yielded = 0, modes = 0;
+    for (const auto& path : blocks.history.model_fields)
+      for (double kappa : path)
+        yielded += kappa > 0.0, ++modes;
+    EXPECT_GT(yielded, modes / 10) << yielded << " of " << modes;
+    EXPECT_LT(yielded, modes - modes / 10) << yielded << " of " << modes;
   }
 }
 
@@ -595,6 +608,10 @@ TEST(BondBlocks, UndampedGiveTheScalarLoopsBits) {
 }
 TEST(BondBlocks, DampedGiveTheScalarLoopsBits) {
   expect_blocks_match_the_scalar_loop(0.315);
+}
+TEST(BondBlocks, YieldingGiveTheScalarLoopsBits) {
+  expect_blocks_match_the_scalar_loop(0.0, ElasticPlasticBond{1.5e4, 1e4, 0.25});
+  expect_blocks_match_the_scalar_loop(0.315, ElasticPlasticBond{1.5e4, 1e4, 0.0});
 }
 
 }  // namespace
