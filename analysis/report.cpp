@@ -178,7 +178,7 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs,
                       "strain",
                       "stress_MPa",
                       {}};
-  Chart density{"Solid fraction vs stress (loading)",
+  Chart density{"Solid fraction vs stress (load solid, unload dashed)",
                 "punch stress [MPa]",
                 "solid fraction D",
                 "stress_MPa",
@@ -225,6 +225,12 @@ std::vector<Chart> compaction_charts(const std::vector<LoadedRun>& runs,
         k.x.push_back(c.stress[i] / mega), k.y.push_back(c.stress[i] / mega / strain[i]);
     }
     density.series.push_back(std::move(d));
+    // The unloading on the same axis: beds whose strains count from different heights (spheres
+    // and bodies) compared where they are equally dense, the spring-back as the fraction lost.
+    if (split < n)
+      density.series.push_back(
+          {run.label + " unload", scaled(rows_of(c.stress, split - 1, n), 1 / mega),
+           rows_of(c.solid_fraction, split - 1, n), SeriesStyle::dashed, colour});
     heckel.series.push_back(std::move(h));
     kawakita.series.push_back(std::move(k));
     // Fit lines over the fitted window: ln(1/(1−D)) = K P + A; P/C = P/a + 1/(a b).

@@ -2,6 +2,7 @@
 // numbers), on real plate and compact runs made by the binary, and on bad input (exit codes).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include <filesystem>
 #include <fstream>
@@ -58,6 +59,15 @@ TEST(ReportE2e, SyntheticRunsGiveTheirKnownNumbers) {
        {"stress_strain", "solid_fraction_stress", "heckel", "kawakita", "plate_force"})
     for (const char* ext : {".svg", ".png", ".csv", ".gp"})
       EXPECT_TRUE(std::filesystem::exists(out / (std::string(stem) + ext))) << stem << ext;
+  // The unloading is on the solid-fraction axis too (beds of different strain references side
+  // by side): its series ends at the unloaded bed's fraction, 1/1.04 of the densest.
+  EXPECT_THAT(read_text(out / "solid_fraction_stress.csv"),
+              HasSubstr("series 1 = compaction_run unload"));
+  const CsvTable density = read_csv(out / "solid_fraction_stress.csv");
+  const std::vector<double> series = density.column("series"),
+                            fraction = density.column("solid_fraction");
+  ASSERT_EQ(series.back(), 1.0);
+  EXPECT_NEAR(fraction.back() * 1.04, *std::max_element(fraction.begin(), fraction.end()), 1e-6);
   const std::string json = read_text(out / "metrics.json");
   // The synthetic compaction is Heckel-exact with Py = 50 MPa, A = 0.5; 10-digit CSV values
   // leave ~1e-9 relative rounding.
