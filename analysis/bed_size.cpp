@@ -252,9 +252,7 @@ Chart bed_speed_accuracy_chart(const BedSizeAdvice& advice) {
     if (s.predicted_cost <= 0.0) continue;
     low = std::min(low, s.predicted_cost);
     high = std::max(high, s.predicted_cost);
-    // The reference sits on both series at zero bias; on a log axis it is left out by gnuplot,
-    // so it is drawn at a tenth of the tolerance.
-    const double bias = s.reference ? 0.1 * advice.tolerance : s.bias;
+    const double bias = s.bias;  // the reference: zero, on both series
     if (s.sub_spheres == reference.sub_spheres) {
       bodies.x.push_back(s.predicted_cost);
       bodies.y.push_back(bias);
