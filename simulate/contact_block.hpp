@@ -69,6 +69,8 @@ struct PairKinematics {
   c.effective_mass = a.mass * b.mass * reach * inverse;
   c.inverse_inertia_sum = a.inverse_inertia + b.inverse_inertia;
   c.pair_pressure = 0.0;  // P_ij of Eq. 6: the multi-contact law's, set by its caller
+  c.radius_first = ri;
+  c.radius_second = rj;
   out.arm_first = rci;
   out.arm_second = rcj;
   return out;

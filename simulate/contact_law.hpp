@@ -164,12 +164,14 @@ template <class Law = AnyNormalLaw>
   return out;
 }
 
-// Elastic normal energy of a contact under its pair's law (energy checks).
-inline double normal_elastic_energy(const PairConstants& p, double effective_radius, double overlap,
+// Elastic normal energy of a contact under its pair's law (energy checks); `radius_second` 0: a
+// wall.
+inline double normal_elastic_energy(const PairConstants& p, double effective_radius,
+                                    double radius_first, double radius_second, double overlap,
                                     const ContactHistory& history) {
   return with_normal_law(p.law, [&]<class L>() {
-    return L::elastic_energy(p, p.constants_of<L>(), effective_radius, overlap,
-                             law_history<L>(history));
+    return L::elastic_energy(p, p.constants_of<L>(), effective_radius, radius_first, radius_second,
+                             overlap, law_history<L>(history));
   });
 }
 
@@ -188,7 +190,7 @@ inline double normal_stiffness_ratio(const PairConstants& p, double effective_ra
 // Named access to single laws, for tests and reports.
 inline double hertz_elastic_energy(const PairConstants& p, double effective_radius,
                                    double overlap) {
-  return HertzLaw::elastic_energy(p, {}, effective_radius, overlap, nullptr);
+  return HertzLaw::elastic_energy(p, {}, effective_radius, 0.0, 0.0, overlap, nullptr);
 }
 inline double& plastic_force(ContactHistory& h) {
   return law_history<MulticontactLaw>(h)[0];
@@ -207,7 +209,7 @@ inline double plastic_force(const ContactHistory& h) {
 inline double multicontact_elastic_energy(const PairConstants& p, double effective_radius,
                                           double overlap, double plastic_force) {
   return MulticontactLaw::elastic_energy(p, p.constants_of<MulticontactLaw>(), effective_radius,
-                                         overlap, &plastic_force);
+                                         0.0, 0.0, overlap, &plastic_force);
 }
 
 }  // namespace shapepress::simulate

@@ -45,9 +45,9 @@ EnergySummary Engine::energy() const {
   for (std::size_t c = 0; c < clumps_.size(); ++c)
     e.gravitational -= clumps_.mass[c] * (g[0] * clumps_.centre.x[c] + g[1] * clumps_.centre.y[c] +
                                           g[2] * clumps_.centre.z[c]);
-  const auto add_contact = [&](const PairConstants& pc, double r_eff, double overlap,
-                               const ContactHistory& h) {
-    e.elastic += normal_elastic_energy(pc, r_eff, overlap, h);
+  const auto add_contact = [&](const PairConstants& pc, double r_eff, double ri, double rj,
+                               double overlap, const ContactHistory& h) {
+    e.elastic += normal_elastic_energy(pc, r_eff, ri, rj, overlap, h);
     const double kt = 8.0 * pc.effective_shear_modulus * std::sqrt(r_eff * overlap);
     const double* xi = h.tangential;
     e.elastic += 0.5 * kt * (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
@@ -63,7 +63,7 @@ EnergySummary Engine::energy() const {
     add_contact(pc,
                 bodies_radius > 0.0 ? bodies_radius
                                     : s.radius[i] * s.radius[j] / (s.radius[i] + s.radius[j]),
-                overlap, history_[p]);
+                s.radius[i], s.radius[j], overlap, history_[p]);
   }
   e.elastic += bond_elastic_energy(bonds_);
   for (std::size_t k = 0; k < walls_.size(); ++k) {
@@ -71,8 +71,8 @@ EnergySummary Engine::energy() const {
     for (std::size_t i = 0; i < s.size(); ++i) {
       const double overlap = s.radius[i] - w.facing * (s.position.z[i] - w.position);
       if (overlap > 0.0)
-        add_contact(materials_.pair(s.material[i], w.material), s.radius[i], overlap,
-                    wall_history_[k][i]);
+        add_contact(materials_.pair(s.material[i], w.material), s.radius[i], s.radius[i], 0.0,
+                    overlap, wall_history_[k][i]);
     }
   }
   return e;

@@ -476,6 +476,8 @@ void Engine::gather_forces_with(double kick, bool with_bonds) {
             c.relative_rotation[1] = wy;
             c.relative_rotation[2] = wz;
             c.effective_radius = ri;
+            c.radius_first = ri;
+            c.radius_second = 0.0;  // a wall
             c.effective_mass = mi[6];
             c.inverse_inertia_sum = mi[7];
             // Against a wall the pair's pressure is the sphere's own p_i of the last step

@@ -48,7 +48,8 @@ struct HertzLaw {
 
   // 8/15 E* √R* δ^{5/2}, the integral of the elastic force (energy checks).
   static double elastic_energy(const ElasticPair& p, const Constants&, double effective_radius,
-                               double overlap, const double* /*history*/) {
+                               double /*radius_first*/, double /*radius_second*/, double overlap,
+                               const double* /*history*/) {
     return 8.0 / 15.0 * p.effective_modulus * std::sqrt(effective_radius * overlap) * overlap *
            overlap;
   }

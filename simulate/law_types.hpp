@@ -29,6 +29,8 @@ struct ContactKinematics {
   double effective_mass;        // m* = mi mj / (mi + mj); wall: mi
   double inverse_inertia_sum;   // 1/I* = 1/Ii + 1/Ij; wall: 1/Ii (chatter guard)
   double pair_pressure;         // ½ (p_i + p_j), a wall: p_i; previous step (multi-contact only)
+  double radius_first;          // ri
+  double radius_second;         // rj; a wall: 0 (the MDR law splits a pair's overlap by them)
 };
 
 // The pair constants of every law (models.md "Hertz–Mindlin with restitution"), computed once per

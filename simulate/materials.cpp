@@ -120,6 +120,11 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
     const int i = index_of(in.first);
     const int j = index_of(in.second);
     check_loading_modulus(materials_[i], materials_[j], in);
+    // The MDR law splits the overlap between the two spheres' own radii (mdr_law.hpp): the
+    // bodies' R* would be silently unread.
+    if (in.body_contact_radius && std::holds_alternative<MdrLaw>(in.normal_law))
+      throw InputError("interaction " + in.first + "–" + in.second +
+                       ": contact_radius = \"body\" is not read by normal_law = \"mdr\"");
     const PairConstants p = pair_constants(materials_[i], materials_[j], in);
     pairs_[i * n + j] = p;
     pairs_[j * n + i] = p;

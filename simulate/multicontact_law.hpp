@@ -145,7 +145,8 @@ struct MulticontactLaw {
   // ∫_{δp}^{δ} k2 (s^{3/2} - xp) ds (adhesion and the β term left out). For the divergence check;
   // with λp = 1 it is Hertz's 8/15 E* √R* δ^{5/2}.
   static double elastic_energy(const ElasticPair& p, const Constants& k, double effective_radius,
-                               double overlap, const double* history) {
+                               double /*radius_first*/, double /*radius_second*/, double overlap,
+                               const double* history) {
     const double k1 = k.loading_stiffness > 0.0 ? k.loading_stiffness
                                                 : k.loading_coefficient * p.effective_modulus *
                                                       std::sqrt(effective_radius);

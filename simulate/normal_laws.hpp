@@ -11,7 +11,7 @@
 //   options(), read(ConfigTable), write_toml(out), check(where), constants(Material, Material),
 //   describe(ElasticPair, Constants), stiffness_ratio(ElasticPair, Constants, R*),
 //   force(ElasticPair, Constants, ContactKinematics, √(R*δ), √(√(R*δ) m*), vn, history),
-//   elastic_energy(ElasticPair, Constants, R*, δ, history);
+//   elastic_energy(ElasticPair, Constants, R*, ri, rj (a wall: 0), δ, history);
 // tests/unit/simulate/contact_law_reference_test.cpp replays tests/data/contact_laws/<name>.csv
 // for every law listed here.
 #include <cstddef>
@@ -21,6 +21,7 @@
 #include <variant>
 
 #include "simulate/hertz_law.hpp"
+#include "simulate/mdr_law.hpp"
 #include "simulate/multicontact_law.hpp"
 
 namespace shapepress::simulate {
@@ -29,7 +30,7 @@ template <class... Laws>
 struct LawList {};
 
 // The registration: one entry per law, the first the default of `normal_law`.
-using NormalLaws = LawList<HertzLaw, MulticontactLaw>;
+using NormalLaws = LawList<HertzLaw, MulticontactLaw, MdrLaw>;
 
 namespace law_detail {
 

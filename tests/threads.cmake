@@ -13,7 +13,7 @@ set(shapepress_two_thread_tests
   "^scenarios\\.AdviseCompactionCli\\."
   "^scenarios\\.BodyBedCli\\.(PressesAndUnloadsABondedBed|MassScalingMovesTheCurveByLessThanTwoPercent|PressesABedOfRigidClumps)$"
   "^scenarios\\.PlateResume\\."
-  "^scenarios\\.(Determinism|BodyBedDeterminism|MulticontactDeterminism|BmsDeterminism)\\."
+  "^scenarios\\.(Determinism|BodyBedDeterminism|MulticontactDeterminism|MdrDeterminism|BmsDeterminism)\\."
   "^scenarios\\.BmsFills\\."
   "^scenarios\\.Clump\\.(OneAndTwoThreadsGiveTheSameBits|RestartFromSnapshotContinuesWithTheSameBits)$"
   "^scenarios\\.ListRebuild\\.NoContactIsMissedWhileAFastPunchStrainsTheBed$"

@@ -3,11 +3,11 @@
 // the references in files). The values come from the closed-form equations written at the top of
 // each file (tests/data/contact_laws/make_reference.py), not from this code.
 //
-// Columns: overlap, radius_i, radius_j (R* = ri rj / (ri + rj)), effective_modulus (E* of the
-// pair), poisson_ratio (of the one material), pair_pressure (P_ij), every key of the law's
-// options() (an empty cell: the key is absent, its default applies), every history field <name>
-// before the contact and <name>_after it, then the expected force (N, > 0 repulsive) and the
-// elastic energy (J) after the step. Contacts are at rest (vn = 0): no damping.
+// Columns: overlap, radius_i, radius_j (R* = ri rj / (ri + rj); radius_j = 0: a wall, R* = ri),
+// effective_modulus (E* of the pair), poisson_ratio (of the one material), pair_pressure (P_ij),
+// every key of the law's options() (an empty cell: the key is absent, its default applies), every
+// history field <name> before the contact and <name>_after it, then the expected force (N, > 0
+// repulsive) and the elastic energy (J) after the step. Contacts are at rest (vn = 0): no damping.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,7 +60,10 @@ void replay(const std::filesystem::path& path) {
     ContactKinematics c{};
     c.normal[2] = 1.0;
     c.overlap = row.number("overlap");
-    c.effective_radius = ri * rj / (ri + rj);
+    // radius_j = 0: a wall (R* = ri), as the pair loop states it.
+    c.effective_radius = rj > 0.0 ? ri * rj / (ri + rj) : ri;
+    c.radius_first = ri;
+    c.radius_second = rj;
     c.effective_mass = 1e-6;
     c.inverse_inertia_sum = 1e12;
     c.pair_pressure = row.number("pair_pressure");
@@ -84,7 +87,7 @@ void replay(const std::filesystem::path& path) {
       const std::string after = std::string(Law::history_fields[k].name) + "_after";
       EXPECT_LE(relative(law_history<Law>(history)[k], row.number(after)), 1e-12) << after;
     }
-    EXPECT_LE(relative(normal_elastic_energy(pc, c.effective_radius, c.overlap, history),
+    EXPECT_LE(relative(normal_elastic_energy(pc, c.effective_radius, ri, rj, c.overlap, history),
                        row.number("energy")),
               1e-12)
         << "energy";
