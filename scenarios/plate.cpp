@@ -124,12 +124,14 @@ PlateUnloading plate_unloading(const std::vector<PlateRow>& rows, int records) {
   result.residual_approach = result.residual_deformation = std::numeric_limits<double>::quiet_NaN();
   for (const PlateRow& r : rows)
     result.peak_force = std::max(result.peak_force, r.top_force);
-  // A sub-sphere resting on the plate presses it with its weight only: none here (no gravity).
+  // Once the plates let go the rig's force is exactly zero (no gravity); a curve read from
+  // CalculiX carries round-off there (1e-24 N): 1e-9 of the peak is none.
+  const double none = 1e-9 * result.peak_force;
   const std::size_t first = static_cast<std::size_t>(records);
   // From the loading's last row, where the unloading starts.
   for (std::size_t i = std::max<std::size_t>(first, 1); i < rows.size(); ++i) {
     const PlateRow &a = rows[i - 1], &b = rows[i];
-    if (!(a.top_force > 0.0) || b.top_force > 0.0) continue;
+    if (!(a.top_force > none) || b.top_force > none) continue;
     double w = 1.0;
     if (i >= 2 && rows[i - 2].top_force > a.top_force) {
       const PlateRow& before = rows[i - 2];

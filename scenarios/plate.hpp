@@ -122,8 +122,8 @@ struct PlateHooks {
 
 // The residual of an unloaded run (setup.unload): the approach at which the top plate's force
 // fell to zero on the way back, the zero of the secant through the last two unloading rows with
-// force, kept within the interval before the first row without (NaN when no unloading row is
-// without force). Rows after the first setup.records are the unloading's.
+// force, kept within the interval before the first row without (at most 1e-9 of the peak; NaN
+// when no unloading row is without force). Rows after the first `records` are the unloading's.
 struct PlateUnloading {
   double peak_force = 0.0;            // top plate [N]
   double residual_approach = 0.0;     // [m]
