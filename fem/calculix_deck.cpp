@@ -29,12 +29,25 @@ std::string material_cards(const FemPlateConfig& config, double modulus, const s
     cards += fmt::format("*HYPERELASTIC,NEO HOOKE\n{:.15g},{:.15g}\n", c.c10, c.d1);
   } else {
     cards += fmt::format("*ELASTIC\n{:.15g},{:.15g}\n", modulus, config.poisson_ratio);
+    if (config.plastic()) cards += plastic_card(config);
   }
   // The plate's material never strains (every plate node is prescribed); it only has to exist.
   cards += "*MATERIAL,NAME=PLATE_MATERIAL\n*ELASTIC\n210000,0.3\n";
   cards += fmt::format("*SOLID SECTION,ELSET={0},MATERIAL={0}_MATERIAL\n", elset);
   cards += "*SOLID SECTION,ELSET=PLATE_ELEMENTS,MATERIAL=PLATE_MATERIAL\n";
   return cards;
+}
+
+std::string plastic_card(const FemPlateConfig& config) {
+  // CalculiX interpolates the table linearly in εp and holds its last stress beyond it: the
+  // second point is far past any strain a pressed particle reaches, so the line is the law.
+  const double yield = *config.yield_stress * deck_stress_per_pa;
+  const double hardening = config.hardening_modulus * deck_stress_per_pa;
+  std::string card = fmt::format("*PLASTIC\n{:.15g},0\n", yield);
+  if (hardening > 0.0)
+    card += fmt::format("{:.15g},{:.15g}\n", yield + hardening * plastic_table_strain,
+                        plastic_table_strain);
+  return card;
 }
 
 std::string plate_contact_interaction(const FemPlateConfig& config, double stiffness) {
@@ -50,6 +63,12 @@ std::string static_step_head(const FemPlateConfig& config) {
   return fmt::format("*STEP,{}INC={}\n*STATIC\n{:.10g},1.0,{:.10g},{:.10g}\n",
                      config.nonlinear_geometry ? "NLGEOM," : "", 100 * config.increments + 1000,
                      increment, config.minimum_increment, increment);
+}
+
+std::string unload_step(const FemPlateConfig& config, const std::string& boundary,
+                        const std::string& prints) {
+  if (!config.unload) return {};
+  return static_step_head(config) + boundary + prints + "*END STEP\n";
 }
 
 std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config) {
@@ -120,9 +139,13 @@ std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config
   deck += static_step_head(config);
   deck += fmt::format("*BOUNDARY\n{0},1,1,0\n{0},2,2,{1:.15g}\n", plate_node_set,
                       -config.max_deformation * polar_radius);
-  deck += fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", plate_node_set);
-  deck += "*NODE PRINT,NSET=POLE\nU\n";
+  const std::string prints = fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", plate_node_set) +
+                             "*NODE PRINT,NSET=POLE\nU\n";
+  deck += prints;
   deck += "*END STEP\n";
+  // Unloading: the plate back to where it first touched (displacements are totals, ramped from
+  // the first step's end over the second).
+  deck += unload_step(config, fmt::format("*BOUNDARY\n{},2,2,0\n", plate_node_set), prints);
   return deck;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The CalculiX input deck (.inp) of the plate test: the sphere's meridian quarter as CAX4
 // elements, a rigid flat plate above it pushed down by a prescribed displacement, penalty
-// contact between them, symmetry at the axis and the equator plane. One static step.
+// contact between them, symmetry at the axis and the equator plane. One static step, and a
+// second that takes the plate back when the config unloads.
 #include <string>
 
 #include "fem/fem_plate_config.hpp"
@@ -34,11 +35,19 @@ NeoHookeConstants neo_hooke_constants(double youngs_modulus, double poisson_rati
 // the particle's material (neo-Hookean or elastic, NAME=<elset>_MATERIAL) and the rigid plates'
 // placeholder material, each with its solid section;
 std::string material_cards(const FemPlateConfig& config, double modulus, const std::string& elset);
+// the von Mises plasticity of a config with a yield stress: *PLASTIC, the yield stress against
+// the equivalent plastic strain, σ = σy + H εp, as two points (0 and plastic_table_strain);
+std::string plastic_card(const FemPlateConfig& config);
+inline constexpr double plastic_table_strain = 10.0;
 // the penalty contact PLATE_CONTACT of stiffness K (pressure = K × overclosure), with Coulomb
 // friction when the config has it;
 std::string plate_contact_interaction(const FemPlateConfig& config, double stiffness);
-// the head of the one static step, in config.increments equal increments.
+// the head of a static step, in config.increments equal increments;
 std::string static_step_head(const FemPlateConfig& config);
+// the unloading step when config.unload (else nothing): a static step with `boundary` (the
+// plates' displacements back to zero) and the same `prints` as the loading step.
+std::string unload_step(const FemPlateConfig& config, const std::string& boundary,
+                        const std::string& prints);
 
 std::string plate_deck(const QuarterDiscMesh& mesh, const FemPlateConfig& config);
 

@@ -34,8 +34,8 @@ double process_cpu_seconds(int pid) {
   return static_cast<double>(user + system) / static_cast<double>(sysconf(_SC_CLK_TCK));
 }
 
-// Follows CalculiX's increment messages: "actual step time=…" opens an attempt, a line
-// starting with "convergence" closes it as converged.
+// Follows CalculiX's increment messages: "actual step time=…" opens an attempt (its "actual
+// total time=…" follows), a line starting with "convergence" closes it as converged.
 class IncrementTracker {
  public:
   explicit IncrementTracker(std::function<void(const ConvergedIncrement&)> on_increment)
@@ -46,9 +46,12 @@ class IncrementTracker {
     const std::string_view view = std::string_view(text).substr(start);
     if (view.starts_with("actual step time=")) {
       attempt_time_ = std::strtod(text.c_str() + start + 17, nullptr);
+      attempt_total_ = attempt_time_;  // one step: the same
+    } else if (view.starts_with("actual total time=")) {
+      attempt_total_ = std::strtod(text.c_str() + start + 18, nullptr);
     } else if (view.starts_with("convergence")) {
       ConvergedIncrement done{static_cast<int>(outcome.increments.size()) + 1, attempt_time_,
-                              process_cpu_seconds(pid), wall_seconds};
+                              attempt_total_, process_cpu_seconds(pid), wall_seconds};
       outcome.increments.push_back(done);
       if (on_increment_) on_increment_(done);
     } else if (view.starts_with("*ERROR") && outcome.error.empty()) {
@@ -59,13 +62,15 @@ class IncrementTracker {
  private:
   std::function<void(const ConvergedIncrement&)> on_increment_;
   double attempt_time_ = 0.0;
+  double attempt_total_ = 0.0;
 };
 
 }  // namespace
 
-bool CcxOutcome::completed() const {
+bool CcxOutcome::completed(int steps) const {
   return exit_status == 0 && error.empty() && !increments.empty() &&
-         increments.back().step_time > 1.0 - 1e-9;
+         increments.back().step_time > 1.0 - 1e-9 &&
+         increments.back().total_time > steps - 1e-9 * steps;
 }
 
 CcxOutcome run_ccx(const std::string& program, const std::filesystem::path& folder,

@@ -11,6 +11,7 @@ namespace shapepress::fem {
 struct ConvergedIncrement {
   int number = 0;            // CalculiX's increment count, from 1
   double step_time = 0.0;    // in [0, 1]: the fraction of the step's load
+  double total_time = 0.0;   // over the steps, each of period 1: step n ends at n
   double cpu_seconds = 0.0;  // the child's user + system CPU when it converged
   double wall_seconds = 0.0;
 };
@@ -21,8 +22,8 @@ struct CcxOutcome {
   std::string error;         // the first "*ERROR" line CalculiX printed, empty if none
   double cpu_seconds = 0.0;  // the child's total user + system CPU
   double wall_seconds = 0.0;
-  // The step's end was reached without an error.
-  bool completed() const;
+  // The end of the last of `steps` steps was reached without an error.
+  bool completed(int steps = 1) const;
 };
 
 // Runs `program -i job` in `folder` (job.inp there), its output in folder/job.log, OpenMP and
@@ -34,7 +35,7 @@ CcxOutcome run_ccx(const std::string& program, const std::filesystem::path& fold
                    const std::function<void(const ConvergedIncrement&)>& on_increment = {});
 
 struct NodeSetTotal {
-  double step_time = 0.0;
+  double step_time = 0.0;  // the total time CalculiX prints: step n of period 1 ends at n
   double fx = 0.0, fy = 0.0, fz = 0.0;
 };
 // The "total force (fx,fy,fz) for set NAME and time T" blocks of a .dat file, in order.

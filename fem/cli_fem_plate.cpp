@@ -39,9 +39,12 @@ constexpr double convergence_from = 0.05;
 // The columns of `plate`'s force.csv (scenarios/plate_run.hpp), so `report` reads both.
 void write_force_csv(const std::filesystem::path& path, const FemPlateRun& run,
                      const FemPlateConfig& config, const PressedParticle* particle) {
-  CsvWriter csv(path, {"time_s", "deformation", "approach_m", "top_force_N", "bottom_force_N",
-                       "hertz_force_N", "contacts", "intact_bonds", "kinetic_energy_J", "work_J",
-                       "cpu_s", "wall_s"});
+  std::vector<std::string> columns = {"time_s",      "deformation",    "approach_m",
+                                      "top_force_N", "bottom_force_N", "hertz_force_N",
+                                      "contacts",    "intact_bonds",   "kinetic_energy_J",
+                                      "work_J",      "cpu_s",          "wall_s"};
+  if (config.unload) columns.push_back("step");
+  CsvWriter csv(path, columns);
   if (particle == nullptr) {
     csv.comment(fmt::format(
         "shapepress fem-plate: {} sphere R = {:.6g} m, E = {:.6g} Pa, nu = {:.6g} between rigid "
@@ -76,9 +79,38 @@ void write_force_csv(const std::filesystem::path& path, const FemPlateRun& run,
         "curvatures fitted to the surface there, the two contacts in series");
   }
   csv.comment("contacts: plates touching the particle; cpu_s, wall_s: CalculiX's when converged");
-  for (const FemPlateRow& r : run.rows)
-    csv.row({r.step_time, r.deformation, r.approach, r.top_force, r.bottom_force, r.hertz_force,
-             r.force > 0.0 ? 2.0 : 0.0, 0.0, 0.0, r.work, r.cpu_seconds, r.wall_seconds});
+  if (config.plastic())
+    csv.comment(fmt::format(
+        "von Mises plasticity (CalculiX *PLASTIC): yield stress {:.6g} Pa, hardening modulus "
+        "{:.6g} Pa (sigma = sigma_y + H eps_p)",
+        *config.yield_stress, config.hardening_modulus));
+  if (config.unload) {
+    const UnloadingResult unloaded = unloading_result(run);
+    csv.comment(
+        "step: 1 loading (time_s 0 to 1), 2 unloading (time_s 1 to 2: the plates back to where "
+        "they first touched)");
+    csv.comment(fmt::format(
+        "peak force {:.6g} N; the unloading force falls to zero at deformation {:.6g} (approach "
+        "{:.6g} m, within the increment {:.3g}): the plastic deformation left",
+        unloaded.peak_force, unloaded.residual_deformation, unloaded.residual_approach,
+        unloaded.resolution));
+  }
+  for (const FemPlateRow& r : run.rows) {
+    std::vector<double> values = {r.step_time + (r.step - 1),
+                                  r.deformation,
+                                  r.approach,
+                                  r.top_force,
+                                  r.bottom_force,
+                                  r.hertz_force,
+                                  r.force > 0.0 ? 2.0 : 0.0,
+                                  0.0,
+                                  0.0,
+                                  r.work,
+                                  r.cpu_seconds,
+                                  r.wall_seconds};
+    if (config.unload) values.push_back(r.step);
+    csv.row(values);
+  }
   csv.commit();
 }
 
@@ -95,7 +127,9 @@ void add_run_facts(RunMetadata& meta, const FemPlateConfig& config, const FemPla
   std::vector<std::pair<double, double>> forces;
   for (double d : summary_deformations)
     forces.emplace_back(d, force_at(run, d));
-  const FemPlateRow& last = run.rows.back();
+  double reached = 0.0;  // the loading step's last converged deformation
+  for (const FemPlateRow& r : run.rows)
+    if (r.step == 1) reached = r.deformation;
   meta.fact("particle_kind", "fem")
       .fact("sub_spheres", 1)  // one continuum body: `report` keeps it out of the BMS N study
       .fact("bonds", 0)
@@ -113,10 +147,24 @@ void add_run_facts(RunMetadata& meta, const FemPlateConfig& config, const FemPla
       .fact("arc_elements", run.arc_elements)
       .fact("rows", run.rows.size())
       .fact("completed", run.completed)
-      .fact("deformation_reached", last.deformation)
+      .fact("deformation_reached", reached)
       .fact("force_N_at_deformation", by_deformation(forces))
       .fact("cpu_s", run.cpu_seconds)
       .fact("wall_s", run.wall_seconds);
+  if (config.plastic())
+    meta.fact("yield_stress_Pa", *config.yield_stress)
+        .fact("hardening_modulus_Pa", config.hardening_modulus);
+  if (config.unload) {
+    const UnloadingResult unloaded = unloading_result(run);
+    const auto finite_or_null = [](double v) {
+      return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
+    };
+    meta.fact("unload", true)
+        .fact("peak_force_N", unloaded.peak_force)
+        .fact("residual_deformation", finite_or_null(unloaded.residual_deformation))
+        .fact("residual_approach_m", finite_or_null(unloaded.residual_approach))
+        .fact("residual_resolution", unloaded.resolution);
+  }
   if (particle == nullptr) {
     meta.fact("pole_curvature_radius_m", config.pole_curvature_radius());
     return;
@@ -172,10 +220,15 @@ int run(const FemPlateCli& cli, const RunContext& context) {
     // One line per converged increment: an increment takes seconds to minutes, so a line each is
     // the progress (ProgressReporter samples its clock every 64 updates, too rarely here).
     int increment = 0;
-    options.progress = [&](double step_time) {
-      if (!context.quiet)
+    options.progress = [&](double total_time) {
+      if (context.quiet) return;
+      if (total_time > 1.0 + 1e-6)
+        spdlog::info(
+            "fem-plate {}: increment {} converged, unloaded to deformation {:.4g} from {:.4g}", job,
+            ++increment, (2.0 - total_time) * config.max_deformation, config.max_deformation);
+      else
         spdlog::info("fem-plate {}: increment {} converged, deformation {:.4g} of {:.4g}", job,
-                     ++increment, step_time * config.max_deformation, config.max_deformation);
+                     ++increment, total_time * config.max_deformation, config.max_deformation);
     };
     return solid != nullptr ? run_solid_fem_plate(config, *solid, arc_elements, out, job, options)
                             : run_fem_plate(config, arc_elements, out, job, options);
@@ -199,6 +252,13 @@ int run(const FemPlateCli& cli, const RunContext& context) {
   spdlog::info("fem-plate: {} elements, {:.3g} s CPU; force {:.4g} N at deformation {:.3g}",
                fine.elements, fine.cpu_seconds, fine.rows.back().force,
                fine.rows.back().deformation);
+  if (config.unload) {
+    const UnloadingResult unloaded = unloading_result(fine);
+    spdlog::info(
+        "fem-plate: peak force {:.4g} N; unloaded, the force falls to zero at deformation {:.4g} "
+        "(within {:.2g}): the plastic deformation left",
+        unloaded.peak_force, unloaded.residual_deformation, unloaded.resolution);
+  }
 
   if (config.coarse_arc_elements > 0) {
     const FemPlateRun coarse = press(config.coarse_arc_elements, job + "-coarse");

@@ -1,5 +1,6 @@
 #include "fem/fem_plate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -21,21 +22,21 @@ namespace {
 
 // CalculiX on the deck already written to run.deck: the outcome's times and failure into `run`.
 CcxOutcome solve(FemPlateRun& run, const std::filesystem::path& folder, const std::string& job,
-                 const FemRunOptions& options) {
+                 int steps, const FemRunOptions& options) {
   // Stale results of an earlier run in the same folder must not pass for this one's.
   std::filesystem::remove(folder / (job + ".dat"));
   const CcxOutcome outcome =
       run_ccx(options.ccx, folder, job, options.threads, [&](const ConvergedIncrement& done) {
-        if (options.progress) options.progress(done.step_time);
+        if (options.progress) options.progress(done.total_time);
       });
   run.cpu_seconds = outcome.cpu_seconds;
   run.wall_seconds = outcome.wall_seconds;
-  run.completed = outcome.completed();
+  run.completed = outcome.completed(steps);
   if (!run.completed)
     run.failure = !outcome.error.empty()
                       ? outcome.error
-                      : fmt::format("CalculiX exited with status {} before the end of the step",
-                                    outcome.exit_status);
+                      : fmt::format("CalculiX exited with status {} before the end of step {}",
+                                    outcome.exit_status, steps);
   return outcome;
 }
 
@@ -48,8 +49,12 @@ void add_rows(FemPlateRun& run, const CcxOutcome& outcome, const std::vector<Nod
   run.rows.push_back(FemPlateRow{});  // the undeformed state: nothing touches yet
   for (std::size_t i = 0; i < top.size(); ++i) {
     FemPlateRow row;
-    row.step_time = top[i].step_time;
-    row.deformation = top[i].step_time * max_deformation;
+    // CalculiX prints the total time: the loading step runs from 0 to 1, the unloading step,
+    // which takes the plates back linearly, from 1 to 2.
+    const double total_time = top[i].step_time;
+    row.step = total_time > 1.0 + 1e-6 ? 2 : 1;
+    row.step_time = total_time - (row.step - 1);
+    row.deformation = (row.step == 1 ? row.step_time : 1.0 - row.step_time) * max_deformation;
     row.approach = height * row.deformation;
     // The reaction of the supports, whichever way z points: the magnitude is the force.
     row.top_force = std::fabs(bottom.empty() ? top[i].fy : top[i].fz) * force_factor;
@@ -61,7 +66,7 @@ void add_rows(FemPlateRun& run, const CcxOutcome& outcome, const std::vector<Nod
         previous.work + 0.5 * (row.force + previous.force) * (row.approach - previous.approach);
     for (const ConvergedIncrement& done : outcome.increments)
       // Both print 7 significant digits (the .dat 0.3333333E+00, the log 3.333333e-01).
-      if (std::fabs(done.step_time - row.step_time) < 1e-6 * std::max(1.0, row.step_time)) {
+      if (std::fabs(done.total_time - total_time) < 1e-6 * std::max(1.0, total_time)) {
         row.cpu_seconds = done.cpu_seconds;
         row.wall_seconds = done.wall_seconds;
       }
@@ -97,7 +102,7 @@ FemPlateRun run_fem_plate(const FemPlateConfig& config, int arc_elements,
         fmt::format("fem-plate: {} CAX4 elements ({} per 45° of arc), {} nodes, {} "
                     "increments at most: {}",
                     run.elements, arc_elements, run.nodes, config.increments, run.deck.string()));
-  const CcxOutcome outcome = solve(run, folder, job, options);
+  const CcxOutcome outcome = solve(run, folder, job, config.unload ? 2 : 1, options);
   // Hertz at the pole: a sphere of the pole's radius of curvature (R itself for a sphere).
   const analysis::ElasticSphere sphere{config.pole_curvature_radius(), config.youngs_modulus,
                                        config.poisson_ratio};
@@ -173,7 +178,7 @@ FemPlateRun run_solid_fem_plate(const FemPlateConfig& config, const PressedParti
         "fem-plate: {} C3D10 elements ({:.3g} mm at the plates), {} nodes, {} "
         "increments at most: {}",
         run.elements, 1e3 * sizes.at_plates, run.nodes, config.increments, run.deck.string()));
-  const CcxOutcome outcome = solve(run, folder, job, options);
+  const CcxOutcome outcome = solve(run, folder, job, config.unload ? 2 : 1, options);
   // Hertz: each contact's principal curvatures from the surface within 0.5 % of the height.
   const double modulus =
       config.youngs_modulus / (1.0 - config.poisson_ratio * config.poisson_ratio);
@@ -189,9 +194,39 @@ FemPlateRun run_solid_fem_plate(const FemPlateConfig& config, const PressedParti
   return run;
 }
 
+UnloadingResult unloading_result(const FemPlateRun& run) {
+  UnloadingResult result;
+  result.residual_approach = result.residual_deformation = std::numeric_limits<double>::quiet_NaN();
+  for (const FemPlateRow& r : run.rows)
+    result.peak_force = std::max(result.peak_force, r.force);
+  // Without contact the penalty gives exactly no force; 1e-9 of the peak allows for round-off.
+  const double none = 1e-9 * result.peak_force;
+  const auto& rows = run.rows;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const FemPlateRow &a = rows[i - 1], &b = rows[i];
+    // The unloading starts from the loading's last row: a may be it.
+    if (b.step != 2 || !(a.force > none) || b.force > none) continue;
+    // The zero of the secant through the last two rows with force, kept between them and the
+    // first row without (the contact opens somewhere in that increment); b itself when there is
+    // one unloading row with force only.
+    double w = 1.0;
+    if (i >= 2 && rows[i - 2].force > a.force) {
+      const FemPlateRow& before = rows[i - 2];
+      const double slope = (before.force - a.force) / (before.deformation - a.deformation);  // > 0
+      const double zero = a.deformation - a.force / slope;
+      w = std::clamp((a.deformation - zero) / (a.deformation - b.deformation), 0.0, 1.0);
+    }
+    result.residual_deformation = a.deformation + w * (b.deformation - a.deformation);
+    result.residual_approach = a.approach + w * (b.approach - a.approach);
+    result.resolution = a.deformation - b.deformation;
+    break;
+  }
+  return result;
+}
+
 double force_at(const FemPlateRun& run, double deformation) {
   const auto& rows = run.rows;
-  for (std::size_t i = 1; i < rows.size(); ++i)
+  for (std::size_t i = 1; i < rows.size() && rows[i].step == 1; ++i)
     if (deformation <= rows[i].deformation + 1e-12) {
       const FemPlateRow& a = rows[i - 1];
       const FemPlateRow& b = rows[i];
@@ -209,7 +244,7 @@ MeshDifference mesh_difference(const FemPlateRun& coarse, const FemPlateRun& fin
     return (force_at(coarse, deformation) - reference) / reference;
   };
   for (const FemPlateRow& row : coarse.rows) {
-    if (row.deformation < from) continue;
+    if (row.step != 1 || row.deformation < from) continue;
     const double r = relative(row.deformation);
     if (std::isfinite(r) && std::fabs(r) > std::fabs(d.max_relative)) {
       d.max_relative = r;

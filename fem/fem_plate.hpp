@@ -13,6 +13,7 @@
 namespace shapepress::fem {
 
 struct FemPlateRow {
+  int step = 1;              // 1 loading, 2 unloading (config.unload)
   double step_time = 0.0;    // fraction of the step
   double deformation = 0.0;  // Δ/(2R), Δ/(2c) for a spheroid
   double approach = 0.0;     // Δ [m], both plates
@@ -20,7 +21,7 @@ struct FemPlateRow {
   double top_force = 0.0, bottom_force = 0.0;  // each plate's [N]
   double hertz_force = 0.0;  // (√2/3) E* √R Δ^{3/2}, E* = E/(1 − ν²) (rigid plates), R at the pole;
                              // 3D: both contacts' elliptical Hertz in series
-  double work = 0.0;         // ∫ F dΔ by the plates [J]
+  double work = 0.0;         // ∫ F dΔ by the plates [J] (net: unloading gives some back)
   double cpu_seconds = 0.0;  // CalculiX's CPU when the increment converged
   double wall_seconds = 0.0;
 };
@@ -30,7 +31,8 @@ struct FemPlateRun {
   double element_size = 0.0;  // 3D: at the plates [m]
   int elements = 0;           // of the particle
   int nodes = 0;
-  std::vector<FemPlateRow> rows;  // converged increments only, from the undeformed state
+  std::vector<FemPlateRow> rows;  // converged increments only, from the undeformed state;
+                                  // the unloading step's after the loading step's
   double cpu_seconds = 0.0;       // CalculiX's total
   double wall_seconds = 0.0;
   bool completed = false;
@@ -38,12 +40,26 @@ struct FemPlateRun {
   std::filesystem::path deck;
 };
 
+// What the unloading left: the largest force, and the approach at which the unloading force
+// fell to zero (the plates left the particle): the zero of the secant through the last two
+// unloading rows with force, kept within the increment before the first row without (NaN when
+// the run has no unloading row without force: not unloaded, or stopped before the plates let
+// go). A purely elastic particle leaves none (0 within that increment); a plastic one its
+// permanent flattening.
+struct UnloadingResult {
+  double peak_force = 0.0;            // [N]
+  double residual_approach = 0.0;     // [m]
+  double residual_deformation = 0.0;  // residual approach over the height
+  double resolution = 0.0;            // the unloading increment, in deformation
+};
+UnloadingResult unloading_result(const FemPlateRun& run);
+
 struct FemRunOptions {
   std::string ccx = "ccx";    // the CalculiX program
   std::string gmsh = "gmsh";  // the mesher (3D models)
   int threads = 1;
-  std::function<void(const std::string&)> log;  // one-line notes
-  std::function<void(double step_time)> progress;
+  std::function<void(const std::string&)> log;      // one-line notes
+  std::function<void(double total_time)> progress;  // 0 to 1 loading, 1 to 2 unloading
 };
 
 // Runs `config` at `arc_elements` in `folder` as job `job` (job.inp, job.dat, job.frd, job.log
@@ -74,7 +90,7 @@ struct MeshDifference {
 MeshDifference mesh_difference(const FemPlateRun& coarse, const FemPlateRun& fine, double from,
                                const std::vector<double>& deformations);
 
-// The curve's force at a deformation, linear between rows; NaN beyond the last row.
+// The loading curve's force at a deformation, linear between rows; NaN beyond its last row.
 double force_at(const FemPlateRun& run, double deformation);
 
 }  // namespace shapepress::fem

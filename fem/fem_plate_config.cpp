@@ -1,5 +1,7 @@
 #include "fem/fem_plate_config.hpp"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "common/error.hpp"
@@ -8,6 +10,20 @@
 
 namespace shapepress::fem {
 namespace {
+
+// The solid's von Mises plasticity, the same keys in [sphere] and [particle].
+void plasticity_rows(OptionTable<FemPlateConfig>& table) {
+  table
+      .quantity("yield_stress", &FemPlateConfig::yield_stress, dim::pressure, Range::positive(),
+                "σy: the solid yields by von Mises at this uniaxial stress and hardens "
+                "isotropically (CalculiX *PLASTIC; needs material_model = \"linear-elastic\")")
+      .default_text("none (elastic)")
+      .quantity("hardening_modulus", &FemPlateConfig::hardening_modulus, dim::pressure,
+                Range::non_negative(),
+                "H = dσ/dεp, the slope of the yield stress against the equivalent plastic strain "
+                "(0: perfectly plastic)")
+      .when([](const FemPlateConfig& c) { return c.plastic(); }, "without yield_stress");
+}
 
 const OptionTable<FemPlateConfig>& sphere_table() {
   static const OptionTable<FemPlateConfig> t = [] {
@@ -31,6 +47,7 @@ const OptionTable<FemPlateConfig>& sphere_table() {
                     {"linear-elastic", MaterialModel::linear_elastic}},
                 "compressible neo-Hookean (the paper's MPFEM material) or linear elastic (with "
                 "nonlinear geometry: St Venant–Kirchhoff)");
+    plasticity_rows(s);
     return s;
   }();
   return t;
@@ -70,6 +87,7 @@ const OptionTable<FemPlateConfig>& particle_table() {
                     {"neo-hookean", MaterialModel::neo_hookean},
                     {"linear-elastic", MaterialModel::linear_elastic}},
                 "compressible neo-Hookean or linear elastic (with nonlinear geometry)");
+    plasticity_rows(s);
     return s;
   }();
   return t;
@@ -81,7 +99,11 @@ const OptionTable<FemPlateConfig>& plate_table() {
     p.number("max_deformation", &FemPlateConfig::max_deformation, Range::open_closed(0.0, 0.8),
              "total plate approach over the diameter, Δ/(2R), at the end of the step")
         .number("friction", &FemPlateConfig::friction, Range::non_negative(),
-                "Coulomb friction coefficient between sphere and plates (0: frictionless)");
+                "Coulomb friction coefficient between sphere and plates (0: frictionless)")
+        .boolean("unload", &FemPlateConfig::unload,
+                 "a second step takes the plates back to where they first touched: the unloading "
+                 "curve in force.csv (step 2) and the approach at which the force falls to zero "
+                 "(run.json residual_deformation)");
     return p;
   }();
   return t;
@@ -120,6 +142,18 @@ const char* material_model_name(MaterialModel model) {
 }
 
 void FemPlateConfig::check() const {
+  const char* section = solid() ? "particle" : "sphere";
+  if (plastic() && material != MaterialModel::linear_elastic)
+    throw InputError(fmt::format(
+        "{0}.yield_stress needs {0}.material_model = \"linear-elastic\" (CalculiX's *PLASTIC "
+        "extends *ELASTIC, not the neo-Hookean *HYPERELASTIC)",
+        section));
+  if (plastic() && !(*yield_stress > 0.0 && std::isfinite(*yield_stress)))
+    throw InputError(
+        fmt::format("{}.yield_stress {} must be positive and finite", section, *yield_stress));
+  if (!(hardening_modulus >= 0.0 && std::isfinite(hardening_modulus)))
+    throw InputError(fmt::format("{}.hardening_modulus {} must be non-negative and finite", section,
+                                 hardening_modulus));
   if (coarse_arc_elements != 0 && coarse_arc_elements >= arc_elements)
     throw InputError(
         fmt::format("fem.coarse_arc_elements {} must be below fem.arc_elements {} (or 0: no check)",
@@ -158,8 +192,9 @@ std::string fem_plate_config_toml(const FemPlateConfig& config) {
 StageOptions fem_plate_options() {
   return StageOptions{
       "fem-plate",
-      "one elastic sphere between rigid plates by the finite element method "
-      "(CalculiX: a sphere or spheroid axisymmetric, any closed mesh in 3D)",
+      "one elastic (or elastic–plastic) sphere between rigid plates by the finite element "
+      "method (CalculiX: a sphere or spheroid axisymmetric, any closed mesh in 3D), loaded and, "
+      "if asked, unloaded",
       {sphere_table().docs(), particle_table().docs(), plate_table().docs(), fem_table().docs()}};
 }
 

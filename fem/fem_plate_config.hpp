@@ -3,6 +3,7 @@
 // increments of the CalculiX run (docs/stages.md "fem-plate", docs/models.md "The finite-element
 // reference").
 #include <array>
+#include <optional>
 #include <string>
 
 #include "common/config.hpp"
@@ -36,7 +37,15 @@ struct FemPlateConfig {
   double youngs_modulus = 0.0;  // E [Pa] (small-strain)
   double poisson_ratio = 0.0;   // ν (small-strain)
   MaterialModel material = MaterialModel::neo_hookean;
-  double max_deformation = 0.4;     // Δ/(2c) at the end of the step
+  // Von Mises plasticity with linear isotropic hardening (CalculiX *PLASTIC): the uniaxial yield
+  // stress σy [Pa] and the hardening modulus H = dσ/dεp [Pa] (0: perfectly plastic). Empty:
+  // elastic. Needs the linear-elastic material (ccx joins *PLASTIC to *ELASTIC only).
+  std::optional<double> yield_stress;
+  double hardening_modulus = 0.0;
+  double max_deformation = 0.4;  // Δ/(2c) at the end of the loading step
+  // A second step takes the plates back to where they first touched: the unloading curve, and
+  // the approach at which the force falls to zero (the plastic deformation left).
+  bool unload = false;
   double friction = 0.0;            // Coulomb coefficient between sphere and plates (0: none)
   int arc_elements = 24;            // mesh resolution: elements per 45° of the outline
   int coarse_arc_elements = 16;     // the convergence check's second mesh (0: none)
@@ -46,6 +55,7 @@ struct FemPlateConfig {
   double penalty_factor = 100.0;    // contact stiffness = factor × E / (pole element size)
 
   bool solid() const { return !mesh.empty(); }
+  bool plastic() const { return yield_stress.has_value(); }
   void check() const;  // InputError naming the key
   // c: polar_radius, or R for the sphere.
   double pressed_radius() const { return polar_radius > 0.0 ? polar_radius : radius; }

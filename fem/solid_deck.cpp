@@ -131,9 +131,15 @@ std::string solid_plate_deck(const TetMesh& mesh, const SolidPlates& plates,
   deck += static_step_head(config);
   deck += fmt::format("*BOUNDARY\n{0},1,2,0\n{0},3,3,{1:.15g}\n{2},1,2,0\n{2},3,3,{3:.15g}\n",
                       top_plate_node_set, -0.5 * approach, bottom_plate_node_set, 0.5 * approach);
-  deck += fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", top_plate_node_set);
-  deck += fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", bottom_plate_node_set);
+  const std::string prints =
+      fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", top_plate_node_set) +
+      fmt::format("*NODE PRINT,NSET={},TOTALS=ONLY\nRF\n", bottom_plate_node_set);
+  deck += prints;
   deck += "*END STEP\n";
+  deck += unload_step(
+      config,
+      fmt::format("*BOUNDARY\n{},3,3,0\n{},3,3,0\n", top_plate_node_set, bottom_plate_node_set),
+      prints);
   return deck;
 }
 

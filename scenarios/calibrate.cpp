@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -15,11 +16,28 @@
 namespace shapepress::scenarios {
 
 std::vector<std::string> calibration_parameter_names() {
-  return {"normal_stiffness", "shear_stiffness", "modulus",
-          "shear_ratio",      "contact_modulus", "radius_multiplier"};
+  return {"normal_stiffness", "shear_stiffness",    "modulus",
+          "shear_ratio",      "contact_modulus",    "radius_multiplier",
+          "yield_stress",     "shear_yield_stress", "hardening_ratio"};
 }
 
 namespace {
+
+bool is_plastic_parameter(const std::string& name) {
+  return name == "yield_stress" || name == "shear_yield_stress" || name == "hardening_ratio";
+}
+
+// The yielding bond's parameters: the config's [bond] model must be elastic_plastic.
+ElasticPlasticBond& plastic_bond_of(PlateConfig& c, const std::string& name) {
+  if (!c.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
+  auto* plastic = std::get_if<ElasticPlasticBond>(&c.bms->bond.model);
+  if (plastic == nullptr)
+    throw InputError(
+        fmt::format("calibrate: '{}' needs [bond] model = \"elastic_plastic\" (the "
+                    "config's bonds are {})",
+                    name, bond_model_name(c.bms->bond.model)));
+  return *plastic;
+}
 
 BondParameters& bond_of(PlateConfig& c, const std::string& name) {
   if (!c.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
@@ -101,6 +119,12 @@ double get_parameter(const PlateConfig& config, const std::string& name) {
     if (!c.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
     return contact_material(c).youngs_modulus;
   }
+  if (is_plastic_parameter(name)) {
+    const ElasticPlasticBond& p = plastic_bond_of(c, name);
+    return name == "yield_stress"         ? p.yield_stress
+           : name == "shear_yield_stress" ? p.shear_yield_stress
+                                          : p.hardening_ratio;
+  }
   BondParameters& b = bond_of(c, name);
   if (name == "normal_stiffness") return b.normal_stiffness;
   if (name == "shear_stiffness") return b.shear_stiffness;
@@ -115,6 +139,13 @@ void set_parameter(PlateConfig& config, const std::string& name, double value) {
   if (name == "contact_modulus") {
     if (!config.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
     contact_material(config).youngs_modulus = value;
+    return;
+  }
+  if (is_plastic_parameter(name)) {
+    ElasticPlasticBond& p = plastic_bond_of(config, name);
+    (name == "yield_stress"         ? p.yield_stress
+     : name == "shear_yield_stress" ? p.shear_yield_stress
+                                    : p.hardening_ratio) = value;
     return;
   }
   BondParameters& b = bond_of(config, name);
@@ -157,6 +188,40 @@ CurveError plate_curve_error(const std::vector<PlateRow>& rows,
   return {d.rms_relative, d.max_relative};
 }
 
+double plate_unloading_error(const std::vector<PlateRow>& rows, int records,
+                             const std::vector<double>& reference_deformation,
+                             const std::vector<double>& reference_force) {
+  if (rows.size() <= static_cast<std::size_t>(records) || records < 1)
+    throw InputError("calibrate: the run has no unloading rows to compare ([plate] unload)");
+  // Both curves ascending in deformation, from their turn (the largest deformation) down.
+  analysis::Curve run{{}, {}, "run unloading"}, reference{{}, {}, "reference unloading"};
+  for (std::size_t i = rows.size(); i-- > static_cast<std::size_t>(records) - 1;)
+    if (run.x.empty() || rows[i].deformation > run.x.back()) {
+      run.x.push_back(rows[i].deformation);
+      run.y.push_back(rows[i].top_force);
+    }
+  double peak = 0.0;
+  for (std::size_t i = reference_deformation.size(); i-- > 0;) {
+    peak = std::max(peak, reference_force[i]);
+    if (reference.x.empty() || reference_deformation[i] > reference.x.back()) {
+      reference.x.push_back(reference_deformation[i]);
+      reference.y.push_back(reference_force[i]);
+    }
+  }
+  run.check();
+  reference.check();
+  if (!(peak > 0.0)) throw InputError("calibrate: the reference's unloading carries no force");
+  const double upper = std::min(run.x.back(), reference.x.back());
+  constexpr int samples = 200;
+  double sum = 0.0;
+  for (int k = 0; k <= samples; ++k) {
+    const double x = upper * k / samples;
+    const double d = analysis::interpolate(run, x) - analysis::interpolate(reference, x);
+    sum += d * d;
+  }
+  return std::sqrt(sum / (samples + 1)) / peak;
+}
+
 const CalibrationEvaluation* known_evaluation(const std::vector<CalibrationEvaluation>& known,
                                               const std::vector<double>& values) {
   // Exact equality: evaluations.csv keeps 17 significant digits, which read back to the same
@@ -176,6 +241,25 @@ CalibrationResult calibrate_plate(
   if (options.max_evaluations < 2) throw InputError("calibrate: --max-evaluations must be >= 2");
   CalibrationResult result;
   PlateConfig base = modulus_form_if_asked(config, options.parameters);
+  const bool unloading = !options.reference_unloading_deformation.empty();
+  if (unloading) base.setup.unload = true;
+  // The objective of a run: the loading's RMS relative error, and with an unloading reference
+  // the unloading's over the peak force, the two branches weighed alike.
+  struct RunError {
+    double objective = 0.0, loading = 0.0, loading_max = 0.0, unloading = 0.0;
+  };
+  const auto run_error = [&](const PlateRunOutcome& run) {
+    const CurveError load = plate_curve_error(run.rows, options.reference_deformation,
+                                              options.reference_force, options.from, options.to);
+    RunError e{load.rms_relative, load.rms_relative, load.max_relative, 0.0};
+    if (unloading) {
+      e.unloading = plate_unloading_error(run.rows, run.rows.empty() ? 0 : base.setup.records,
+                                          options.reference_unloading_deformation,
+                                          options.reference_unloading_force);
+      e.objective = std::sqrt(0.5 * (e.loading * e.loading + e.unloading * e.unloading));
+    }
+    return e;
+  };
   for (const auto& [name, value] : options.start) {
     if (!(value > 0.0))
       throw InputError(fmt::format("calibrate: start value of {} = {} must be > 0", name, value));
@@ -183,8 +267,13 @@ CalibrationResult calibrate_plate(
   }
   for (const std::string& name : options.parameters) {
     const double v = get_parameter(base, name);
-    if (!(v > 0.0))
-      throw InputError(fmt::format("calibrate: start value of {} = {} must be > 0", name, v));
+    // The search runs on logarithms: a yield stress left at its default (inf: never yields) or
+    // a hardening ratio of 0 has no start there.
+    if (!(v > 0.0 && std::isfinite(v)))
+      throw InputError(fmt::format(
+          "calibrate: start value of {} = {} must be > 0 and finite (set it in the config or "
+          "with --start {}=…)",
+          name, v, name));
     result.start.push_back(v);
   }
   const auto configured = [&](const std::vector<double>& values) {
@@ -223,9 +312,7 @@ CalibrationResult calibrate_plate(
     try {
       const PlateRunOutcome run =
           run_plate_config(configured(e.values), PlateParticleKind::bms, {}, &fills);
-      e.rms_relative = plate_curve_error(run.rows, options.reference_deformation,
-                                         options.reference_force, options.from, options.to)
-                           .rms_relative;
+      e.rms_relative = run_error(run).objective;
     } catch (const ComputationError&) {
       // A diverged trial is a bad point, not the end of the search.
       e.rms_relative = std::numeric_limits<double>::infinity();
@@ -244,10 +331,11 @@ CalibrationResult calibrate_plate(
   result.converged = best.converged;
   result.config = configured(result.values);
   result.best = run_plate_config(result.config, PlateParticleKind::bms, {}, &fills);
-  const CurveError error = plate_curve_error(result.best.rows, options.reference_deformation,
-                                             options.reference_force, options.from, options.to);
-  result.rms_relative = error.rms_relative;
-  result.max_relative = error.max_relative;
+  const RunError error = run_error(result.best);
+  result.rms_relative = error.objective;
+  result.max_relative = error.loading_max;
+  result.loading_rms_relative = error.loading;
+  result.unloading_rms = error.unloading;
   return result;
 }
 

@@ -21,6 +21,8 @@ namespace shapepress::scenarios {
 //   contact_modulus                    E of the sub-spheres' contact material [Pa] (a copy of
 //                                      [bms] material, so the sphere's own E stays the bulk's)
 //   radius_multiplier                  λ̄
+//   yield_stress, shear_yield_stress,  σy, τy [Pa] and H of [bond] model = "elastic_plastic"
+//   hardening_ratio                    (bond_models.hpp; fitted against a loading and unloading)
 std::vector<std::string> calibration_parameter_names();
 
 struct CalibrationEvaluation {
@@ -36,7 +38,13 @@ struct CalibrationOptions {
   std::vector<std::string> parameters;
   std::vector<double> reference_deformation;  // increasing
   std::vector<double> reference_force;        // N
-  double from = 0.05;                         // deformation window of the objective
+  // The reference's unloading branch (a fem-plate run with [plate] unload, force.csv step 2),
+  // from its largest deformation down; empty: the loading alone is compared. Given, every
+  // evaluation unloads too and the objective is sqrt((e_load² + e_unload²)/2), e_unload the
+  // RMS unloading force error over the reference's peak force (plate_unloading_error).
+  std::vector<double> reference_unloading_deformation;
+  std::vector<double> reference_unloading_force;
+  double from = 0.05;  // deformation window of the objective
   double to = 0.40;
   int max_evaluations = 40;
   analysis::SearchMethod method = analysis::SearchMethod::bobyqa;
@@ -56,8 +64,10 @@ const CalibrationEvaluation* known_evaluation(const std::vector<CalibrationEvalu
 struct CalibrationResult {
   PlateConfig config;  // with the fitted values
   std::vector<double> start, values;
-  double rms_relative = 0.0;
-  double max_relative = 0.0;
+  double rms_relative = 0.0;  // the objective: the loading's, or with the unloading's
+  double max_relative = 0.0;  // the loading's
+  double loading_rms_relative = 0.0;
+  double unloading_rms = 0.0;  // over the reference's peak force (0 without an unloading)
   std::vector<CalibrationEvaluation> evaluations;
   bool converged = false;
   PlateRunOutcome best;  // the run with the fitted values
@@ -76,6 +86,16 @@ struct CurveError {
 CurveError plate_curve_error(const std::vector<PlateRow>& rows,
                              const std::vector<double>& reference_deformation,
                              const std::vector<double>& reference_force, double from, double to);
+
+// The RMS difference of the run's unloading curve (the rows after the first `records`, from the
+// last loading row down) against the reference's unloading branch, over the reference's peak
+// force, at 200 deformations evenly spaced from 0 to the smaller of the two curves' largest;
+// each curve holds its end value beyond its ends (a curve that lets go above 0 stays at 0 force
+// below its last row). Relative to the peak: the force passes through zero on the way down,
+// where a relative error has no meaning.
+double plate_unloading_error(const std::vector<PlateRow>& rows, int records,
+                             const std::vector<double>& reference_deformation,
+                             const std::vector<double>& reference_force);
 
 CalibrationResult calibrate_plate(
     const PlateConfig& config, const CalibrationOptions& options,

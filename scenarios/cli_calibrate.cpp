@@ -4,6 +4,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -79,7 +80,9 @@ CommandOptions calibrate_command(CalibrateCli& cli) {
             "y column of the reference (plate: F_tatara_N [N]; compaction: found by name)")
       .text("--fit", &cli.fit,
             "parameters, comma-separated. Plate (default modulus,shear_ratio): modulus, "
-            "shear_ratio, normal_stiffness, shear_stiffness, contact_modulus, radius_multiplier. "
+            "shear_ratio, normal_stiffness, shear_stiffness, contact_modulus, radius_multiplier, "
+            "and of elastic_plastic bonds yield_stress, shear_yield_stress, hardening_ratio "
+            "(against a reference that unloads: a fem-plate run with plate.unload). "
             "Compaction (default loading_stiffness): loading_stiffness, youngs_modulus, "
             "plasticity_ratio, multicontact_prefactor, normal_stiffness, shear_stiffness")
       .text("--start", &cli.start,
@@ -494,14 +497,40 @@ struct ReferenceCurve {
   std::filesystem::path csv;
   std::vector<double> deformation, force;
   std::string force_column;
+  // A reference with a `step` column (fem-plate's [plate] unload): its step-2 rows, the
+  // unloading from the largest deformation down (the loading above is step 1's).
+  std::vector<double> unloading_deformation, unloading_force;
 };
+
+// Moves the step-2 rows of `curve` into its unloading branch. The unloading turns at the
+// reference's largest deformation, which the config's plates must reach too: the two unloadings
+// start from the same state.
+void split_unloading(ReferenceCurve& curve, const std::vector<double>& step,
+                     const PlateConfig& config) {
+  ReferenceCurve loading = curve;
+  loading.deformation.clear();
+  loading.force.clear();
+  for (std::size_t k = 0; k < step.size(); ++k) {
+    const bool unloading = step[k] == 2.0;
+    (unloading ? loading.unloading_deformation : loading.deformation)
+        .push_back(curve.deformation[k]);
+    (unloading ? loading.unloading_force : loading.force).push_back(curve.force[k]);
+  }
+  curve = std::move(loading);
+  if (curve.unloading_deformation.empty() || curve.deformation.empty()) return;
+  const double turn = curve.deformation.back();
+  if (std::fabs(turn - config.setup.max_deformation) > 1e-6 * turn)
+    throw InputError(fmt::format(
+        "--reference {}: it unloads from deformation {:.6g}; set the config's "
+        "plate.max_deformation to it (now {:.6g}) so that both unload from the same state",
+        curve.csv.string(), turn, config.setup.max_deformation));
+}
 
 ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config) {
   const double radius = config.setup.radius;
-  ReferenceCurve curve{reference_file(cli.reference),
-                       {},
-                       {},
-                       cli.y_column.empty() ? std::string("F_tatara_N") : cli.y_column};
+  ReferenceCurve curve;
+  curve.csv = reference_file(cli.reference);
+  curve.force_column = cli.y_column.empty() ? std::string("F_tatara_N") : cli.y_column;
   std::string x_column = cli.x_column.empty() ? std::string("deformation") : cli.x_column;
   bool mean_of_plates = false;
   if (std::filesystem::is_directory(cli.reference)) {
@@ -562,6 +591,8 @@ ReferenceCurve read_plate_reference(const CalibrateCli& cli, PlateConfig& config
       curve.force[k] = 0.5 * (curve.force[k] + bottom.at(k));
     curve.force_column = "mean of top_force_N and bottom_force_N";
   }
+  if (std::find(table.columns.begin(), table.columns.end(), "step") != table.columns.end())
+    split_unloading(curve, table.finite_column("step"), config);
   return curve;
 }
 
@@ -574,6 +605,8 @@ CalibrationOptions plate_calibration_options(const CalibrateCli& cli,
   options.parameters = split_names(cli.fit.empty() ? "modulus,shear_ratio" : cli.fit);
   options.reference_deformation = reference.deformation;
   options.reference_force = reference.force;
+  options.reference_unloading_deformation = reference.unloading_deformation;
+  options.reference_unloading_force = reference.unloading_force;
   options.start = start_values(cli.start);
   options.from = cli.from.empty() ? 0.05 : window_bound(cli.from, dim::dimensionless, "--from");
   options.to = cli.to.empty() ? 0.40 : window_bound(cli.to, dim::dimensionless, "--to");
@@ -643,7 +676,11 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
                   config.bms->count,
                   config.bms->fills > 1 ? fmt::format("mean of {} fills", config.bms->fills)
                                         : std::string("one fill"),
-                  config.bms->seed, from, to, reference.csv.string(), reference.force_column));
+                  config.bms->seed, from, to, reference.csv.string(), reference.force_column) +
+          (reference.unloading_deformation.empty()
+               ? std::string()
+               : "; with its unloading (step 2): rms_relative = sqrt((loading^2 + "
+                 "unloading^2) / 2), the unloading's RMS force error over the peak force"));
   write_invocation(out, cli, invocation);
   ProgressReporter progress("calibrate", options.max_evaluations,
                             {.quiet = invocation.quiet, .unit = "runs"});
@@ -673,6 +710,9 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
       .fact("evaluations", result.evaluations.size())
       .fact("bond_normal_stiffness_N_per_m3", stiffness.normal)
       .fact("bond_shear_stiffness_N_per_m3", stiffness.shear);
+  if (!options.reference_unloading_deformation.empty())
+    meta.fact("loading_rms_relative", result.loading_rms_relative)
+        .fact("unloading_rms_of_peak", result.unloading_rms);
   for (const char* name :
        {"evaluations.csv", "calibrated.toml", "force.csv", "calibration.csv", invocation_name})
     meta.output(name);
@@ -681,6 +721,13 @@ int run_plate(const CalibrateCli& cli, const ConfigTable& root, const Invocation
              result.best.spheres, result.rms_relative, result.max_relative, from, to,
              result.evaluations.size());
   print_fitted_values(options.parameters, result.start, result.values);
+  if (!options.reference_unloading_deformation.empty()) {
+    const PlateUnloading unloaded = plate_unloading(result.best.rows, result.config.setup.records);
+    fmt::print(
+        "  loading RMS {:.4f}, unloading RMS {:.4f} of the peak force; the fitted run keeps "
+        "deformation {:.4g} unloaded\n",
+        result.loading_rms_relative, result.unloading_rms, unloaded.residual_deformation);
+  }
   fmt::print(
       "  k̄n = {:.4g} N/m^3, k̄s = {:.4g} N/m^3 (paper: Table 1, rubber {:.3g}, {:.3g}; Table 4, "
       "Avicel {:.3g}, {:.3g})\n",

@@ -222,7 +222,13 @@ const OptionTable<PlateConfig>& plate_table() {
             dim::velocity, Range::positive(),
             "speed at max_deformation, reached linearly in deformation after the ramp")
         .default_text("speed")
-        .write_when([](const PlateConfig& c) { return c.setup.final_speed > 0.0; });
+        .write_when([](const PlateConfig& c) { return c.setup.final_speed > 0.0; })
+        .boolean(
+            "unload", [setup](auto& c) -> auto& { return setup(c).unload; },
+            "after max_deformation the plates go back to where they first touched (the loading's "
+            "speed at each approach, from rest at the turn), recording `records` more rows: the "
+            "unloading curve and the deformation the particle keeps (force.csv step 2)")
+        .write_when([](const PlateConfig& c) { return c.setup.unload; });
     return p;
   }();
   return t;

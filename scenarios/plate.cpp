@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <limits>
 #include <numbers>
 
 #include <omp.h>
@@ -84,6 +85,15 @@ struct PlateSpeed {
       const double s = std::sin(0.5 * std::numbers::pi * t / ramp_time);
       return setup.speed * s * s;
     }
+    return after_ramp(approach);
+  }
+  // Unloading, `t` after the turn: the loading's speed at the same approach, from rest over the
+  // same sin² ramp.
+  double unloading(double t, double approach) const {
+    const double s = t < ramp_time ? std::sin(0.5 * std::numbers::pi * t / ramp_time) : 1.0;
+    return s * s * after_ramp(approach);
+  }
+  double after_ramp(double approach) const {
     const double rise = setup.max_deformation - setup.ramp;
     const double along = rise > 0.0 ? (approach / diameter - setup.ramp) / rise : 0.0;
     return setup.speed + (final_speed - setup.speed) * std::clamp(along, 0.0, 1.0);
@@ -108,6 +118,33 @@ PlateRow plate_row(const Engine& engine, const PlateSetup& setup, double approac
 }
 
 }  // namespace
+
+PlateUnloading plate_unloading(const std::vector<PlateRow>& rows, int records) {
+  PlateUnloading result;
+  result.residual_approach = result.residual_deformation = std::numeric_limits<double>::quiet_NaN();
+  for (const PlateRow& r : rows)
+    result.peak_force = std::max(result.peak_force, r.top_force);
+  // Once the plates let go the rig's force is exactly zero (no gravity); a curve read from
+  // CalculiX carries round-off there (1e-24 N): 1e-9 of the peak is none.
+  const double none = 1e-9 * result.peak_force;
+  const std::size_t first = static_cast<std::size_t>(records);
+  // From the loading's last row, where the unloading starts.
+  for (std::size_t i = std::max<std::size_t>(first, 1); i < rows.size(); ++i) {
+    const PlateRow &a = rows[i - 1], &b = rows[i];
+    if (!(a.top_force > none) || b.top_force > none) continue;
+    double w = 1.0;
+    if (i >= 2 && rows[i - 2].top_force > a.top_force) {
+      const PlateRow& before = rows[i - 2];
+      const double slope = (before.top_force - a.top_force) / (before.approach - a.approach);
+      const double zero = a.approach - a.top_force / slope;
+      w = std::clamp((a.approach - zero) / (a.approach - b.approach), 0.0, 1.0);
+    }
+    result.residual_approach = a.approach + w * (b.approach - a.approach);
+    result.residual_deformation = a.deformation + w * (b.deformation - a.deformation);
+    break;
+  }
+  return result;
+}
 
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,
                                 const EngineSettings& engine_settings, PlateParticle particle,
@@ -159,15 +196,24 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   int next = static_cast<int>(rows.size()) + 1;
   // Of the walls' positions (the first touch: gap0).
   double approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
-  while (next <= setup.records) {
-    // The speed at the step's midpoint: the wall moves by it over the step.
-    const double speed = plate_speed(engine.time() + 0.5 * settings.time_step, approach);
+  const int total = setup.total_records();
+  while (next <= total) {
+    // The speed at the step's midpoint: the wall moves by it over the step. Unloading (rows past
+    // `records`) it is negative, from the turn at the loading's last row.
+    const double mid = engine.time() + 0.5 * settings.time_step;
+    const bool unloading = next > setup.records;
+    const double speed =
+        unloading ? -plate_speed.unloading(
+                        mid - rows[static_cast<std::size_t>(setup.records) - 1].time, approach)
+                  : plate_speed(mid, approach);
     engine.walls()[0].velocity = (1.0 - top_share) * speed;
     engine.walls()[1].velocity = -top_share * speed;
     engine.step();
     work_count += step_work(engine);
     approach = gap0 - (engine.walls()[1].position - engine.walls()[0].position);
-    if (approach >= final_approach * next / setup.records) {
+    const bool due = unloading ? approach <= final_approach * (total - next) / setup.records
+                               : approach >= final_approach * next / setup.records;
+    if (due) {
       // The engine checks every check_every steps; a coarse step can blow up and fill the rows
       // after with NaN before the next check (a 40-row clump run at 1.0 of the critical step
       // takes ~260 steps). Checked again at every row, a run that diverged stops with its

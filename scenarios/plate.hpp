@@ -41,6 +41,13 @@ struct PlateSetup {
   double final_speed = 0.0;
   double max_deformation = 0.01;  // total approach / 2R at the end
   int records = 50;               // rows, evenly spaced in approach
+  // After max_deformation the plates go back to where they first touched, at the loading's
+  // speed for the same approach (after its sin² ramp, from rest at the turn), and `records` more
+  // rows are recorded, evenly spaced in approach down to 0: the unloading curve, and the
+  // approach at which the particle lets go of the plates (what stays of its deformation).
+  bool unload = false;
+  // Rows of the whole run: the loading's, and as many again when unloading.
+  int total_records() const { return unload ? 2 * records : records; }
 };
 
 struct PlateRow {
@@ -107,11 +114,22 @@ struct PlateResumePoint {
 
 // `after_step` (optional) is called after every step with the engine and a function giving the
 // progress (for a checkpoint); false stops the run there (a signal): run_plate then returns
-// fewer than setup.records rows.
+// fewer than setup.total_records() rows.
 struct PlateHooks {
   std::optional<PlateResumePoint> resume;
   std::function<bool(const Engine&, const std::function<PlateProgress()>&)> after_step;
 };
+
+// The residual of an unloaded run (setup.unload): the approach at which the top plate's force
+// fell to zero on the way back, the zero of the secant through the last two unloading rows with
+// force, kept within the interval before the first row without (at most 1e-9 of the peak; NaN
+// when no unloading row is without force). Rows after the first `records` are the unloading's.
+struct PlateUnloading {
+  double peak_force = 0.0;            // top plate [N]
+  double residual_approach = 0.0;     // [m]
+  double residual_deformation = 0.0;  // over 2R
+};
+PlateUnloading plate_unloading(const std::vector<PlateRow>& rows, int records);
 
 // Any particle. `row` (optional) sees every row as it is recorded, with the engine.
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,

@@ -315,10 +315,11 @@ PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind, const
       table, setup, engine, std::move(particle),
       [&](const PlateRow&, const Engine& e) {
         last_step = e.step_index();
-        if (++recorded == setup.records) outcome.final_snapshot = std::make_shared<Engine>(e);
+        if (++recorded == setup.total_records())
+          outcome.final_snapshot = std::make_shared<Engine>(e);
       },
       std::move(hooks));
-  if (outcome.rows.size() < static_cast<std::size_t>(setup.records)) {
+  if (outcome.rows.size() < static_cast<std::size_t>(setup.total_records())) {
     outcome.interrupted = true;
     return outcome;
   }
@@ -347,8 +348,9 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
   const bool ensemble = outcome.fills() > 1;
   if (ensemble)
     columns.insert(columns.end(), {"top_force_sd_N", "top_force_min_N", "top_force_max_N"});
-  CsvWriter csv(path, columns);
   const PlateSetup& setup = config.setup;
+  if (setup.unload) columns.push_back("step");
+  CsvWriter csv(path, columns);
   csv.comment(fmt::format(
       "shapepress plate: {}; approach speed {:.6g} m/s{}{}{}", outcome.description, setup.speed,
       setup.ramp > 0.0 ? fmt::format(" after a sin^2 ramp over {:.6g} deformation", setup.ramp)
@@ -378,7 +380,16 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
         "top_force_sd_N is the fills' sample standard deviation, the standard error of the "
         "mean is it / sqrt({})",
         outcome.fills(), outcome.fills()));
-  for (const PlateRow& r : outcome.rows) {
+  if (setup.unload) {
+    const PlateUnloading unloaded = plate_unloading(outcome.rows, setup.records);
+    csv.comment(fmt::format(
+        "step: 1 loading, 2 unloading (the plates back to where they first touched); peak top "
+        "force {:.6g} N, which falls to zero on unloading at deformation {:.6g} (approach {:.6g} "
+        "m): the deformation kept",
+        unloaded.peak_force, unloaded.residual_deformation, unloaded.residual_approach));
+  }
+  for (std::size_t k = 0; k < outcome.rows.size(); ++k) {
+    const PlateRow& r = outcome.rows[k];
     std::vector<double> cells = {r.time,
                                  r.deformation,
                                  r.approach,
@@ -392,6 +403,7 @@ void write_force_csv(const std::filesystem::path& path, const PlateRunOutcome& o
                                  r.cpu_seconds,
                                  r.wall_seconds};
     if (ensemble) cells.insert(cells.end(), {r.top_force_sd, r.top_force_min, r.top_force_max});
+    if (setup.unload) cells.push_back(k < static_cast<std::size_t>(setup.records) ? 1.0 : 2.0);
     csv.row(cells);
   }
   csv.commit();

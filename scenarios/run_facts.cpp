@@ -130,6 +130,16 @@ void add_plate_facts(RunMetadata& meta, const PlateConfig& config, PlateParticle
   if (kind == PlateParticleKind::cms) meta.fact("requested_spheres", outcome.requested_spheres);
   if (kind == PlateParticleKind::bms && config.bms)
     meta.fact("seed", config.bms->seed).fact("lattice", config.bms->lattice);
+  if (setup.unload) {
+    const PlateUnloading unloaded = plate_unloading(outcome.rows, setup.records);
+    const auto finite_or_null = [](double v) {
+      return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
+    };
+    meta.fact("unload", true)
+        .fact("peak_force_N", unloaded.peak_force)
+        .fact("residual_deformation", finite_or_null(unloaded.residual_deformation))
+        .fact("residual_approach_m", finite_or_null(unloaded.residual_approach));
+  }
 }
 
 }  // namespace shapepress::scenarios

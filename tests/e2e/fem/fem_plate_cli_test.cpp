@@ -93,6 +93,31 @@ TEST(FemPlateCli, UnknownKeyExitsTwo) {
   EXPECT_THAT(run.output, HasSubstr("fem.elements"));
 }
 
+// The solid's plasticity: a bad value or a material CalculiX cannot make plastic exits 2 naming
+// the key, before CalculiX runs.
+TEST(FemPlateCli, BadPlasticityExitsTwoNamingTheKey) {
+  const fs::path dir = fresh_directory("fem_cli_plastic_keys");
+  const std::string sphere = small_sphere(0.1, 4, 1e-4);
+  const std::string section = "poisson_ratio = 0.46\n";
+  const auto with = [&](const std::string& keys) {
+    std::string text = sphere;
+    text.replace(text.find(section), section.size(), section + keys);
+    return text;
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"yield_stress = \"1 MPa\"\n", "sphere.material_model"},
+      {"material_model = \"linear-elastic\"\nyield_stress = \"-1 MPa\"\n", "sphere.yield_stress"},
+      {"material_model = \"linear-elastic\"\nhardening_modulus = \"1 MPa\"\n",
+       "sphere.hardening_modulus"}};
+  for (const auto& [keys, named] : cases) {
+    testing::write_text(dir / "fem.toml", with(keys));
+    const auto run = run_shapepress("fem-plate --config " + shell_quoted(dir / "fem.toml") +
+                                    " --out " + shell_quoted(dir / "run"));
+    EXPECT_EQ(run.exit_code, 2) << keys << run.output;
+    EXPECT_THAT(run.output, HasSubstr(named)) << keys;
+  }
+}
+
 // calibrate --reference FEM_RUN: a BMS sphere's bonds fitted to the FEM curve of the same sphere
 // (a coarse mesh and few runs: the mechanics, not the study).
 TEST(FemPlateCli, CalibrateTakesAnFemRunAsItsReference) {

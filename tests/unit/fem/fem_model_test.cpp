@@ -1,5 +1,6 @@
 // The pieces of the FEM plate rig that need no solver: the quarter-disc mesh, the neo-Hookean
-// constants, the deck's switches and the reading of CalculiX's totals.
+// constants, the deck's switches, the plasticity keys, the reading of CalculiX's totals and of
+// the unloading curve.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,9 +8,12 @@
 #include <fstream>
 #include <numbers>
 
+#include "common/config.hpp"
 #include "common/error.hpp"
 #include "fem/calculix_deck.hpp"
 #include "fem/calculix_process.hpp"
+#include "fem/fem_plate.hpp"
+#include "fem/fem_plate_config.hpp"
 #include "fem/quarter_disc_mesh.hpp"
 #include "tests/support/files.hpp"
 
@@ -108,6 +112,115 @@ TEST(PlateDeck, StatesTheMaterialLawAndTheGeometry) {
   EXPECT_NE(linear.find("*ELASTIC\n18.5,0.46"), std::string::npos);
   EXPECT_EQ(linear.find("NLGEOM"), std::string::npos);
   EXPECT_NE(linear.find("*FRICTION\n0.3,"), std::string::npos);
+}
+
+std::string_view after(const std::string& text, const std::string& marker) {
+  const std::size_t at = text.find(marker);
+  return at == std::string::npos ? std::string_view() : std::string_view(text).substr(at);
+}
+
+TEST(PlateDeck, WritesPlasticityAndTheUnloadingStepOnlyWhenAsked) {
+  FemPlateConfig config;
+  config.youngs_modulus = 1e9;
+  config.poisson_ratio = 0.3;
+  config.material = MaterialModel::linear_elastic;
+  config.arc_elements = 4;
+  const QuarterDiscMesh mesh = quarter_disc_mesh(config.radius, config.arc_elements);
+  const std::string elastic = plate_deck(mesh, config);
+  EXPECT_EQ(elastic.find("*PLASTIC"), std::string::npos);
+  EXPECT_EQ(elastic.find("*STEP"), elastic.rfind("*STEP"));  // one step
+  config.yield_stress = 50e6;
+  config.hardening_modulus = 2e8;
+  config.unload = true;
+  const std::string plastic = plate_deck(mesh, config);
+  // In MPa: σy = 50, and at εp = 10 the line reaches 50 + 200 × 10.
+  EXPECT_TRUE(
+      after(plastic, "*ELASTIC").starts_with("*ELASTIC\n1000,0.3\n*PLASTIC\n50,0\n2050,10\n"))
+      << plastic;
+  // The second step takes the plate back to where it first touched, and prints the same.
+  const std::string_view second = after(plastic, "*END STEP\n*STEP");
+  ASSERT_FALSE(second.empty());
+  EXPECT_NE(second.find("*BOUNDARY\nPLATE,2,2,0\n"), std::string_view::npos);
+  EXPECT_NE(second.find("*NODE PRINT,NSET=PLATE,TOTALS=ONLY\nRF\n"), std::string_view::npos);
+  // Perfectly plastic: one point.
+  config.hardening_modulus = 0.0;
+  EXPECT_TRUE(after(plate_deck(mesh, config), "*PLASTIC").starts_with("*PLASTIC\n50,0\n*"));
+}
+
+FemPlateConfig sphere_config(const std::string& extra) {
+  return read_fem_plate_config(ConfigTable::parse(
+      "[sphere]\nradius = \"1 mm\"\nyoungs_modulus = \"1 GPa\"\npoisson_ratio = 0.3\n" + extra,
+      "fem.toml"));
+}
+
+void expect_input_error_naming(const std::string& extra, const std::string& name) {
+  try {
+    sphere_config(extra);
+    ADD_FAILURE() << "no error for " << extra;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+  }
+}
+
+TEST(FemPlateConfig, ReadsPlasticityAndRejectsWhatCalculixCannotRun) {
+  const FemPlateConfig elastic = sphere_config("");
+  EXPECT_FALSE(elastic.plastic());
+  EXPECT_FALSE(elastic.unload);
+  const FemPlateConfig plastic = sphere_config(
+      "material_model = \"linear-elastic\"\nyield_stress = \"40 MPa\"\nhardening_modulus = "
+      "\"0.1 GPa\"\n[plate]\nunload = true\n");
+  ASSERT_TRUE(plastic.plastic());
+  EXPECT_DOUBLE_EQ(*plastic.yield_stress, 40e6);
+  EXPECT_DOUBLE_EQ(plastic.hardening_modulus, 1e8);
+  EXPECT_TRUE(plastic.unload);
+  // The effective config reads back to the same values.
+  const FemPlateConfig again =
+      read_fem_plate_config(ConfigTable::parse(fem_plate_config_toml(plastic), "effective.toml"));
+  EXPECT_EQ(again.yield_stress, plastic.yield_stress);
+  EXPECT_EQ(again.hardening_modulus, plastic.hardening_modulus);
+  EXPECT_TRUE(again.unload);
+  EXPECT_EQ(fem_plate_config_toml(elastic).find("yield_stress"), std::string::npos);
+  // *PLASTIC extends *ELASTIC only; the neo-Hookean default cannot yield.
+  expect_input_error_naming("yield_stress = \"40 MPa\"\n", "sphere.material_model");
+  expect_input_error_naming("material_model = \"linear-elastic\"\nyield_stress = \"-4 MPa\"\n",
+                            "yield_stress");
+  expect_input_error_naming("material_model = \"linear-elastic\"\nhardening_modulus = 1e8\n",
+                            "hardening_modulus");
+  expect_input_error_naming(
+      "material_model = \"linear-elastic\"\nyield_stress = 4e7\nhardening_modulus = -1\n",
+      "hardening_modulus");
+}
+
+FemPlateRow row(int step, double deformation, double force) {
+  FemPlateRow r;
+  r.step = step;
+  r.deformation = deformation;
+  r.approach = 0.002 * deformation;  // a 2 mm particle
+  r.force = force;
+  return r;
+}
+
+TEST(Unloading, TheResidualIsWhereTheUnloadingForceFallsToZero) {
+  FemPlateRun run;
+  run.rows = {row(1, 0.0, 0.0), row(1, 0.1, 5.0),  row(1, 0.2, 8.0), row(2, 0.15, 6.0),
+              row(2, 0.1, 2.0), row(2, 0.05, 0.0), row(2, 0.0, 0.0)};
+  UnloadingResult u = unloading_result(run);
+  EXPECT_DOUBLE_EQ(u.peak_force, 8.0);
+  // The secant through (0.15, 6) and (0.1, 2) reaches zero at 0.075, inside (0.05, 0.1).
+  EXPECT_NEAR(u.residual_deformation, 0.075, 1e-12);
+  EXPECT_NEAR(u.residual_approach, 0.002 * 0.075, 1e-15);
+  EXPECT_NEAR(u.resolution, 0.05, 1e-12);
+  // A secant that would cross beyond the first row without force is held at that row.
+  run.rows[4].force = 5.5;
+  u = unloading_result(run);
+  EXPECT_NEAR(u.residual_deformation, 0.05, 1e-12);
+  // The plates never let go: no residual to state.
+  run.rows.resize(5);
+  EXPECT_TRUE(std::isnan(unloading_result(run).residual_deformation));
+  // The loading curve alone is what force_at interpolates.
+  run.rows = {row(1, 0.0, 0.0), row(1, 0.2, 8.0), row(2, 0.1, 2.0)};
+  EXPECT_DOUBLE_EQ(force_at(run, 0.1), 4.0);
+  EXPECT_TRUE(std::isnan(force_at(run, 0.3)));
 }
 
 TEST(CalculixResults, ReadsTheTotalsOfANodeSet) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <variant>
 
 #include "common/config.hpp"
 #include "common/error.hpp"
@@ -180,6 +181,59 @@ TEST(CalibrateFills, TheCacheFillsOncePerKeyAndGivesTheSameSubSpheres) {
   c.bms->seed = 2;  // another fill
   bms_sphere(table, c.setup.radius, *c.bms, "p", nullptr, &fills);
   EXPECT_EQ(fills.size(), 2u);
+}
+
+TEST(CalibrateParameters, TheBondYieldAndHardeningAreTheElasticPlasticModels) {
+  PlateConfig elastic = config_with("rubber-contact", true);
+  // Elastic bonds have no yield stress to fit: the error names the model key.
+  try {
+    set_parameter(elastic, "yield_stress", 1e6);
+    FAIL() << "an elastic bond took a yield stress";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("elastic_plastic"), std::string::npos) << error.what();
+  }
+  PlateConfig plastic = elastic;
+  plastic.bms->bond.model = ElasticPlasticBond{2e6, 1e6, 0.1};
+  EXPECT_DOUBLE_EQ(get_parameter(plastic, "yield_stress"), 2e6);
+  EXPECT_DOUBLE_EQ(get_parameter(plastic, "shear_yield_stress"), 1e6);
+  EXPECT_DOUBLE_EQ(get_parameter(plastic, "hardening_ratio"), 0.1);
+  set_parameter(plastic, "yield_stress", 3e6);
+  set_parameter(plastic, "hardening_ratio", 0.05);
+  const auto& bond = std::get<ElasticPlasticBond>(plastic.bms->bond.model);
+  EXPECT_DOUBLE_EQ(bond.yield_stress, 3e6);
+  EXPECT_DOUBLE_EQ(bond.shear_yield_stress, 1e6);
+  EXPECT_DOUBLE_EQ(bond.hardening_ratio, 0.05);
+  // calibrated.toml keeps them.
+  const PlateConfig again =
+      read_plate_config(ConfigTable::parse(plate_config_toml(plastic), "calibrated.toml"));
+  EXPECT_EQ(std::get<ElasticPlasticBond>(again.bms->bond.model), bond);
+}
+
+PlateRow plate_row(double deformation, double force) {
+  PlateRow r;
+  r.deformation = deformation;
+  r.approach = 0.02 * deformation;
+  r.top_force = force;
+  return r;
+}
+
+TEST(CalibrateUnloading, TheUnloadingErrorIsOverThePeakAndTheResidualWhereTheForceEnds) {
+  // Loading to 0.2 in two rows, unloading in two: down a line that lets go at 0.1.
+  const std::vector<PlateRow> rows = {plate_row(0.1, 4.0), plate_row(0.2, 10.0),
+                                      plate_row(0.1, 0.0), plate_row(0.0, 0.0)};
+  const PlateUnloading unloaded = plate_unloading(rows, 2);
+  EXPECT_DOUBLE_EQ(unloaded.peak_force, 10.0);
+  EXPECT_NEAR(unloaded.residual_deformation, 0.1, 1e-12);
+  EXPECT_NEAR(unloaded.residual_approach, 0.002, 1e-15);
+  // The same unloading as the reference: no error.
+  const std::vector<double> deformation = {0.2, 0.15, 0.1, 0.05, 0.0};
+  EXPECT_NEAR(plate_unloading_error(rows, 2, deformation, {10.0, 5.0, 0.0, 0.0, 0.0}), 0.0, 1e-12);
+  // A reference 1 N above everywhere from 0.2 to 0: 1 N over its peak of 11 N.
+  EXPECT_NEAR(plate_unloading_error(rows, 2, deformation, {11.0, 6.0, 1.0, 1.0, 1.0}), 1.0 / 11.0,
+              1e-12);
+  // A run without unloading rows is not compared.
+  EXPECT_THROW(plate_unloading_error({rows[0], rows[1]}, 2, deformation, {1, 1, 1, 1, 1}),
+               InputError);
 }
 
 }  // namespace
