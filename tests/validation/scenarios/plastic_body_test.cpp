@@ -4,7 +4,7 @@
 //    tests/data/fem, made by `shapepress fem-plate`, the command in its first comment line): the
 //    body keeps the deformation the FEM keeps, and carries its peak force, within the tolerances
 //    below, with the bond yield stress and hardening calibrated against that curve
-//    (docs/measurements.md, "Elastic–plastic bodies against the elastic–plastic FEM");
+//    (docs/measurements.md, "The elastic–plastic FEM and bodies that keep their deformation");
 //  - calibrate's fit of the bond yield stress and hardening ratio recovers them from a synthetic
 //    target: the body's own curve at known values, loaded and unloaded.
 #include <gtest/gtest.h>
