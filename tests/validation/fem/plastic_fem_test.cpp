@@ -20,6 +20,7 @@
 #include "common/csv.hpp"
 #include "geometry/mesh.hpp"
 #include "tests/support/command.hpp"
+#include "tests/support/fem_run.hpp"
 #include "tests/support/files.hpp"
 
 namespace shapepress {
@@ -30,21 +31,8 @@ using testing::fresh_directory;
 using testing::run_shapepress;
 using testing::shell_quoted;
 
-struct FemRun {
-  CsvTable force;
-  nlohmann::json facts;
-};
-
-FemRun press(const fs::path& dir, const std::string& config_text) {
-  fs::create_directories(dir);
-  testing::write_text(dir / "fem.toml", config_text);
-  const auto result =
-      run_shapepress("--quiet fem-plate --config " + shell_quoted(dir / "fem.toml") + " --out " +
-                     shell_quoted(dir / "run"));
-  EXPECT_EQ(result.exit_code, 0) << result.output;
-  std::ifstream in(dir / "run" / "run.json");
-  return {read_csv(dir / "run" / "force.csv"), nlohmann::json::parse(in)["facts"]};
-}
+using testing::FemRun;
+using testing::press;
 
 // A cube of edge `edge` (mesh units) centred on the origin, its faces split into 2 × 2 squares
 // so that the surface has vertices inside each face too.

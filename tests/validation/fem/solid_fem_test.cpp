@@ -22,6 +22,7 @@
 #include "common/csv.hpp"
 #include "geometry/icosphere.hpp"
 #include "tests/support/command.hpp"
+#include "tests/support/fem_run.hpp"
 #include "tests/support/files.hpp"
 
 namespace shapepress {
@@ -39,21 +40,8 @@ bool full_validation() {
   return value != nullptr && std::string(value) == "1";
 }
 
-struct FemRun {
-  CsvTable force;
-  nlohmann::json facts;
-};
-
-FemRun press(const fs::path& dir, const std::string& config_text) {
-  fs::create_directories(dir);
-  testing::write_text(dir / "fem.toml", config_text);
-  const auto result =
-      run_shapepress("--quiet fem-plate --config " + shell_quoted(dir / "fem.toml") + " --out " +
-                     shell_quoted(dir / "run"));
-  EXPECT_EQ(result.exit_code, 0) << result.output;
-  std::ifstream in(dir / "run" / "run.json");
-  return {read_csv(dir / "run" / "force.csv"), nlohmann::json::parse(in)["facts"]};
-}
+using testing::FemRun;
+using testing::press;
 
 // An ellipsoid (mm) as a fine icosphere mesh: level 5, edges of about 1/30 of the radius, so the
 // facets are well inside the contact radius at 1 % deformation (0.1 R).
