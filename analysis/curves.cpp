@@ -106,4 +106,30 @@ std::vector<double> spread_at(const std::vector<Curve>& family, const std::vecto
   return spreads;
 }
 
+UnloadingResidual unloading_residual(const std::vector<double>& deformation,
+                                     const std::vector<double>& approach,
+                                     const std::vector<double>& force,
+                                     std::size_t first_unloading) {
+  UnloadingResidual result;
+  result.residual_approach = result.residual_deformation = NAN;
+  for (double f : force)
+    result.peak_force = std::max(result.peak_force, f);
+  const double none = 1e-9 * result.peak_force;
+  for (std::size_t i = std::max<std::size_t>(first_unloading, 1); i < force.size(); ++i) {
+    const std::size_t a = i - 1, b = i;
+    if (!(force[a] > none) || force[b] > none) continue;
+    double w = 1.0;
+    if (i >= 2 && force[i - 2] > force[a]) {
+      const double slope = (force[i - 2] - force[a]) / (deformation[i - 2] - deformation[a]);
+      const double zero = deformation[a] - force[a] / slope;
+      w = std::clamp((deformation[a] - zero) / (deformation[a] - deformation[b]), 0.0, 1.0);
+    }
+    result.residual_deformation = deformation[a] + w * (deformation[b] - deformation[a]);
+    result.residual_approach = approach[a] + w * (approach[b] - approach[a]);
+    result.resolution = deformation[a] - deformation[b];
+    break;
+  }
+  return result;
+}
+
 }  // namespace shapepress::analysis

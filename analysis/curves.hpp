@@ -2,6 +2,7 @@
 // Curves y(x) sampled at increasing x, and the comparisons convergence and speed–accuracy
 // charts are made of: interpolation, resampling, RMS and maximum relative error between two
 // curves over an x-range, and the spread of a family of curves.
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,24 @@ Curve monotone_prefix(const Curve& curve);
 // n equally spaced x values from lower to upper (n ≥ 2).
 std::vector<double> linear_grid(double lower, double upper, int n);
 Curve resample(const Curve& curve, const std::vector<double>& grid);
+
+// What a load–unload record left (a plate rig's, a FEM's): the largest force, and where the
+// unloading force fell to zero (the plates left the particle). That is the zero of the secant
+// through the last two unloading rows with force, kept within the increment before the first row
+// without; b itself when one unloading row has force only; NaN when no unloading row is without
+// force (not unloaded, or stopped before the plates let go). Rows from `first_unloading` on are
+// the unloading's, the row before it the loading's last; a force at most 1e-9 of the peak is none
+// (a curve read from CalculiX carries round-off where nothing touches). A purely elastic particle
+// leaves 0 within that increment, a plastic one its permanent flattening.
+struct UnloadingResidual {
+  double peak_force = 0.0;            // [N]
+  double residual_approach = 0.0;     // [m]
+  double residual_deformation = 0.0;  // residual approach over the height
+  double resolution = 0.0;            // the increment it lies in, in deformation
+};
+UnloadingResidual unloading_residual(const std::vector<double>& deformation,
+                                     const std::vector<double>& approach,
+                                     const std::vector<double>& force, std::size_t first_unloading);
 
 struct CurveDifference {
   double rms_relative = 0.0;  // √(mean over the grid of ((y − y_ref)/y_ref)²)

@@ -195,33 +195,14 @@ FemPlateRun run_solid_fem_plate(const FemPlateConfig& config, const PressedParti
 }
 
 UnloadingResult unloading_result(const FemPlateRun& run) {
-  UnloadingResult result;
-  result.residual_approach = result.residual_deformation = std::numeric_limits<double>::quiet_NaN();
-  for (const FemPlateRow& r : run.rows)
-    result.peak_force = std::max(result.peak_force, r.force);
-  // Without contact the penalty gives exactly no force; 1e-9 of the peak allows for round-off.
-  const double none = 1e-9 * result.peak_force;
-  const auto& rows = run.rows;
-  for (std::size_t i = 1; i < rows.size(); ++i) {
-    const FemPlateRow &a = rows[i - 1], &b = rows[i];
-    // The unloading starts from the loading's last row: a may be it.
-    if (b.step != 2 || !(a.force > none) || b.force > none) continue;
-    // The zero of the secant through the last two rows with force, kept between them and the
-    // first row without (the contact opens somewhere in that increment); b itself when there is
-    // one unloading row with force only.
-    double w = 1.0;
-    if (i >= 2 && rows[i - 2].force > a.force) {
-      const FemPlateRow& before = rows[i - 2];
-      const double slope = (before.force - a.force) / (before.deformation - a.deformation);  // > 0
-      const double zero = a.deformation - a.force / slope;
-      w = std::clamp((a.deformation - zero) / (a.deformation - b.deformation), 0.0, 1.0);
-    }
-    result.residual_deformation = a.deformation + w * (b.deformation - a.deformation);
-    result.residual_approach = a.approach + w * (b.approach - a.approach);
-    result.resolution = a.deformation - b.deformation;
-    break;
+  std::vector<double> deformation, approach, force;
+  std::size_t first_unloading = run.rows.size();
+  for (std::size_t i = 0; i < run.rows.size(); ++i) {
+    const FemPlateRow& r = run.rows[i];
+    deformation.push_back(r.deformation), approach.push_back(r.approach), force.push_back(r.force);
+    if (r.step == 2 && first_unloading == run.rows.size()) first_unloading = i;
   }
-  return result;
+  return analysis::unloading_residual(deformation, approach, force, first_unloading);
 }
 
 double force_at(const FemPlateRun& run, double deformation) {

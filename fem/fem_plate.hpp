@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/curves.hpp"
 #include "fem/fem_plate_config.hpp"
 #include "geometry/press_frame.hpp"
 
@@ -40,18 +41,8 @@ struct FemPlateRun {
   std::filesystem::path deck;
 };
 
-// What the unloading left: the largest force, and the approach at which the unloading force
-// fell to zero (the plates left the particle): the zero of the secant through the last two
-// unloading rows with force, kept within the increment before the first row without (NaN when
-// the run has no unloading row without force: not unloaded, or stopped before the plates let
-// go). A purely elastic particle leaves none (0 within that increment); a plastic one its
-// permanent flattening.
-struct UnloadingResult {
-  double peak_force = 0.0;            // [N]
-  double residual_approach = 0.0;     // [m]
-  double residual_deformation = 0.0;  // residual approach over the height
-  double resolution = 0.0;            // the unloading increment, in deformation
-};
+// What the run's unloading (step 2) left, by the peak force (analysis::unloading_residual).
+using UnloadingResult = analysis::UnloadingResidual;
 UnloadingResult unloading_result(const FemPlateRun& run);
 
 struct FemRunOptions {

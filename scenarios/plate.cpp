@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
-#include <limits>
 #include <numbers>
 
 #include <omp.h>
@@ -120,30 +119,12 @@ PlateRow plate_row(const Engine& engine, const PlateSetup& setup, double approac
 }  // namespace
 
 PlateUnloading plate_unloading(const std::vector<PlateRow>& rows, int records) {
-  PlateUnloading result;
-  result.residual_approach = result.residual_deformation = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> deformation, approach, force;
   for (const PlateRow& r : rows)
-    result.peak_force = std::max(result.peak_force, r.top_force);
-  // Once the plates let go the rig's force is exactly zero (no gravity); a curve read from
-  // CalculiX carries round-off there (1e-24 N): 1e-9 of the peak is none.
-  const double none = 1e-9 * result.peak_force;
-  const std::size_t first = static_cast<std::size_t>(records);
-  // From the loading's last row, where the unloading starts.
-  for (std::size_t i = std::max<std::size_t>(first, 1); i < rows.size(); ++i) {
-    const PlateRow &a = rows[i - 1], &b = rows[i];
-    if (!(a.top_force > none) || b.top_force > none) continue;
-    double w = 1.0;
-    if (i >= 2 && rows[i - 2].top_force > a.top_force) {
-      const PlateRow& before = rows[i - 2];
-      const double slope = (before.top_force - a.top_force) / (before.approach - a.approach);
-      const double zero = a.approach - a.top_force / slope;
-      w = std::clamp((a.approach - zero) / (a.approach - b.approach), 0.0, 1.0);
-    }
-    result.residual_approach = a.approach + w * (b.approach - a.approach);
-    result.residual_deformation = a.deformation + w * (b.deformation - a.deformation);
-    break;
-  }
-  return result;
+    deformation.push_back(r.deformation), approach.push_back(r.approach),
+        force.push_back(r.top_force);
+  return analysis::unloading_residual(deformation, approach, force,
+                                      static_cast<std::size_t>(records));
 }
 
 std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup& setup,

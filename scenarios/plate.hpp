@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <vector>
+#include "analysis/curves.hpp"
 #include "scenarios/namespaces.hpp"
 
 #include "simulate/bonds.hpp"
@@ -120,15 +121,9 @@ struct PlateHooks {
   std::function<bool(const Engine&, const std::function<PlateProgress()>&)> after_step;
 };
 
-// The residual of an unloaded run (setup.unload): the approach at which the top plate's force
-// fell to zero on the way back, the zero of the secant through the last two unloading rows with
-// force, kept within the interval before the first row without (at most 1e-9 of the peak; NaN
-// when no unloading row is without force). Rows after the first `records` are the unloading's.
-struct PlateUnloading {
-  double peak_force = 0.0;            // top plate [N]
-  double residual_approach = 0.0;     // [m]
-  double residual_deformation = 0.0;  // over 2R
-};
+// What an unloaded run (setup.unload) left, by the top plate's force
+// (analysis::unloading_residual); rows after the first `records` are the unloading's.
+using PlateUnloading = analysis::UnloadingResidual;
 PlateUnloading plate_unloading(const std::vector<PlateRow>& rows, int records);
 
 // Any particle. `row` (optional) sees every row as it is recorded, with the engine.
