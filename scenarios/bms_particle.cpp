@@ -1,7 +1,9 @@
 #include "scenarios/bms_particle.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -16,7 +18,8 @@
 namespace shapepress::scenarios {
 
 PlateParticle bms_sphere(const MaterialTable& materials, double radius, const BmsConfig& config,
-                         const std::string& name, BmsParticleInfo* info, BmsFillCache* cache) {
+                         const std::string& name, BmsParticleInfo* info, BmsFillCache* cache,
+                         int stack) {
   config.bond.check();
   geometry::BondedFillOptions options;
   options.target_count = config.count;
@@ -48,11 +51,13 @@ PlateParticle bms_sphere(const MaterialTable& materials, double radius, const Bm
                                      options.bond_multiplier, radius, material, density),
                          fill)
             : fill();
-  particle.bonds = create_bonds(particle.spheres, config.bond_multiplier, config.bond, {name});
+  particle.spheres = stacked(particle.spheres, stack, radius);
+  particle.bonds = create_bonds(particle.spheres, config.bond_multiplier, config.bond,
+                                std::vector<std::string>(static_cast<std::size_t>(stack), name));
   if (info) {
     info->sub_sphere_radius = particle.spheres.size() == 0 ? 0.0 : particle.spheres.radius[0];
-    info->spheres = particle.spheres.size();
-    info->bonds = particle.bonds.size();
+    info->spheres = particle.spheres.size() / static_cast<std::size_t>(stack);
+    info->bonds = particle.bonds.size() / static_cast<std::size_t>(stack);
   }
   return particle;
 }
@@ -64,6 +69,7 @@ struct TurnedTemplate {
   std::vector<geometry::Vec3> centres;
   std::vector<double> radii;
   double low = 0.0, high = 0.0;  // the lowest and highest sub-sphere surface along z
+  double volume_radius = 0.0;    // of the shape it fills, R = (3V / 4π)^{1/3}
 };
 
 TurnedTemplate turned_template(const BmsConfig& config) {
@@ -93,6 +99,7 @@ TurnedTemplate turned_template(const BmsConfig& config) {
   const geometry::Mat3 frame =
       geometry::press_frame(geometry::Mat3::Identity(), config.axis, direction);
   TurnedTemplate t;
+  t.volume_radius = std::cbrt(3.0 * chosen->shape_mass.volume / (4.0 * std::numbers::pi));
   t.low = std::numeric_limits<double>::infinity();
   t.high = -t.low;
   for (std::size_t i = 0; i < chosen->body.centres.size(); ++i) {
@@ -112,7 +119,7 @@ double bms_template_half_height(const BmsConfig& config) {
 }
 
 PlateParticle bms_template(const MaterialTable& materials, const BmsConfig& config,
-                           const std::string& name, BmsParticleInfo* info) {
+                           const std::string& name, BmsParticleInfo* info, int stack) {
   config.bond.check();
   const TurnedTemplate t = turned_template(config);
   const int material = materials.index_of(config.material);
@@ -123,22 +130,25 @@ PlateParticle bms_template(const MaterialTable& materials, const BmsConfig& conf
                                 t.radii[i], density, material);
     particle.spheres.body.back() = 0;
   }
-  particle.bonds = create_bonds(particle.spheres, config.bond_multiplier, config.bond, {name});
+  particle.spheres = stacked(particle.spheres, stack, t.volume_radius);
+  particle.bonds = create_bonds(particle.spheres, config.bond_multiplier, config.bond,
+                                std::vector<std::string>(static_cast<std::size_t>(stack), name));
   if (info) {
     double mean = 0.0;
     for (double r : t.radii)
       mean += r / static_cast<double>(t.radii.size());
     info->sub_sphere_radius = mean;
-    info->spheres = particle.spheres.size();
-    info->bonds = particle.bonds.size();
+    info->spheres = particle.spheres.size() / static_cast<std::size_t>(stack);
+    info->bonds = particle.bonds.size() / static_cast<std::size_t>(stack);
   }
   return particle;
 }
 
 PlateParticle bms_particle(const MaterialTable& materials, double radius, const BmsConfig& config,
-                           const std::string& name, BmsParticleInfo* info, BmsFillCache* cache) {
-  return config.templates.empty() ? bms_sphere(materials, radius, config, name, info, cache)
-                                  : bms_template(materials, config, name, info);
+                           const std::string& name, BmsParticleInfo* info, BmsFillCache* cache,
+                           int stack) {
+  return config.templates.empty() ? bms_sphere(materials, radius, config, name, info, cache, stack)
+                                  : bms_template(materials, config, name, info, stack);
 }
 
 }  // namespace shapepress::scenarios

@@ -59,19 +59,20 @@ class BmsFillCache {
 // a sub-sphere left unbonded. With a `cache`, a fill made before for the same inputs is reused.
 PlateParticle bms_sphere(const MaterialTable& materials, double radius, const BmsConfig& config,
                          const std::string& name, BmsParticleInfo* info = nullptr,
-                         BmsFillCache* cache = nullptr);
+                         BmsFillCache* cache = nullptr, int stack = 1);
 
 // `config.templates`' BMS template (bms.template, or the file's only one) turned so that its
 // axis (bms.axis, bms.direction) is z, resting on z = 0, bonded by Eq. 10 with the config's m_b
 // and bond: InputError naming the file and the template when it has no such template.
 PlateParticle bms_template(const MaterialTable& materials, const BmsConfig& config,
-                           const std::string& name, BmsParticleInfo* info = nullptr);
+                           const std::string& name, BmsParticleInfo* info = nullptr, int stack = 1);
 // Half the height of that template along its axis (the plate rig's R: deformation = Δ/(2R)).
 double bms_template_half_height(const BmsConfig& config);
 
-// bms_template when the config names templates, else bms_sphere.
+// bms_template when the config names templates, else bms_sphere; `stack` copies one on another
+// (stacked), each bonded within itself. info counts one copy.
 PlateParticle bms_particle(const MaterialTable& materials, double radius, const BmsConfig& config,
                            const std::string& name, BmsParticleInfo* info = nullptr,
-                           BmsFillCache* cache = nullptr);
+                           BmsFillCache* cache = nullptr, int stack = 1);
 
 }  // namespace shapepress::scenarios

@@ -228,7 +228,13 @@ const OptionTable<PlateConfig>& plate_table() {
             "after max_deformation the plates go back to where they first touched (the loading's "
             "speed at each approach, from rest at the turn), recording `records` more rows: the "
             "unloading curve and the deformation the particle keeps (force.csv step 2)")
-        .write_when([](const PlateConfig& c) { return c.setup.unload; });
+        .write_when([](const PlateConfig& c) { return c.setup.unload; })
+        .integer(
+            "stack", [setup](auto& c) -> auto& { return setup(c).stack; }, Range::closed(1, 100),
+            "copies of the particle pressed one on another, each its own body: what the stack "
+            "adds to that many times one particle's approach is their contacts' (sphere and bms; "
+            "the deformation is the approach over the stack's height)")
+        .write_when([](const PlateConfig& c) { return c.setup.stack > 1; });
     return p;
   }();
   return t;

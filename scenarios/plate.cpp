@@ -32,6 +32,18 @@ double hertz_plate_force(double effective_modulus, double radius, double approac
          std::sqrt(approach);
 }
 
+double hertz_stack_force(double plate_modulus, double pair_modulus, double radius, int stack,
+                         double approach) {
+  // δ = c F^{2/3} at each contact, c = (9 / (16 E*² R*))^{1/3}.
+  const auto compliance = [](double modulus, double r_star) {
+    return std::cbrt(9.0 / (16.0 * modulus * modulus * r_star));
+  };
+  const double total = 2.0 * compliance(plate_modulus, radius) +
+                       (stack - 1) * compliance(pair_modulus, 0.5 * radius);
+  const double ratio = std::max(approach, 0.0) / total;
+  return ratio * std::sqrt(ratio);
+}
+
 double smallest_radius(const SphereState& spheres) {
   double r_min = spheres.radius.empty() ? 0.0 : spheres.radius[0];
   for (double r : spheres.radius)
@@ -46,6 +58,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
   particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
                               materials.material(setup.sphere_material).density,
                               setup.sphere_material);
+  particle.spheres = stacked(particle.spheres, setup.stack, setup.radius);
   return run_plate(materials, setup, engine, std::move(particle));
 }
 
@@ -58,6 +71,35 @@ VerticalExtent vertical_extent(const SphereState& s) {
   return {low, high};
 }
 
+SphereState stacked(const SphereState& one, int stack, double body_radius) {
+  if (stack <= 1) return one;
+  // The lowest offset at which the copy rests on the one below: over every pair of sub-spheres
+  // (i of the lower, j of the upper) closer sideways than ri + rj, the rise that makes them just
+  // touch. A particle that is not flat at its ends touches its neighbour at one point, as two
+  // particles of a bed first do, not across their extreme heights.
+  double rise = 0.0;
+  for (std::size_t i = 0; i < one.size(); ++i)
+    for (std::size_t j = 0; j < one.size(); ++j) {
+      const double dx = one.position.x[j] - one.position.x[i];
+      const double dy = one.position.y[j] - one.position.y[i];
+      const double reach = one.radius[i] + one.radius[j];
+      const double sideways = dx * dx + dy * dy;
+      if (sideways >= reach * reach) continue;
+      rise = std::max(rise,
+                      one.position.z[i] - one.position.z[j] + std::sqrt(reach * reach - sideways));
+    }
+  SphereState out;
+  for (int k = 0; k < stack; ++k)
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(one.radius[i], 3);
+      out.add_sphere(one.position.x[i], one.position.y[i], one.position.z[i] + k * rise,
+                     one.radius[i], one.mass[i] / volume, one.material[i]);
+      out.body.back() = k;
+      out.body_radius.back() = body_radius;
+    }
+  return out;
+}
+
 namespace {
 
 void check_plate_setup(const PlateSetup& setup) {
@@ -66,6 +108,7 @@ void check_plate_setup(const PlateSetup& setup) {
   if (!(setup.max_deformation > 0.0 && setup.max_deformation < 0.5))
     throw InputError("plate: max_deformation must be in (0, 0.5)");
   if (setup.records < 1) throw InputError("plate: records must be >= 1");
+  if (setup.stack < 1) throw InputError("plate: stack must be >= 1");
   if (!(setup.ramp >= 0.0 && setup.ramp < setup.max_deformation))
     throw InputError("plate: ramp must be in [0, max_deformation)");
 }
@@ -75,8 +118,8 @@ void check_plate_setup(const PlateSetup& setup) {
 // 1/2), then linear in the deformation to final_speed at max_deformation.
 struct PlateSpeed {
   const PlateSetup& setup;
-  double diameter = 2.0 * setup.radius;
-  double ramp_time = 2.0 * setup.ramp * 2.0 * setup.radius / setup.speed;
+  double diameter = setup.diameter();
+  double ramp_time = 2.0 * setup.ramp * setup.diameter() / setup.speed;
   double final_speed = setup.final_speed > 0.0 ? setup.final_speed : setup.speed;
 
   double operator()(double t, double approach) const {
@@ -101,14 +144,17 @@ struct PlateSpeed {
 
 // A row of the force curve at the engine's state: forces on both plates beside Hertz's at the
 // same approach (e_star of sphere and plate), contacts, bonds, energy and work.
-PlateRow plate_row(const Engine& engine, const PlateSetup& setup, double approach, double e_star) {
+PlateRow plate_row(const Engine& engine, const PlateSetup& setup, double approach, double e_star,
+                   double pair_modulus) {
   PlateRow r;
   r.time = engine.time();
   r.approach = approach;
-  r.deformation = approach / (2.0 * setup.radius);
+  r.deformation = approach / setup.diameter();
   r.top_force = engine.wall_load(1);
   r.bottom_force = engine.wall_load(0);
-  r.hertz_force = hertz_plate_force(e_star, setup.radius, approach);
+  r.hertz_force = setup.stack == 1 ? hertz_plate_force(e_star, setup.radius, approach)
+                                   : hertz_stack_force(e_star, pair_modulus, setup.radius,
+                                                       setup.stack, approach);
   r.contacts = engine.sphere_contacts() + engine.wall_contacts();
   r.intact_bonds = engine.bonds().intact_count();
   r.kinetic_energy = engine.energy().kinetic;
@@ -156,6 +202,8 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
                                std::move(particle.bonds), std::move(particle.clumps));
   const double e_star =
       materials.pair(setup.sphere_material, setup.plate_material).effective_modulus;
+  const double pair_modulus =
+      materials.pair(setup.sphere_material, setup.sphere_material).effective_modulus;
   const double final_approach = setup.max_deformation * plate_speed.diameter;
   if (final_approach >= 0.9 * gap0)
     throw InputError(
@@ -200,7 +248,7 @@ std::vector<PlateRow> run_plate(const MaterialTable& materials, const PlateSetup
       // takes ~260 steps). Checked again at every row, a run that diverged stops with its
       // named cause (exit 1) and never writes a non-finite curve.
       engine.check_divergence();
-      PlateRow r = plate_row(engine, setup, approach, e_star);
+      PlateRow r = plate_row(engine, setup, approach, e_star, pair_modulus);
       r.cpu_seconds = cpu_seconds_of_this_run() - cpu_start;
       r.wall_seconds = wall_seconds();
       r.work_count = work_count;

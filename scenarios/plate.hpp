@@ -47,8 +47,15 @@ struct PlateSetup {
   // rows are recorded, evenly spaced in approach down to 0: the unloading curve, and the
   // approach at which the particle lets go of the plates (what stays of its deformation).
   bool unload = false;
+  // Copies of the particle pressed one on another along the axis, each its own body (its own
+  // bonds, its own body radius): the contact between two particles measured as what the stack
+  // adds to `stack` times one particle's compliance. The deformation is the approach over the
+  // stack's height 2R × stack.
+  int stack = 1;
   // Rows of the whole run: the loading's, and as many again when unloading.
   int total_records() const { return unload ? 2 * records : records; }
+  // The height the deformation is counted on: 2R of each particle of the stack.
+  double diameter() const { return 2.0 * radius * stack; }
 };
 
 struct PlateRow {
@@ -57,7 +64,8 @@ struct PlateRow {
   double approach = 0.0;      // Δ, m: decrease of the plate gap from the first touch
   double top_force = 0.0;     // N, compressive
   double bottom_force = 0.0;  // N
-  double hertz_force = 0.0;   // N, (√2/3) E* √R Δ^{3/2}, E* of the sphere–plate pair
+  double hertz_force = 0.0;  // N, (√2/3) E* √R Δ^{3/2}, E* of the sphere–plate pair (a stack:
+                             // hertz_stack_force)
   std::int64_t contacts = 0;  // sphere–sphere plus sphere–wall contacts
   std::int64_t intact_bonds = 0;
   double kinetic_energy = 0.0;  // J
@@ -78,8 +86,20 @@ struct PlateParticle {
   ClumpSet clumps;
 };
 
+// `stack` copies of one particle's sub-spheres (bodies 0 … stack − 1), each the one below moved
+// straight up to where it first touches it (dropped onto it), every sub-sphere with the body
+// radius `body_radius` when there are several copies (a contact between two copies is one
+// between two particles, `contact_radius = "body"`).
+SphereState stacked(const SphereState& one, int stack, double body_radius);
+
 // Hertz between a sphere and two identical plates: each contact carries Δ/2 (models.md).
 double hertz_plate_force(double effective_modulus, double radius, double approach);
+
+// Hertz for `stack` equal spheres one on another between two plates: each plate contact and each
+// of the stack − 1 sphere–sphere contacts (R* = R/2) carries the same force F, so the approach is
+// the sum of their overlaps, each δ = (9 F² / (16 E*² R*))^{1/3}, and F follows in closed form.
+double hertz_stack_force(double plate_modulus, double pair_modulus, double radius, int stack,
+                         double approach);
 
 // The particle's smallest sub-sphere radius: the rig's Verlet skin is 0.1 of it unless a config
 // gives one.

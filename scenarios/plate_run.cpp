@@ -234,9 +234,9 @@ PlateParticle bms_plate_particle(const PlateConfig& config, const MaterialTable&
                                  BmsFillCache* cache, PlateRunOutcome& outcome) {
   const PlateSetup& setup = config.setup;
   BmsParticleInfo info;
-  PlateParticle particle =
-      bms_particle(table, setup.radius, *config.bms,
-                   fmt::format("BMS sphere (seed {})", config.bms->seed), &info, cache);
+  PlateParticle particle = bms_particle(table, setup.radius, *config.bms,
+                                        fmt::format("BMS sphere (seed {})", config.bms->seed),
+                                        &info, cache, setup.stack);
   outcome.sub_sphere_radius = info.sub_sphere_radius;
   outcome.description =
       config.bms->templates.empty()
@@ -258,6 +258,7 @@ PlateParticle hertz_plate_particle(const PlateConfig& config, const MaterialTabl
   PlateParticle particle;
   particle.spheres.add_sphere(0.0, 0.0, setup.radius, setup.radius,
                               table.material(setup.sphere_material).density, setup.sphere_material);
+  particle.spheres = stacked(particle.spheres, setup.stack, setup.radius);
   outcome.description = fmt::format("Hertz sphere R = {:.6g} m", setup.radius);
   return particle;
 }
@@ -293,13 +294,20 @@ PlateRunOutcome run_one(const PlateConfig& config, PlateParticleKind kind, const
   const PlateSetup& setup = config.setup;
   double overlap_fraction = config.run.engine.max_overlap_fraction;
   PlateRunOutcome outcome;
+  if (kind == PlateParticleKind::cms && setup.stack > 1)
+    throw InputError(fmt::format(
+        "plate.stack = {}: a stack of rigid clumps is not supported (sphere and bms are)",
+        setup.stack));
   PlateParticle particle = kind == PlateParticleKind::cms
                                ? cms_plate_particle(config, table, log, outcome, overlap_fraction)
                            : kind == PlateParticleKind::bms
                                ? bms_plate_particle(config, table, cache, outcome)
                                : hertz_plate_particle(config, table, outcome);
-  outcome.spheres = particle.spheres.size();
-  outcome.bonds = particle.bonds.size();
+  // Per particle: a stack's copies are the same particle.
+  outcome.spheres = particle.spheres.size() / static_cast<std::size_t>(setup.stack);
+  outcome.bonds = particle.bonds.size() / static_cast<std::size_t>(setup.stack);
+  if (setup.stack > 1)
+    outcome.description += fmt::format(", {} of them one on another", setup.stack);
   const TimeStepChoice dt = plate_time_step(particle, table, setup, config.run);
   EngineSettings engine =
       config.run.engine_settings(dt.time_step, 0.1 * smallest_radius(particle.spheres));

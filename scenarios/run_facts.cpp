@@ -117,6 +117,8 @@ void add_plate_facts(RunMetadata& meta, const PlateConfig& config, PlateParticle
       .fact("bonds", outcome.bonds)
       .fact("fills", outcome.fills())
       .fact("radius_m", setup.radius)
+      // Particles one on another; sub_spheres and bonds count one of them.
+      .fact("stack", setup.stack)
       .fact("max_deformation", setup.max_deformation)
       .fact("approach_speed_m_per_s", setup.speed)
       .fact("normal_law",

@@ -2,7 +2,9 @@
 # How deep the sub-spheres of two different bodies are pressed into each other in a compaction
 # snapshot (docs/measurements.md, "Contacts between bodies"): over the touching pairs that join two
 # bodies, the overlap over the smaller radius, its median, 90th and 99th percentiles and largest,
-# beside the punch's stress. compact stops a run at `max_overlap_fraction` of that ratio.
+# beside the punch's stress; and how many body pairs touch (the bodies' coordination, 2 pairs /
+# bodies) and how many sub-sphere contacts each carries (docs/measurements.md, "Why the bed
+# stiffens with N"). compact stops a run at `max_overlap_fraction` of that ratio.
 # A measurement tool, not part of the build: needs Debian's python3-h5py and python3-numpy.
 #   scripts/measure-interbody-overlap.py run/snapshots/step_0000200000.h5 ...
 import argparse
@@ -14,7 +16,10 @@ import numpy as np
 parser = argparse.ArgumentParser()
 parser.add_argument("snapshots", nargs="+")
 args = parser.parse_args()
-print("snapshot,stress_MPa,between_bodies,overlap_over_radius_median,p90,p99,largest")
+print(
+    "snapshot,stress_MPa,between_bodies,overlap_over_radius_median,p90,p99,largest,"
+    "body_pairs,contacts_per_body_pair,body_coordination"
+)
 for path in args.snapshots:
     try:
         f = h5py.File(path, "r")
@@ -39,7 +44,14 @@ for path in args.snapshots:
     area = np.linalg.norm(np.cross(corners[1] - corners[0], corners[3] - corners[0]))
     stress = abs(wall_force[0]) / area / 1e6
     if ratio.size == 0:
-        print(f"{path},{stress:.4g},0,,,,")
+        print(f"{path},{stress:.4g},0,,,,,0,,0")
         continue
     q = np.percentile(ratio, [50, 90, 99, 100])
-    print(f"{path},{stress:.4g},{ratio.size}," + ",".join(f"{v:.3f}" for v in q))
+    first, second = body[a][between], body[b][between]
+    pairs = np.unique(np.stack([np.minimum(first, second), np.maximum(first, second)]), axis=1)
+    bodies = np.unique(body).size
+    print(
+        f"{path},{stress:.4g},{ratio.size},"
+        + ",".join(f"{v:.3f}" for v in q)
+        + f",{pairs.shape[1]},{ratio.size / pairs.shape[1]:.3f},{2 * pairs.shape[1] / bodies:.3f}"
+    )

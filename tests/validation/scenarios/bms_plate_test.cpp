@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 #include "common/config.hpp"
 #include "common/csv.hpp"
@@ -151,6 +152,37 @@ TEST(BmsDeterminism, RestartFromASnapshotContinuesBitIdentically) {
   EXPECT_EQ(continuous.state().velocity, resumed.state().velocity);
   EXPECT_EQ(continuous.bonds().history, resumed.bonds().history);
   EXPECT_EQ(continuous.wall_force(1), resumed.wall_force(1));
+}
+
+TEST(BmsStack, TwoBodiesRestOnEachOtherAndAreBondedOnlyWithinThemselves) {
+  // [plate] stack = 2: the second copy is dropped onto the first (touching, not overlapping),
+  // each is its own body with the particle's radius, and Eq. 10 never bonds across them.
+  PlateConfig config = shipped_config();
+  config.bms->count = 80;
+  const MaterialTable table = config.materials.table();
+  BmsParticleInfo one;
+  const PlateParticle single = bms_particle(table, config.setup.radius, *config.bms, "one", &one);
+  const PlateParticle pair =
+      bms_particle(table, config.setup.radius, *config.bms, "pair", nullptr, nullptr, 2);
+  const SphereState& s = pair.spheres;
+  ASSERT_EQ(s.size(), 2 * single.spheres.size());
+  EXPECT_EQ(pair.bonds.size(), 2 * single.bonds.size());
+  for (std::size_t b = 0; b < pair.bonds.size(); ++b)
+    EXPECT_EQ(s.body[static_cast<std::size_t>(pair.bonds.first[b])],
+              s.body[static_cast<std::size_t>(pair.bonds.second[b])]);
+  double closest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    EXPECT_EQ(s.body[i], i < single.spheres.size() ? 0 : 1);
+    EXPECT_EQ(s.body_radius[i], config.setup.radius);
+    if (s.body[i] != 0) continue;
+    for (std::size_t j = single.spheres.size(); j < s.size(); ++j) {
+      const double d =
+          std::hypot(s.position.x[j] - s.position.x[i], s.position.y[j] - s.position.y[i],
+                     s.position.z[j] - s.position.z[i]);
+      closest = std::min(closest, d - s.radius[i] - s.radius[j]);
+    }
+  }
+  EXPECT_NEAR(closest, 0.0, 1e-9 * config.setup.radius);
 }
 
 TEST(BmsFills, EnsembleIsTheMeanOfItsFillsAndEachFillIsItsSeedsOwnRun) {
