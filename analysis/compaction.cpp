@@ -162,7 +162,10 @@ CompactionMetrics analyse_compaction(const PunchCurve& curve, const FitWindows& 
   const std::size_t unload_start = first_of(PunchPhase::unload);
   // The step into the first unload row already opens the gap: it belongs to unloading.
   m.work_of_compaction = punch_work(curve, 0, unload_start == n ? n - 1 : unload_start - 1);
-  if (unload_start < n) {
+  // A run that ends after its hold has a last row "done" but never unloaded: no recovery.
+  const bool unloads = std::any_of(curve.phase.begin(), curve.phase.end(),
+                                   [](int p) { return p == static_cast<int>(PunchPhase::unload); });
+  if (unload_start < n && unloads) {
     m.unloaded = true;
     m.unloaded_gap = curve.gap[n - 1];  // the punch stops where the force vanished
     m.elastic_recovery = (m.unloaded_gap - m.minimum_gap) / m.minimum_gap;

@@ -23,34 +23,9 @@ std::vector<std::string> calibration_parameter_names() {
 
 namespace {
 
-bool is_plastic_parameter(const std::string& name) {
-  return name == "yield_stress" || name == "shear_yield_stress" || name == "hardening_ratio";
-}
-
-// The yielding bond's parameters: the config's [bond] model must be elastic_plastic.
-ElasticPlasticBond& plastic_bond_of(PlateConfig& c, const std::string& name) {
+BondParameters& particle_bond(PlateConfig& c) {
   if (!c.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
-  auto* plastic = std::get_if<ElasticPlasticBond>(&c.bms->bond.model);
-  if (plastic == nullptr)
-    throw InputError(
-        fmt::format("calibrate: '{}' needs [bond] model = \"elastic_plastic\" (the "
-                    "config's bonds are {})",
-                    name, bond_model_name(c.bms->bond.model)));
-  return *plastic;
-}
-
-BondParameters& bond_of(PlateConfig& c, const std::string& name) {
-  if (!c.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
-  BondParameters& b = c.bms->bond;
-  const bool modulus_form = b.modulus > 0.0;
-  if ((name == "modulus" || name == "shear_ratio") && !modulus_form)
-    throw InputError("calibrate: '" + name +
-                     "' needs [bond] modulus (the config gives normal_stiffness/shear_stiffness)");
-  if ((name == "normal_stiffness" || name == "shear_stiffness") && modulus_form)
-    throw InputError("calibrate: '" + name +
-                     "' needs [bond] normal_stiffness/shear_stiffness "
-                     "(the config gives modulus)");
-  return b;
+  return c.bms->bond;
 }
 
 // The sub-spheres' own contact material: [bms] material when it is not the sphere's, else a copy
@@ -113,42 +88,69 @@ PlateConfig modulus_form_if_asked(const PlateConfig& config,
 
 }  // namespace
 
-double get_parameter(const PlateConfig& config, const std::string& name) {
-  PlateConfig c = config;
-  if (name == "contact_modulus") {
-    if (!c.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
-    return contact_material(c).youngs_modulus;
-  }
+bool is_bond_parameter(const std::string& name) {
+  return name == "normal_stiffness" || name == "shear_stiffness" || name == "modulus" ||
+         name == "shear_ratio" || name == "radius_multiplier" || name == "yield_stress" ||
+         name == "shear_yield_stress" || name == "hardening_ratio";
+}
+
+namespace {
+
+bool is_plastic_parameter(const std::string& name) {
+  return name == "yield_stress" || name == "shear_yield_stress" || name == "hardening_ratio";
+}
+
+// The yielding bond's parameters: the [bond] model must be elastic_plastic.
+ElasticPlasticBond& plastic_bond_of(BondParameters& b, const std::string& name) {
+  auto* plastic = std::get_if<ElasticPlasticBond>(&b.model);
+  if (plastic == nullptr)
+    throw InputError(
+        fmt::format("calibrate: '{}' needs [bond] model = \"elastic_plastic\" (the "
+                    "config's bonds are {})",
+                    name, bond_model_name(b.model)));
+  return *plastic;
+}
+
+// The stiffness's form the name needs: Ē (modulus, shear_ratio) or k̄n, k̄s.
+void check_bond_form(const BondParameters& b, const std::string& name) {
+  const bool modulus_form = b.modulus > 0.0;
+  if ((name == "modulus" || name == "shear_ratio") && !modulus_form)
+    throw InputError("calibrate: '" + name +
+                     "' needs [bond] modulus (the config gives normal_stiffness/shear_stiffness)");
+  if ((name == "normal_stiffness" || name == "shear_stiffness") && modulus_form)
+    throw InputError("calibrate: '" + name +
+                     "' needs [bond] normal_stiffness/shear_stiffness "
+                     "(the config gives modulus)");
+}
+
+}  // namespace
+
+double get_bond_parameter(const BondParameters& bond, const std::string& name) {
+  BondParameters b = bond;
   if (is_plastic_parameter(name)) {
-    const ElasticPlasticBond& p = plastic_bond_of(c, name);
+    const ElasticPlasticBond& p = plastic_bond_of(b, name);
     return name == "yield_stress"         ? p.yield_stress
            : name == "shear_yield_stress" ? p.shear_yield_stress
                                           : p.hardening_ratio;
   }
-  BondParameters& b = bond_of(c, name);
+  check_bond_form(b, name);
   if (name == "normal_stiffness") return b.normal_stiffness;
   if (name == "shear_stiffness") return b.shear_stiffness;
   if (name == "modulus") return b.modulus;
   if (name == "shear_ratio") return b.shear_ratio;
   if (name == "radius_multiplier") return b.radius_multiplier;
-  throw InputError(fmt::format("calibrate: unknown parameter '{}' (known: {})", name,
-                               fmt::join(calibration_parameter_names(), ", ")));
+  throw InputError(fmt::format("calibrate: '{}' is not a bond parameter", name));
 }
 
-void set_parameter(PlateConfig& config, const std::string& name, double value) {
-  if (name == "contact_modulus") {
-    if (!config.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
-    contact_material(config).youngs_modulus = value;
-    return;
-  }
+void set_bond_parameter(BondParameters& b, const std::string& name, double value) {
   if (is_plastic_parameter(name)) {
-    ElasticPlasticBond& p = plastic_bond_of(config, name);
+    ElasticPlasticBond& p = plastic_bond_of(b, name);
     (name == "yield_stress"         ? p.yield_stress
      : name == "shear_yield_stress" ? p.shear_yield_stress
                                     : p.hardening_ratio) = value;
     return;
   }
-  BondParameters& b = bond_of(config, name);
+  check_bond_form(b, name);
   if (name == "normal_stiffness")
     b.normal_stiffness = value;
   else if (name == "shear_stiffness")
@@ -162,8 +164,29 @@ void set_parameter(PlateConfig& config, const std::string& name, double value) {
   else if (name == "radius_multiplier")
     b.radius_multiplier = value;
   else
-    throw InputError(fmt::format("calibrate: unknown parameter '{}' (known: {})", name,
-                                 fmt::join(calibration_parameter_names(), ", ")));
+    throw InputError(fmt::format("calibrate: '{}' is not a bond parameter", name));
+}
+
+double get_parameter(const PlateConfig& config, const std::string& name) {
+  PlateConfig c = config;
+  if (name == "contact_modulus") {
+    if (!c.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
+    return contact_material(c).youngs_modulus;
+  }
+  if (is_bond_parameter(name)) return get_bond_parameter(particle_bond(c), name);
+  throw InputError(fmt::format("calibrate: unknown parameter '{}' (known: {})", name,
+                               fmt::join(calibration_parameter_names(), ", ")));
+}
+
+void set_parameter(PlateConfig& config, const std::string& name, double value) {
+  if (name == "contact_modulus") {
+    if (!config.bms) throw InputError("calibrate: the config has no [bms] particle to calibrate");
+    contact_material(config).youngs_modulus = value;
+    return;
+  }
+  if (is_bond_parameter(name)) return set_bond_parameter(particle_bond(config), name, value);
+  throw InputError(fmt::format("calibrate: unknown parameter '{}' (known: {})", name,
+                               fmt::join(calibration_parameter_names(), ", ")));
 }
 
 CurveError plate_curve_error(const std::vector<PlateRow>& rows,

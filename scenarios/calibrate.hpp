@@ -76,6 +76,13 @@ struct CalibrationResult {
 // Reads and writes one named parameter of a config (InputError for an unknown name or one that
 // does not match the config's bond form).
 double get_parameter(const PlateConfig& config, const std::string& name);
+// The [bond] parameters both calibrations fit, by the names above (normal_stiffness,
+// shear_stiffness, modulus, shear_ratio, radius_multiplier, and an elastic_plastic model's
+// yield_stress, shear_yield_stress, hardening_ratio): InputError when the bonds are in the
+// other stiffness form or do not yield.
+bool is_bond_parameter(const std::string& name);
+double get_bond_parameter(const BondParameters& bond, const std::string& name);
+void set_bond_parameter(BondParameters& bond, const std::string& name, double value);
 void set_parameter(PlateConfig& config, const std::string& name, double value);
 
 // RMS and maximum relative difference of the run's loading curve against the reference over

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "analysis/compaction.hpp"
 #include "analysis/optimize.hpp"
 #include "common/error.hpp"
 #include "common/job_pool.hpp"
@@ -16,8 +17,9 @@
 namespace shapepress::scenarios {
 
 std::vector<std::string> compaction_parameter_names() {
-  return {"loading_stiffness",      "loading_modulus",  "youngs_modulus", "plasticity_ratio",
-          "multicontact_prefactor", "normal_stiffness", "shear_stiffness"};
+  return {"loading_stiffness",      "loading_modulus",    "youngs_modulus",  "plasticity_ratio",
+          "multicontact_prefactor", "normal_stiffness",   "shear_stiffness", "modulus",
+          "yield_stress",           "shear_yield_stress", "hardening_ratio"};
 }
 
 namespace {
@@ -57,10 +59,13 @@ Material& particle_material(CompactConfig& c) {
 BondParameters& bond_of(CompactConfig& c, const std::string& name) {
   if (!c.bond)
     throw InputError("calibrate: '" + name + "' needs a [bond] table (a packing of BMS bodies)");
-  if (c.bond->modulus > 0.0)
-    throw InputError("calibrate: '" + name +
-                     "' needs [bond] normal_stiffness/shear_stiffness (the config gives modulus)");
   return *c.bond;
+}
+
+// The bodies' bond parameters a compaction fits: their stiffness and, for elastic_plastic bonds,
+// their yield (calibrate.hpp's names; radius_multiplier and shear_ratio stay the FEM fit's).
+bool is_compaction_bond_parameter(const std::string& name) {
+  return is_bond_parameter(name) && name != "radius_multiplier" && name != "shear_ratio";
 }
 
 // Hertz's k1 = 4/3 E* √R* for two particles of the mean of the bed's diameter bounds (R* = d/4),
@@ -124,8 +129,7 @@ double get_parameter(const CompactConfig& config, const std::string& name) {
     if (name == "multicontact_prefactor") return p.prefactor;
     return p.loading_stiffness ? *p.loading_stiffness : hertz_loading_stiffness(c);
   }
-  if (name == "normal_stiffness") return bond_of(c, name).normal_stiffness;
-  if (name == "shear_stiffness") return bond_of(c, name).shear_stiffness;
+  if (is_compaction_bond_parameter(name)) return get_bond_parameter(bond_of(c, name), name);
   throw InputError(fmt::format("calibrate: unknown compaction parameter '{}' (known: {})", name,
                                fmt::join(compaction_parameter_names(), ", ")));
 }
@@ -151,10 +155,8 @@ void set_parameter(CompactConfig& config, const std::string& name, double value)
       else
         p.loading_stiffness = value;
     }
-  } else if (name == "normal_stiffness") {
-    bond_of(config, name).normal_stiffness = value;
-  } else if (name == "shear_stiffness") {
-    bond_of(config, name).shear_stiffness = value;
+  } else if (is_compaction_bond_parameter(name)) {
+    set_bond_parameter(bond_of(config, name), name, value);
   } else {
     throw InputError(fmt::format("calibrate: unknown compaction parameter '{}' (known: {})", name,
                                  fmt::join(compaction_parameter_names(), ", ")));
@@ -212,9 +214,18 @@ analysis::MeasuredMismatch trial_mismatch(const CompactionTrial& trial,
       to);
 }
 
+double trial_recovery(const CompactionTrial& trial) {
+  const analysis::CompactionMetrics m = analysis::analyse_compaction(punch_curve(trial));
+  return m.unloaded ? m.elastic_recovery : std::numeric_limits<double>::quiet_NaN();
+}
+
 namespace {
 
 void check_calibration_options(const CompactionCalibrationOptions& options) {
+  if (options.target_recovery &&
+      !(*options.target_recovery > 0.0 && *options.target_recovery < 1.0))
+    throw InputError(fmt::format("calibrate: --target-recovery {} must be a percentage in (0, 100)",
+                                 100.0 * *options.target_recovery));
   if (options.parameters.empty()) throw InputError("calibrate: no parameter to fit");
   if (!(options.to > options.from))
     throw InputError(
@@ -285,6 +296,23 @@ analysis::MeasuredMismatch window_error(const CompactionTrial& trial,
   return m;
 }
 
+}  // namespace
+
+double compaction_objective(const CompactionTrial& trial,
+                            const CompactionCalibrationOptions& options) {
+  const double curve = window_error(trial, options).rms_relative;
+  if (!options.target_recovery) return curve;
+  const double recovery = trial_recovery(trial);
+  if (!std::isfinite(recovery))
+    throw InputError(
+        "calibrate: --target-recovery needs runs that unload: give the config's [punch] an "
+        "unload_speed");
+  const double e_recovery = (recovery - *options.target_recovery) / *options.target_recovery;
+  return std::sqrt(0.5 * (curve * curve + e_recovery * e_recovery));
+}
+
+namespace {
+
 // A batch's evaluations at the search's points (in log space). A point of a resumed
 // calibration's file, or one this search has run before (a contraction can land on an earlier
 // vertex), takes that value: the same run would give the same value. Returns the indices of
@@ -323,7 +351,7 @@ void run_evaluation(const CompactConfig& scene, const CompactionBed& bed,
       evaluation.rms_relative = std::numeric_limits<double>::infinity();
       return;
     }
-    evaluation.rms_relative = window_error(*trial, options).rms_relative;
+    evaluation.rms_relative = compaction_objective(*trial, options);
   } catch (const ComputationError&) {
     // A diverged trial is a bad point, not the end of the search.
     evaluation.rms_relative = std::numeric_limits<double>::infinity();
@@ -394,6 +422,8 @@ CompactionCalibrationResult calibrate_compaction(
   const CompactConfig scene = with_values(base, options.parameters, result.values);
   if (!best || best_values != result.values) best = run_compaction_trial(scene, bed);
   result.error = window_error(*best, options);
+  result.recovery = trial_recovery(*best);
+  result.objective = compaction_objective(*best, options);
   result.best = std::move(*best);
   return result;
 }

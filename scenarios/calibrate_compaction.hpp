@@ -29,6 +29,9 @@ namespace shapepress::scenarios {
 //   plasticity_ratio        λp in (0, 1] of every multi-contact interaction of the particles
 //   multicontact_prefactor  β of the same interactions
 //   normal_stiffness, shear_stiffness   [bond] k̄n, k̄s [N/m³] of a packing's BMS bodies
+//   modulus                 [bond] Ē [Pa] (a modulus_fraction moves with it)
+//   yield_stress, shear_yield_stress, hardening_ratio   σy, τy [Pa] and H of elastic_plastic
+//                           bonds: the bodies' yield
 std::vector<std::string> compaction_parameter_names();
 
 // Reads and writes one named parameter (InputError for an unknown name, or one the config does
@@ -86,12 +89,27 @@ struct CompactionCalibrationOptions {
   // Mass scaling of the evaluations only (run.density_scale, the cheaper scene); the calibrated
   // config keeps the config's own.
   std::optional<double> density_scale;
+  // The elastic recovery the bed must also reach after unloading ((H_unloaded − H_min)/H_min,
+  // a fraction): the objective is then sqrt((e_curve² + e_recovery²)/2), e_recovery the
+  // recovery's error over the target, as the plate rig weighs its unloading. The config's punch
+  // must unload. None: the curve alone.
+  std::optional<double> target_recovery;
 };
+
+// The objective of one trial: the curve's RMS in the window, and with a recovery target
+// sqrt((e_curve² + e_recovery²)/2). InputError when the window holds no point of the run's
+// loading curve, or the target asks for a recovery the run never unloads to give.
+double compaction_objective(const CompactionTrial& trial,
+                            const CompactionCalibrationOptions& options);
+// The trial's elastic recovery (CompactionMetrics::elastic_recovery); NaN when it did not unload.
+double trial_recovery(const CompactionTrial& trial);
 
 struct CompactionCalibrationResult {
   CompactConfig config;  // the config with the fitted values (density_scale its own)
   std::vector<double> start, values;
   analysis::MeasuredMismatch error;  // of the best trial
+  double recovery = 0.0;             // the best trial's elastic recovery (NaN: not unloaded)
+  double objective = 0.0;            // compaction_objective of the best trial
   std::vector<CalibrationEvaluation> evaluations;
   bool converged = false;
   CompactionTrial best;  // the run with the fitted values, on the evaluations' scene

@@ -43,7 +43,8 @@ struct CalibrateCli {
   std::string method = "bobyqa";
   double initial_factor = 0.0;  // plate: 4; compaction: 2
   std::string packing;
-  double density_scale = 0.0;  // 0: the config's
+  double density_scale = 0.0;    // 0: the config's
+  double target_recovery = 0.0;  // percent; 0: none
   std::string out;
   std::string resume;
 };
@@ -83,8 +84,10 @@ CommandOptions calibrate_command(CalibrateCli& cli) {
             "shear_ratio, normal_stiffness, shear_stiffness, contact_modulus, radius_multiplier, "
             "and of elastic_plastic bonds yield_stress, shear_yield_stress, hardening_ratio "
             "(against a reference that unloads: a fem-plate run with plate.unload). "
-            "Compaction (default loading_stiffness): loading_stiffness, youngs_modulus, "
-            "plasticity_ratio, multicontact_prefactor, normal_stiffness, shear_stiffness")
+            "Compaction (default loading_stiffness): loading_stiffness, loading_modulus, "
+            "youngs_modulus, plasticity_ratio, multicontact_prefactor, and the bodies' bonds: "
+            "normal_stiffness, shear_stiffness or modulus, and of elastic_plastic bonds "
+            "yield_stress, shear_yield_stress, hardening_ratio")
       .text("--start", &cli.start,
             "start values replacing the config's, in SI units: name=value,... (e.g. "
             "modulus=3e6,contact_modulus=1.85e9)")
@@ -119,6 +122,11 @@ CommandOptions calibrate_command(CalibrateCli& cli) {
               "compaction: mass scaling of the evaluations only (a cheaper scene); "
               "calibrated.toml keeps the config's run.density_scale")
       .range(Range::positive())
+      .number("--target-recovery", &cli.target_recovery,
+              "compaction: the elastic recovery (percent) the bed must also reach after "
+              "unloading, beside the reference curve: the objective becomes "
+              "sqrt((e_curve^2 + e_recovery^2)/2), e_recovery relative to the target")
+      .range(Range{0.0, 100.0, false, false})
       .text("--out", &cli.out,
             "output folder (calibrated.toml, calibration.csv, evaluations.csv, force.csv or "
             "punch.csv, run.json)")
@@ -287,6 +295,7 @@ CompactionCalibrationOptions compaction_calibration_options(const CalibrateCli& 
   options.method = analysis::search_method_named(cli.method);
   options.initial_factor = cli.initial_factor > 0.0 ? cli.initial_factor : 2.0;
   if (cli.density_scale > 0.0) options.density_scale = cli.density_scale;
+  if (cli.target_recovery > 0.0) options.target_recovery = cli.target_recovery / 100.0;
   return options;
 }
 
@@ -305,11 +314,16 @@ std::string evaluation_log_comment(const CalibrateCli& cli,
                                    const CompactionCalibrationOptions& options) {
   return fmt::format(
       "shapepress calibrate: RMS relative {} error against {} ({}, {}) "
-      "over x in [{:g}, {:g}]{}{}",
+      "over x in [{:g}, {:g}]{}{}{}",
       analysis::axes_name(options.reference.axes), cli.reference, options.reference.x_column,
       options.reference.y_column, options.from, options.to, curve_units(options.reference).x,
       options.density_scale
           ? fmt::format("; evaluations with density_scale {}", *options.density_scale)
+          : std::string(),
+      options.target_recovery
+          ? fmt::format("; with the elastic recovery against {:g} %: sqrt((e_curve^2 + "
+                        "e_recovery^2)/2)",
+                        100.0 * *options.target_recovery)
           : std::string());
 }
 
@@ -326,12 +340,16 @@ std::string calibrated_toml_header(const CalibrateCli& cli,
       "# shapepress calibrate --config {} --reference {} --fit {}{}\n"
       "# fitted: {}\n"
       "# {} against the reference at {} points, x in [{:g}, {:g}]{}: RMS {:.6g}{} ({:.4g} %), "
-      "largest {:.6g}{} at x = {:g}\n",
+      "largest {:.6g}{} at x = {:g}\n{}",
       cli.config, cli.reference, fmt::join(options.parameters, ","),
       cli.density_scale > 0.0 ? fmt::format(" --density-scale {}", cli.density_scale) : "",
       fmt::format("{}", fmt::join(fitted, ", ")), analysis::axes_name(options.reference.axes),
       error.points, error.from, error.to, units.x, error.rms, units.y, 100.0 * error.rms_relative,
-      error.max, units.y, error.at_max);
+      error.max, units.y, error.at_max,
+      options.target_recovery
+          ? fmt::format("# elastic recovery {:.4g} % against the target {:g} %\n",
+                        100.0 * result.recovery, 100.0 * *options.target_recovery)
+          : std::string());
 }
 
 // punch.csv of the run with the fitted values, on the evaluations' scene.
@@ -430,7 +448,10 @@ void add_calibration_facts(RunMetadata& meta, const CompactionCalibrationOptions
       .fact("max_relative", error.max_relative)
       .fact("window", nlohmann::json::array({error.from, error.to}))
       .fact("converged", result.converged)
-      .fact("evaluations", result.evaluations.size());
+      .fact("evaluations", result.evaluations.size())
+      .fact("objective", result.objective);
+  if (std::isfinite(result.recovery)) meta.fact("elastic_recovery", result.recovery);
+  if (options.target_recovery) meta.fact("target_recovery", *options.target_recovery);
   if (!implied.fitted.empty())
     meta.fact("implied", implied.fitted).fact("implied_at_diameter_m", implied.diameter);
 }
@@ -444,6 +465,9 @@ void print_compaction_calibration(const CalibrateCli& cli,
       "calibrated on {} points of {}: RMS {:.6g}{} ({:.3g} %), largest {:.6g}{} after {} runs\n",
       error.points, cli.reference, error.rms, y_unit, 100.0 * error.rms_relative, error.max, y_unit,
       result.evaluations.size());
+  if (options.target_recovery)
+    fmt::print("elastic recovery {:.4g} % against {:g} % (objective {:.3g})\n",
+               100.0 * result.recovery, 100.0 * *options.target_recovery, result.objective);
   print_fitted_values(options.parameters, result.start, result.values);
 }
 
@@ -747,8 +771,10 @@ int run(const CalibrateCli& given, const RunContext& context) {
   const ConfigTable root = ConfigTable::load_file(cli.config);
   // A compaction config has a punch program; a plate config has none.
   if (root.has("punch")) return run_compaction_calibration(cli, root, invocation);
-  if (!cli.packing.empty() || cli.density_scale > 0.0)
-    throw InputError("calibrate: --packing and --density-scale are for a compaction config");
+  if (!cli.packing.empty() || cli.density_scale > 0.0 || cli.target_recovery > 0.0)
+    throw InputError(
+        "calibrate: --packing, --density-scale and --target-recovery are for a compaction config "
+        "(one with [punch]); a plate config weighs its unloading by the reference's");
   return run_plate(cli, root, invocation);
 }
 

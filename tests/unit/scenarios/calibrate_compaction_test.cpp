@@ -89,6 +89,31 @@ TEST(CompactionParameters, ALoadingModulusCarriesTheFitToEveryContactAndTheBonds
   EXPECT_DOUBLE_EQ(get_parameter(bed(compact_config_toml(c)), "loading_modulus"), 2e9);
 }
 
+// The bodies' bonds as the compaction fits them: Ē (with its fraction of the solid's modulus)
+// and an elastic_plastic model's yield, by the plate calibration's names; elastic bonds have no
+// yield to fit.
+TEST(CompactionParameters, BondModulusAndYieldAreFittedByTheirPlateNames) {
+  std::string text = std::regex_replace(shipped, std::regex("(density = [^\n]*\n)"),
+                                        "$1loading_modulus = \"1 GPa\"\n",
+                                        std::regex_constants::format_first_only);
+  CompactConfig plastic = bed(text +
+                              "\n[bond]\nmodulus_fraction = 0.25\nmodel = \"elastic_plastic\"\n"
+                              "yield_stress = \"5 MPa\"\nhardening_ratio = 0.1\n");
+  EXPECT_DOUBLE_EQ(get_parameter(plastic, "modulus"), 2.5e8);
+  set_parameter(plastic, "modulus", 5e8);
+  EXPECT_DOUBLE_EQ(plastic.bond->modulus_fraction, 0.5);
+  EXPECT_DOUBLE_EQ(get_parameter(plastic, "yield_stress"), 5e6);
+  set_parameter(plastic, "yield_stress", 7e6);
+  set_parameter(plastic, "hardening_ratio", 0.2);
+  const CompactConfig again = bed(compact_config_toml(plastic));
+  EXPECT_DOUBLE_EQ(get_parameter(again, "yield_stress"), 7e6);
+  EXPECT_DOUBLE_EQ(get_parameter(again, "hardening_ratio"), 0.2);
+  CompactConfig elastic = bed(text + "\n[bond]\nmodulus_fraction = 0.25\n");
+  EXPECT_THROW(get_parameter(elastic, "yield_stress"), InputError);
+  EXPECT_THROW(set_parameter(elastic, "normal_stiffness", 1e6), InputError);  // Ē form
+  EXPECT_THROW(get_parameter(elastic, "radius_multiplier"), InputError);      // the FEM fit's
+}
+
 TEST(CompactionParameters, UnknownOrAbsentParametersAreInputErrors) {
   CompactConfig c = bed(shipped);
   EXPECT_THROW(get_parameter(c, "stiffness"), InputError);

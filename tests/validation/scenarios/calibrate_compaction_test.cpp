@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "analysis/compaction.hpp"
+#include "analysis/runs.hpp"
 #include "common/csv.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/files.hpp"
@@ -163,6 +165,59 @@ TEST(CompactionCalibration, RecoversTheLoadingStiffnessWithinTheSeedToSeedScatte
   // The three from the file, and the points the search revisits as the first run did.
   EXPECT_EQ(count_of(resumed.output, "reused, not run again"),
             count_of(calibration.output, "reused, not run again") + 3);
+}
+
+// A recovery target beside the curve (calibrate --target-recovery): on one bed the loading
+// curve does not depend on the multi-contact law's λp (it sets the unloading branch only), so
+// the curve cannot tell λp apart and the recovery must. The target is the bed's own run at
+// λp = 0.3; the fit starts at 0.6 (a stiffer unloading, a smaller recovery) and must come back
+// to the target's recovery and λp. Without the target the search has nothing to move λp by.
+TEST(CompactionCalibration, ARecoveryTargetFitsTheUnloadingTheCurveCannotSee) {
+  const auto dir = fresh_directory("calibrate_recovery");
+  write_text(dir / "bed.toml", test_data_text("scenarios/calibration-bed.toml"));
+  const auto truth =
+      run_shapepress("--threads 2 --quiet compact --config " + (dir / "bed.toml").string() +
+                     " --out " + (dir / "truth").string());
+  ASSERT_EQ(truth.exit_code, 0) << truth.output;
+  const Loading loading = loading_of(dir / "truth" / "punch.csv");
+  std::string target = "stress_MPa,solid_fraction_%\n";
+  for (std::size_t i = 0; i < loading.stress.size(); ++i)
+    target += std::to_string(loading.stress[i] / 1e6) + "," +
+              std::to_string(100 * loading.solid_fraction[i]) + "\n";
+  write_text(dir / "target.csv", target);
+  // The recovery as `report` reads it from punch.csv.
+  const double recovery =
+      analysis::analyse_compaction(analysis::read_punch_curve(dir / "truth" / "punch.csv"))
+          .elastic_recovery;
+  ASSERT_GT(recovery, 0.005);
+
+  const std::string common = " calibrate --config " + (dir / "bed.toml").string() +
+                             " --reference " + (dir / "target.csv").string() +
+                             " --fit plasticity_ratio --start plasticity_ratio=0.6 --from 0.5MPa "
+                             "--max-evaluations 12";
+  const auto fit =
+      run_shapepress("--threads 2" + common + " --target-recovery " +
+                     std::to_string(100.0 * recovery) + " --out " + (dir / "cal").string());
+  ASSERT_EQ(fit.exit_code, 0) << fit.output;
+  const std::string fitted_json = read_text(dir / "cal" / "run.json");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(fitted_json, m, std::regex("\"elastic_recovery\": ([0-9.eE+-]+)")));
+  std::cout << "target recovery " << recovery << ", fitted " << m[1] << ", lambda_p "
+            << fitted(dir / "cal" / "calibration.csv", "plasticity_ratio") << "\n";
+  EXPECT_NEAR(std::stod(m[1]), recovery, 0.02 * recovery);
+  EXPECT_NEAR(fitted(dir / "cal" / "calibration.csv", "plasticity_ratio"), 0.3, 0.015);
+  EXPECT_THAT(read_text(dir / "cal" / "calibrated.toml"), HasSubstr("elastic recovery"));
+
+  // A target on a run that never unloads is the user's error, named.
+  write_text(dir / "no-unload.toml",
+             std::regex_replace(test_data_text("scenarios/calibration-bed.toml"),
+                                std::regex("unload_speed = [^\n]*\n"), ""));
+  const auto refused = run_shapepress(
+      "--threads 2 calibrate --config " + (dir / "no-unload.toml").string() + " --reference " +
+      (dir / "target.csv").string() + " --fit plasticity_ratio --target-recovery 5 --out " +
+      (dir / "refused").string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_THAT(refused.output, HasSubstr("unload_speed"));
 }
 
 }  // namespace
