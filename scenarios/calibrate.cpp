@@ -100,8 +100,10 @@ bool is_plastic_parameter(const std::string& name) {
   return name == "yield_stress" || name == "shear_yield_stress" || name == "hardening_ratio";
 }
 
-// The yielding bond's parameters: the [bond] model must be elastic_plastic.
-ElasticPlasticBond& plastic_bond_of(BondParameters& b, const std::string& name) {
+// The yielding bond's parameters (const or not, as `b` is): the [bond] model must be
+// elastic_plastic.
+template <class Bond>
+auto& plastic_bond_of(Bond& b, const std::string& name) {
   auto* plastic = std::get_if<ElasticPlasticBond>(&b.model);
   if (plastic == nullptr)
     throw InputError(
@@ -125,8 +127,7 @@ void check_bond_form(const BondParameters& b, const std::string& name) {
 
 }  // namespace
 
-double get_bond_parameter(const BondParameters& bond, const std::string& name) {
-  BondParameters b = bond;
+double get_bond_parameter(const BondParameters& b, const std::string& name) {
   if (is_plastic_parameter(name)) {
     const ElasticPlasticBond& p = plastic_bond_of(b, name);
     return name == "yield_stress"         ? p.yield_stress
